@@ -1,0 +1,60 @@
+#include "estimators/registry.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "glog/logging.h"
+
+namespace imusysid {
+
+void EstimatorRegistry::Register(std::string name, EstimatorFactory factory) {
+  for (const auto& entry : entries_) {
+    CHECK(entry.first != name) << "estimator '" << name << "' registered twice";
+  }
+  entries_.emplace_back(std::move(name), std::move(factory));
+}
+
+StatusOr<std::unique_ptr<Estimator>> EstimatorRegistry::Create(
+    std::string_view name) const {
+  for (const auto& entry : entries_) {
+    if (entry.first == name) return entry.second();
+  }
+  std::ostringstream msg;
+  msg << "unknown estimator '" << name << "'; valid names:";
+  for (const auto& entry : entries_) msg << " " << entry.first;
+  return NotFoundError(msg.str());
+}
+
+std::vector<std::string> EstimatorRegistry::Names() const {
+  std::vector<std::string> names;
+  for (const auto& entry : entries_) names.push_back(entry.first);
+  return names;
+}
+
+std::vector<std::string> EstimatorRegistry::NamesSupporting(
+    std::string_view model) const {
+  std::vector<std::string> names;
+  for (const auto& entry : entries_) {
+    const auto models = entry.second()->SupportedModels();
+    if (std::find(models.begin(), models.end(), model) != models.end()) {
+      names.push_back(entry.first);
+    }
+  }
+  return names;
+}
+
+void RegisterBuiltinEstimators(EstimatorRegistry* registry) {
+  CHECK(registry != nullptr);
+  // One line per estimator (REGISTER-LINES).
+}
+
+const EstimatorRegistry& BuiltinEstimators() {
+  static const EstimatorRegistry* const registry = [] {
+    auto* r = new EstimatorRegistry;
+    RegisterBuiltinEstimators(r);
+    return r;
+  }();
+  return *registry;
+}
+
+}  // namespace imusysid

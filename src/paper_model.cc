@@ -1,0 +1,95 @@
+#include "src/paper_model.h"
+
+#include <cmath>
+#include <utility>
+
+#include "ceres/jet.h"
+#include "src/imu_model.h"
+
+namespace imusysid {
+namespace {
+
+double SignedSquare(double v) {
+  return (v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0)) * v * v;
+}
+
+}  // namespace
+
+std::vector<ParameterInfo> PhysicalParameterInfo() {
+  return {{"r", "m", 0.0, 0.5, false},
+          {"beta", "deg", -180.0, 180.0, false},
+          {"alpha", "deg", -15.0, 15.0, false},
+          {"mu", "1/m", 0.0, 1.0, false}};
+}
+
+PaperModel::PaperModel(std::shared_ptr<const ProblemData> data)
+    : Model(std::move(data)), info_(PhysicalParameterInfo()) {
+  const ProblemData& d = this->data();
+  gram_.setZero();
+  Eigen::Matrix<double, 5, 1> row;
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    row << 1.0, -d.omega[k] * d.omega[k], d.omega_dot[k], -SignedSquare(d.v[k]),
+        d.f_x[k];
+    gram_.selfadjointView<Eigen::Lower>().rankUpdate(row);
+  }
+  gram_.triangularView<Eigen::StrictlyUpper>() = gram_.transpose();
+}
+
+bool PaperModel::Residuals(const double* x,
+                           double* residuals,
+                           double* jacobian) const {
+  const ProblemData& d = data();
+  const std::size_t n = d.size();
+  if (jacobian == nullptr) {
+    for (std::size_t k = 0; k < n; ++k) {
+      residuals[k] = d.f_x[k] - PaperPrediction(x, d.omega[k], d.omega_dot[k],
+                                                d.v[k], d.gravity);
+      if (!std::isfinite(residuals[k])) return false;
+    }
+    return true;
+  }
+  using Jet = ceres::Jet<double, kNumPhysicalParameters>;
+  Jet xj[kNumPhysicalParameters];
+  for (int i = 0; i < kNumPhysicalParameters; ++i) xj[i] = Jet(x[i], i);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Jet pred =
+        PaperPrediction(xj, d.omega[k], d.omega_dot[k], d.v[k], d.gravity);
+    residuals[k] = d.f_x[k] - pred.a;
+    if (!std::isfinite(residuals[k])) return false;
+    for (int i = 0; i < kNumPhysicalParameters; ++i) {
+      jacobian[k * kNumPhysicalParameters + static_cast<std::size_t>(i)] =
+          -pred.v[i];
+    }
+  }
+  return true;
+}
+
+bool PaperModel::Cost(const double* x, double* cost) const {
+  const Eigen::Vector4d a =
+      ParametersToCoefficients(ImuParameters::FromVector(x), data().gravity);
+  const Eigen::Matrix4d g_pp = gram_.topLeftCorner<4, 4>();
+  const Eigen::Vector4d g_py = gram_.block<4, 1>(0, 4);
+  const double sum_sq = gram_(4, 4) - 2.0 * a.dot(g_py) + a.dot(g_pp * a);
+  // Rounding can push an exact fit a hair below zero.
+  *cost = 0.5 * std::max(sum_sq, 0.0);
+  return std::isfinite(*cost);
+}
+
+bool PaperModel::DirectCost(const double* x, double* cost) const {
+  return Model::Cost(x, cost);
+}
+
+Eigen::MatrixXd PaperModel::Regressors() const {
+  const ProblemData& d = data();
+  Eigen::MatrixXd phi(static_cast<Eigen::Index>(d.size()), 4);
+  for (std::size_t k = 0; k < d.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    phi(i, 0) = 1.0;
+    phi(i, 1) = -d.omega[k] * d.omega[k];
+    phi(i, 2) = d.omega_dot[k];
+    phi(i, 3) = -SignedSquare(d.v[k]);
+  }
+  return phi;
+}
+
+}  // namespace imusysid
