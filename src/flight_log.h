@@ -48,10 +48,10 @@ struct FlightLog {
   // file order.
   std::vector<std::pair<std::string, std::string>> metadata;
 
-  std::vector<double> t_s;                    // time, s, strictly increasing
-  std::vector<double> ax, ay, az;             // specific force, m/s², FLU
-  std::vector<double> gx, gy, gz;             // angular rate, rad/s, FLU
-  std::vector<Channel> extra;                 // every other column, by name
+  std::vector<double> t_s;         // time, s, strictly increasing
+  std::vector<double> ax, ay, az;  // specific force, m/s², FLU
+  std::vector<double> gx, gy, gz;  // angular rate, rad/s, FLU
+  std::vector<Channel> extra;      // every other column, by name
 
   std::size_t size() const { return t_s.size(); }
   // Returns the extra channel with this name, or nullptr.
@@ -89,7 +89,9 @@ StatusOr<FlightLog> ReadCsvLog(const std::string& path,
 struct CsvWriteOptions {
   // Frame to write in; FLU data are converted when kFrd is chosen.
   Frame frame = Frame::kFlu;
-  // Significant digits for the values (17 round-trips doubles exactly).
+  // Significant digits for the values (17 round-trips doubles exactly; 0 or
+  // less writes the shortest text that round-trips). The time column uses at
+  // least 12.
   int precision = 9;
 };
 
