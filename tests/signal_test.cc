@@ -1,0 +1,405 @@
+// Tests of the numeric primitives in src/signal.h on analytic signals whose
+// filtered values, derivatives and integrals are known in closed form.
+
+#include "src/signal.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "src/imu_model.h"
+
+namespace imusysid {
+namespace {
+
+// Uniform time grid t_k = t0 + k/rate for k = 0..count-1.
+std::vector<double> Grid(double t0, double rate_hz, std::size_t count) {
+  std::vector<double> t(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    t[k] = t0 + static_cast<double>(k) / rate_hz;
+  }
+  return t;
+}
+
+std::vector<double> Sine(const std::vector<double>& t,
+                         double amplitude,
+                         double freq_hz,
+                         double phase = 0.0) {
+  std::vector<double> x(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    x[k] = amplitude * std::sin(2.0 * kPi * freq_hz * t[k] + phase);
+  }
+  return x;
+}
+
+// The zero-phase (forward-backward) Butterworth magnitude, from the design
+// equations alone: 1 / (1 + (tan(πf/fs) / tan(πfc/fs))^(2N)).
+double ZeroPhaseButterworthGain(double f, double fc, double fs, int order) {
+  const double ratio = std::tan(kPi * f / fs) / std::tan(kPi * fc / fs);
+  return 1.0 / (1.0 + std::pow(ratio, 2 * order));
+}
+
+// In-phase and quadrature amplitudes of x against sin/cos(2πf t) over
+// samples [begin, end), which must span whole periods.
+void Project(const std::vector<double>& t,
+             const std::vector<double>& x,
+             double freq_hz,
+             std::size_t begin,
+             std::size_t end,
+             double* in_phase,
+             double* quadrature) {
+  double s = 0.0;
+  double c = 0.0;
+  for (std::size_t k = begin; k < end; ++k) {
+    s += x[k] * std::sin(2.0 * kPi * freq_hz * t[k]);
+    c += x[k] * std::cos(2.0 * kPi * freq_hz * t[k]);
+  }
+  const double count = static_cast<double>(end - begin);
+  *in_phase = 2.0 * s / count;
+  *quadrature = 2.0 * c / count;
+}
+
+TEST(ButterworthDesign, MagnitudeMatchesTheDesignEquationForEveryOrder) {
+  // Double-precision evaluation of a few biquads: far below 1e-12.
+  constexpr double kTol = 1e-12;
+  const double fs = 250.0;
+  const double fc = 5.0;
+  for (int order : {2, 4, 6, 8}) {
+    StatusOr<std::vector<Biquad>> sections =
+        DesignButterworthLowPass(order, fc, fs);
+    ASSERT_TRUE(sections.ok()) << sections.status().ToString();
+    EXPECT_EQ(sections->size(), static_cast<std::size_t>(order / 2));
+    EXPECT_NEAR(CascadeGain(*sections, 0.0, fs), 1.0, kTol);
+    EXPECT_NEAR(CascadeGain(*sections, fc, fs), std::sqrt(0.5), kTol);
+    for (double f : {0.5, 2.0, 8.0, 20.0, 60.0}) {
+      const double expected =
+          std::sqrt(ZeroPhaseButterworthGain(f, fc, fs, order));
+      EXPECT_NEAR(CascadeGain(*sections, f, fs), expected, kTol)
+          << "order " << order << " f " << f;
+    }
+  }
+}
+
+TEST(ButterworthDesign, RejectsBadOrderAndCutoff) {
+  EXPECT_EQ(DesignButterworthLowPass(3, 5.0, 100.0).status().code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(DesignButterworthLowPass(10, 5.0, 100.0).status().code(),
+            StatusCode::kInvalidArgument);
+  const Status nyquist = DesignButterworthLowPass(4, 50.0, 100.0).status();
+  EXPECT_EQ(nyquist.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(nyquist.message().find("Nyquist"), std::string::npos);
+  EXPECT_EQ(DesignButterworthLowPass(4, 0.0, 100.0).status().code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(ZeroPhaseLowPass({1.0, 2.0}, 5.0, -1.0).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
+TEST(ZeroPhaseLowPass, PassesASlowSineWithoutLagIncludingTheEdges) {
+  // A 0.2 Hz sine under a 5 Hz cutoff loses (0.04)^8 ≈ 7e-12 by design; the
+  // brief's 1e-3 bound is then all edge error. Zero phase: the quadrature
+  // part over whole periods is exactly 0 for a lag-free filter; a lag τ would
+  // show as A·2πfτ, so 1e-6 bounds the lag to under 1 µs.
+  constexpr double kAmplitudeTol = 1e-3;
+  constexpr double kQuadratureTol = 1e-6;
+  const double fs = 250.0;
+  const double f = 0.2;
+  const double amplitude = 2.0;
+  const std::vector<double> t = Grid(0.0, fs, 25 * 250 + 1);  // 5 periods
+  const std::vector<double> x = Sine(t, amplitude, f, 0.3);
+  StatusOr<std::vector<double>> y = ZeroPhaseLowPass(x, 5.0, fs);
+  ASSERT_TRUE(y.ok());
+  ASSERT_EQ(y->size(), x.size());
+  double max_error = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    max_error = std::max(max_error, std::abs((*y)[k] - x[k]));
+  }
+  EXPECT_LT(max_error, kAmplitudeTol * amplitude);
+  // Residual against a pure sin(2πft + 0.3): project y − x on both phases.
+  std::vector<double> diff(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) diff[k] = (*y)[k] - x[k];
+  double in_phase = 0.0;
+  double quadrature = 0.0;
+  Project(t, diff, f, 250, 250 + 3 * 1250, &in_phase, &quadrature);
+  EXPECT_LT(std::abs(quadrature), kQuadratureTol * amplitude);
+  EXPECT_LT(std::abs(in_phase), kQuadratureTol * amplitude);
+}
+
+TEST(ZeroPhaseLowPass, AttenuatesAFastSineAsDesigned) {
+  // 8 Hz against a 5 Hz cutoff: the design predicts 1/(1 + 1.60^8) ≈ 0.023.
+  // Measured over whole periods away from the edges, only rounding remains:
+  // 1e-6 of the input amplitude.
+  constexpr double kTol = 1e-6;
+  const double fs = 250.0;
+  const double f = 8.0;
+  const std::vector<double> t = Grid(0.0, fs, 2500);
+  const std::vector<double> x = Sine(t, 1.0, f);
+  for (int order : {2, 4}) {
+    StatusOr<std::vector<double>> y = ZeroPhaseLowPass(x, 5.0, fs, order);
+    ASSERT_TRUE(y.ok());
+    double in_phase = 0.0;
+    double quadrature = 0.0;
+    // 8 Hz at 250 Hz: 125 samples hold 4 whole periods.
+    Project(t, *y, f, 1000, 1000 + 5 * 125, &in_phase, &quadrature);
+    EXPECT_NEAR(in_phase, ZeroPhaseButterworthGain(f, 5.0, fs, order), kTol)
+        << "order " << order;
+    EXPECT_NEAR(quadrature, 0.0, kTol);
+  }
+}
+
+TEST(ZeroPhaseLowPass, PassesAConstantAndARampUnchanged) {
+  // A constant is the filter's steady state: only rounding (1e-12 of 9.8).
+  constexpr double kConstantTol = 1e-10;
+  // A ramp: odd reflection keeps it a ramp, and the forward and backward
+  // delays cancel; what is left is the start-up transient after the
+  // ButterworthPadLength pad (≈ e^-10 of slope × group delay ≈ 0.1 s).
+  constexpr double kRampTol = 1e-5;
+  const double fs = 100.0;
+  const std::vector<double> t = Grid(0.0, fs, 1000);
+  std::vector<double> constant(t.size(), 9.80665);
+  std::vector<double> ramp(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) ramp[k] = 1.0 + 0.5 * t[k];
+  StatusOr<std::vector<double>> yc = ZeroPhaseLowPass(constant, 5.0, fs);
+  StatusOr<std::vector<double>> yr = ZeroPhaseLowPass(ramp, 5.0, fs);
+  ASSERT_TRUE(yc.ok());
+  ASSERT_TRUE(yr.ok());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    EXPECT_NEAR((*yc)[k], constant[k], kConstantTol) << k;
+    EXPECT_NEAR((*yr)[k], ramp[k], kRampTol) << k;
+  }
+}
+
+TEST(ZeroPhaseLowPassOnTimes, FollowsTheActualTimesOfJitteredSamples) {
+  // Times jittered by up to ±0.3 dt: filtering as if uniform would be off by
+  // up to |x'|·0.3 dt = 2π·0.3/250 ≈ 7.5e-3 for a 1 Hz unit sine. Resampling
+  // costs two linear interpolations, each ≤ (ω h)²/8 of the amplitude with
+  // h ≤ 1.6 dt the longest interval (2e-4), and the filter loses
+  // (0.2)^8 ≈ 3e-6 at 1 Hz against 5 Hz.
+  const double dt = 1.0 / 250.0;
+  const double w = 2.0 * kPi * 1.0;
+  const double tol = 2.0 * std::pow(w * 1.6 * dt, 2) / 8.0 + 1e-5;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  std::vector<double> t(2500);
+  std::vector<double> x(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    t[k] = (static_cast<double>(k) + jitter(rng)) * dt;
+    x[k] = std::sin(w * t[k]);
+  }
+  StatusOr<std::vector<double>> y = ZeroPhaseLowPassOnTimes(t, x, 5.0);
+  ASSERT_TRUE(y.ok()) << y.status().ToString();
+  ASSERT_EQ(y->size(), x.size());
+  double max_error = 0.0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    max_error = std::max(max_error, std::abs((*y)[k] - x[k]));
+  }
+  EXPECT_LT(max_error, tol);
+  // On uniform times it is exactly ZeroPhaseLowPass.
+  const std::vector<double> tu = Grid(0.0, 250.0, 500);
+  const std::vector<double> xu = Sine(tu, 1.0, 7.0);
+  StatusOr<std::vector<double>> a = ZeroPhaseLowPassOnTimes(tu, xu, 5.0);
+  StatusOr<std::vector<double>> b = ZeroPhaseLowPass(xu, 5.0, 250.0);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a->size(), b->size());
+  // The rate comes from the median interval, equal to 1/250 to rounding.
+  for (std::size_t k = 0; k < a->size(); ++k) {
+    EXPECT_NEAR((*a)[k], (*b)[k], 1e-12) << k;
+  }
+  EXPECT_EQ(ZeroPhaseLowPassOnTimes({0.0, 1.0}, {1.0}, 0.1).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
+TEST(FiltFilt, HandlesTinyInputs) {
+  StatusOr<std::vector<Biquad>> s = DesignButterworthLowPass(4, 5.0, 100.0);
+  ASSERT_TRUE(s.ok());
+  EXPECT_TRUE(FiltFilt(*s, {}, 10).empty());
+  EXPECT_EQ(FiltFilt(*s, {3.0}, 10), std::vector<double>{3.0});
+  const std::vector<double> two = FiltFilt(*s, {1.0, 1.0}, 10);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_NEAR(two[0], 1.0, 1e-12);
+}
+
+TEST(SavitzkyGolayDerivative, CubicMatchesTheSineSlopeWithinTheWindowBound) {
+  // Interior: relative error ≈ (ωh)⁴/504 (continuous least squares, cubic);
+  // the discrete sum differs by O(1/m), covered by a factor 2.
+  // Edges: the window shifts inward and the cubic is evaluated at the end of
+  // a window of length L = 2h, where the Taylor remainder bound of the
+  // derivative is (ωL)⁴/4! relative (an LS amplification of up to 2 allowed).
+  const double fs = 250.0;
+  const double f = 1.0;
+  const double w = 2.0 * kPi * f;
+  const int half_width = 12;
+  const double h = half_width / fs;
+  const double interior_tol = 2.0 * std::pow(w * h, 4) / 504.0 * w;
+  const double edge_tol = 2.0 * std::pow(2.0 * w * h, 4) / 24.0 * w;
+  const std::vector<double> t = Grid(0.0, fs, 1000);
+  const std::vector<double> x = Sine(t, 1.0, f);
+  StatusOr<std::vector<double>> dx = SavitzkyGolayDerivative(t, x, 12, 3);
+  ASSERT_TRUE(dx.ok());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double exact = w * std::cos(w * t[k]);
+    const bool interior = k >= 12 && k + 12 < t.size();
+    EXPECT_NEAR((*dx)[k], exact, interior ? interior_tol : edge_tol) << k;
+  }
+}
+
+TEST(SavitzkyGolayDerivative, QuadraticErrorFollowsTheLeadingTerm) {
+  // Degree 2 on a symmetric window is the central LS line: its slope for
+  // sin(ωt) is low by (ωdt)²(3m² + 3m − 1)/30 relative (exact sums of j² and
+  // j⁴), ≈ (ωh)²/10. Checked at the sine's zero crossings (|slope| = ω),
+  // where the next term, φ⁴Σj⁶/(120Σj²), adds about 1.5 % of it: 5 %.
+  const double fs = 200.0;
+  const double f = 2.0;
+  const double w = 2.0 * kPi * f;
+  const int m = 10;
+  const double dt = 1.0 / fs;
+  const double predicted =
+      std::pow(w * dt, 2) * (3.0 * m * m + 3.0 * m - 1.0) / 30.0;
+  const std::vector<double> t = Grid(0.0, fs, 400);
+  const std::vector<double> x = Sine(t, 1.0, f);
+  StatusOr<std::vector<double>> dx = SavitzkyGolayDerivative(t, x, m, 2);
+  ASSERT_TRUE(dx.ok());
+  for (std::size_t k : {100u, 150u, 200u, 250u}) {  // t = 0.5, 0.75, ...
+    const double exact = w * std::cos(w * t[k]);
+    ASSERT_NEAR(std::abs(exact), w, 1e-9);
+    const double relative_error = ((*dx)[k] - exact) / exact;
+    EXPECT_NEAR(relative_error, -predicted, 0.05 * predicted + 1e-9) << k;
+  }
+}
+
+TEST(SavitzkyGolayDerivative, IsExactForCubicsOnJitteredTimes) {
+  // The fit uses the actual time stamps, so a cubic is reproduced exactly
+  // (to rounding) whatever the spacing; a constant-dt assumption would be off
+  // by ~30 % of the jitter.
+  constexpr double kTol = 1e-7;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  const double dt = 0.004;
+  std::vector<double> t(600);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    t[k] = (static_cast<double>(k) + jitter(rng)) * dt;
+  }
+  std::vector<double> x(t.size());
+  std::vector<double> exact(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double s = t[k] - 1.0;
+    x[k] = 0.5 - 2.0 * s + 3.0 * s * s - 1.5 * s * s * s;
+    exact[k] = -2.0 + 6.0 * s - 4.5 * s * s;
+  }
+  for (int degree : {3, 4}) {
+    StatusOr<std::vector<double>> dx = SavitzkyGolayDerivative(t, x, 7, degree);
+    ASSERT_TRUE(dx.ok());
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      EXPECT_NEAR((*dx)[k], exact[k], kTol)
+          << "degree " << degree << " k " << k;
+    }
+  }
+}
+
+TEST(SavitzkyGolayDerivative, RejectsBadArguments) {
+  const std::vector<double> t = Grid(0.0, 100.0, 10);
+  const std::vector<double> x(10, 1.0);
+  EXPECT_EQ(SavitzkyGolayDerivative(t, x, 3, 0).status().code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(SavitzkyGolayDerivative(t, x, 3, 5).status().code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(SavitzkyGolayDerivative(t, x, 0, 2).status().code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(SavitzkyGolayDerivative(t, {1.0, 2.0}, 3, 2).status().code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(
+      SavitzkyGolayDerivative({0.0, 1.0}, {1.0, 2.0}, 3, 2).status().code(),
+      StatusCode::kInvalidArgument);
+}
+
+TEST(CumulativeTrapezoid, MatchesTheClosedFormIntegralOfACosine) {
+  // For cos(ωt) on a uniform grid the trapezoid sum is exactly
+  // sin(ωt)/ω · (φ/2)cot(φ/2), φ = ω dt: error ≤ φ²/12 / ω, the O(dt²) term,
+  // and it does not grow with t. The general bound T·dt²·max|x''|/12 is also
+  // checked on jittered times.
+  const double fs = 100.0;
+  const double w = 2.0 * kPi * 0.7;
+  const double phi = w / fs;
+  const double tight_tol = phi * phi / 12.0 / w * 1.01;
+  const std::vector<double> t = Grid(0.0, fs, 3000);
+  std::vector<double> x(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k) x[k] = std::cos(w * t[k]);
+  const std::vector<double> y = CumulativeTrapezoid(t, x);
+  ASSERT_EQ(y.size(), t.size());
+  EXPECT_EQ(y[0], 0.0);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    EXPECT_NEAR(y[k], std::sin(w * t[k]) / w, tight_tol) << k;
+  }
+
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> step(0.005, 0.015);
+  std::vector<double> tj{0.0};
+  while (tj.back() < 20.0) tj.push_back(tj.back() + step(rng));
+  std::vector<double> xj(tj.size());
+  for (std::size_t k = 0; k < tj.size(); ++k) xj[k] = std::cos(w * tj[k]);
+  const std::vector<double> yj = CumulativeTrapezoid(tj, xj);
+  const double max_dt = 0.015;
+  for (std::size_t k = 0; k < tj.size(); ++k) {
+    const double bound = tj[k] * max_dt * max_dt * w * w / 12.0 + 1e-12;
+    EXPECT_NEAR(yj[k], std::sin(w * tj[k]) / w, bound) << k;
+  }
+}
+
+TEST(MovingStatistics, RmsOfASineOverWholePeriodsIsAmplitudeOverRootTwo) {
+  // A 1 s window on a 2 Hz sine at 200 Hz holds 201 samples over two whole
+  // periods: the repeated end sample moves mean(x²) by at most A²/201.
+  const double fs = 200.0;
+  const double amplitude = 3.0;
+  const std::vector<double> t = Grid(0.0, fs, 2000);
+  const std::vector<double> x = Sine(t, amplitude, 2.0);
+  const std::vector<double> rms = MovingRms(t, x, 1.0);
+  const std::vector<double> var = MovingVariance(t, x, 1.0);
+  const double ms_tol = amplitude * amplitude / 201.0;
+  for (std::size_t k = 100; k + 100 < t.size(); ++k) {
+    EXPECT_NEAR(rms[k] * rms[k], amplitude * amplitude / 2.0, ms_tol) << k;
+    EXPECT_NEAR(var[k], amplitude * amplitude / 2.0, ms_tol) << k;
+  }
+}
+
+TEST(MovingStatistics, VarianceIgnoresALargeOffsetAndSeesAStep) {
+  // Variance of c + x does not depend on c = 1e4 (prefix sums are taken on
+  // the mean-removed signal): agreement to 1e-9 of A². At a step of height H
+  // a centred window holds half of each level: variance H²/4 exactly when
+  // the sample counts are equal.
+  const double fs = 100.0;
+  const std::vector<double> t = Grid(0.0, fs, 1000);
+  const std::vector<double> x = Sine(t, 1.0, 3.0);
+  std::vector<double> shifted = x;
+  for (double& v : shifted) v += 1e4;
+  const std::vector<double> v0 = MovingVariance(t, x, 0.5);
+  const std::vector<double> v1 = MovingVariance(t, shifted, 0.5);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    EXPECT_NEAR(v0[k], v1[k], 1e-9) << k;
+  }
+  std::vector<double> step(t.size(), 0.0);
+  for (std::size_t k = 500; k < t.size(); ++k) step[k] = 2.0;
+  // A 0.205 s window centred on sample 500 (t = 5 s) holds samples
+  // 490..510: 10 at 0 and 11 at 2, so mean(x²) − mean² = 4·(10·11)/21².
+  const std::vector<double> vs = MovingVariance(t, step, 0.205);
+  EXPECT_NEAR(vs[500], 4.0 * 110.0 / 441.0, 1e-12);
+  EXPECT_NEAR(vs[100], 0.0, 1e-15);
+  const std::vector<double> mean = MovingMean(t, step, 0.205);
+  EXPECT_NEAR(mean[500], 2.0 * 11.0 / 21.0, 1e-12);
+  // Windows are clipped at the ends: the first one holds samples 0..10.
+  EXPECT_NEAR(MovingMean(t, t, 0.205)[0], 0.05, 1e-12);
+}
+
+TEST(Quantile, InterpolatesBetweenOrderStatistics) {
+  const std::vector<double> x{5.0, 1.0, 4.0, 2.0, 3.0};
+  EXPECT_DOUBLE_EQ(Quantile(x, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(Quantile(x, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(Quantile(x, 1.0), 5.0);
+  EXPECT_DOUBLE_EQ(Quantile(x, 0.125), 1.5);
+  EXPECT_DOUBLE_EQ(Quantile(x, 0.5, 1, 3), 2.5);  // {1, 4}
+  EXPECT_TRUE(std::isnan(Quantile(x, 0.5, 3, 3)));
+  EXPECT_DOUBLE_EQ(MedianInterval({0.0, 0.1, 0.3, 0.4}), 0.1);
+  EXPECT_EQ(MedianInterval({1.0}), 0.0);
+}
+
+}  // namespace
+}  // namespace imusysid
