@@ -3,22 +3,27 @@
 #include <sstream>
 #include <utility>
 
+#include "src/consistent_model.h"
 #include "src/paper_model.h"
 #include "src/problem.h"
 
 namespace imusysid {
 
-std::vector<std::string> ModelNames() { return {"paper"}; }
+std::vector<std::string> ModelNames() { return {"paper", "consistent"}; }
 
 StatusOr<std::unique_ptr<Model>> CreateModel(
     std::string_view name,
     std::shared_ptr<const ProblemData> data,
     const ModelOptions& options) {
-  (void)options;
   if (data == nullptr) return InvalidArgumentError("no problem data");
   IMUSYSID_RETURN_IF_ERROR(data->Validate());
   if (name == "paper") {
     return std::unique_ptr<Model>(new PaperModel(std::move(data)));
+  }
+  if (name == "consistent") {
+    auto model = ConsistentModel::Create(std::move(data), options);
+    if (!model.ok()) return model.status();
+    return std::unique_ptr<Model>(std::move(model).value());
   }
   std::ostringstream msg;
   msg << "unknown model '" << name << "'; valid names:";
