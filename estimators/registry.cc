@@ -3,6 +3,12 @@
 #include <algorithm>
 #include <sstream>
 
+#include "estimators/ga_estimator.h"
+#include "estimators/ga_lm_estimator.h"
+#include "estimators/hybrid_estimator.h"
+#include "estimators/linear_estimator.h"
+#include "estimators/lm_estimator.h"
+#include "estimators/varpro_estimator.h"
 #include "glog/logging.h"
 
 namespace imusysid {
@@ -46,6 +52,12 @@ std::vector<std::string> EstimatorRegistry::NamesSupporting(
 void RegisterBuiltinEstimators(EstimatorRegistry* registry) {
   CHECK(registry != nullptr);
   // One line per estimator (REGISTER-LINES).
+  registry->Register("ga", NewGaEstimator);
+  registry->Register("lm", NewLmEstimator);
+  registry->Register("ga+lm", NewGaLmEstimator);
+  registry->Register("hybrid", NewHybridEstimator);
+  registry->Register("linear", NewLinearEstimator);
+  registry->Register("varpro", NewVarproEstimator);
 }
 
 const EstimatorRegistry& BuiltinEstimators() {

@@ -1,0 +1,107 @@
+#include "estimators/ga_lm_estimator.h"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+#include "estimators/ga_estimator.h"
+#include "estimators/lm_estimator.h"
+#include "glog/logging.h"
+
+namespace imusysid {
+namespace {
+
+std::string FormatNumber(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
+}
+
+}  // namespace
+
+namespace internal {
+
+Status PolishWithLm(const Problem& problem,
+                    const EstimatorOptions& options,
+                    std::chrono::steady_clock::time_point solve_start,
+                    std::int64_t evaluations_at_start,
+                    EstimateResult* result) {
+  CHECK(result != nullptr);
+  const int ga_generations = result->iterations;
+  result->details.emplace_back("ga_generations",
+                               std::to_string(ga_generations));
+  if (!result->IsUsable()) {
+    result->details.emplace_back("lm_accepted", "skipped");
+    return Status::Ok();
+  }
+  const double ga_cost = problem.Cost(result->parameters.data());
+  result->details.emplace_back("ga_cost", FormatNumber(ga_cost));
+
+  const double elapsed_s = std::chrono::duration<double>(
+                               std::chrono::steady_clock::now() - solve_start)
+                               .count();
+  const double remaining_s = options.max_wall_time_s - elapsed_s;
+  const std::int64_t used = problem.cost_evaluations() - evaluations_at_start;
+  const std::int64_t remaining_evaluations =
+      options.max_evaluations < 0 ? -1 : options.max_evaluations - used;
+  // A GA stopped by a budget has spent it: polishing would overrun it.
+  if (result->termination == Termination::kMaxTime ||
+      result->termination == Termination::kMaxEvaluations ||
+      !(remaining_s > 0.0) || remaining_evaluations == 0 ||
+      (options.max_evaluations >= 0 && remaining_evaluations < 0)) {
+    result->details.emplace_back("lm_iterations", "0");
+    result->details.emplace_back("lm_accepted", "skipped");
+    result->message += "; LM skipped: no time or evaluations left";
+    return Status::Ok();
+  }
+
+  StatusOr<LmRun> run = RunLm(problem,
+                              result->parameters,
+                              options.lm,
+                              -1,
+                              remaining_s,
+                              remaining_evaluations);
+  if (!run.ok()) return run.status();
+
+  if (options.record_trace) {
+    for (TracePoint point : run->trace) {
+      point.evaluations += used;
+      point.elapsed_s += elapsed_s;
+      result->trace.push_back(std::move(point));
+    }
+  }
+  const bool usable = run->termination != Termination::kFailure;
+  // MATLAB keeps the hybrid function's answer only when it is strictly better.
+  const bool accepted = usable && run->final_cost < ga_cost;
+  if (accepted) result->parameters = run->x;
+  result->iterations = ga_generations + run->iterations;
+  if (usable) result->termination = run->termination;
+  result->message = "GA: " + result->message + "; LM: " + run->message +
+                    (accepted ? " (LM result kept)"
+                              : " (LM result discarded: not strictly better)");
+  result->details.emplace_back("lm_iterations",
+                               std::to_string(run->iterations));
+  result->details.emplace_back("lm_cost", FormatNumber(run->final_cost));
+  result->details.emplace_back("lm_accepted", accepted ? "yes" : "no");
+  return Status::Ok();
+}
+
+}  // namespace internal
+
+std::unique_ptr<Estimator> NewGaLmEstimator() {
+  return std::make_unique<GaLmEstimator>();
+}
+
+Status GaLmEstimator::Solve(const Problem& problem,
+                            const EstimatorOptions& options,
+                            EstimateResult* result) const {
+  CHECK(result != nullptr);
+  const auto solve_start = std::chrono::steady_clock::now();
+  const std::int64_t evaluations_at_start = problem.cost_evaluations();
+  IMUSYSID_RETURN_IF_ERROR(RunGa(problem, options, {}, result));
+  return internal::PolishWithLm(
+      problem, options, solve_start, evaluations_at_start, result);
+}
+
+}  // namespace imusysid

@@ -1,0 +1,72 @@
+// The estimator "ga+lm": MATLAB's HybridFcn idea. The GA searches globally,
+// then Levenberg–Marquardt polishes its best individual; the LM answer is kept
+// only if its cost is strictly lower (MATLAB's rule for hybrid functions).
+
+#ifndef IMUSYSID_ESTIMATORS_GA_LM_ESTIMATOR_H_
+#define IMUSYSID_ESTIMATORS_GA_LM_ESTIMATOR_H_
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "estimators/estimator.h"
+#include "src/problem.h"
+#include "src/status.h"
+
+namespace imusysid {
+
+// Algorithm:
+//
+//   x_ga = RunGa(problem, options)            (estimators/ga_estimator.h)
+//   c_ga = Cost(x_ga)
+//   if the GA stopped on the time or evaluation budget, or none is left:
+//       return x_ga with the GA's termination
+//   x_lm = RunLm(problem, x_ga, options.lm, remaining time and evaluations)
+//   return x_lm if Cost(x_lm) < c_ga else x_ga
+//
+// Stopping rules: the GA's (max_generations, stall, average change, time,
+// evaluations), then the LM's (see estimators/lm_estimator.h). The result's
+// termination is the LM phase's (the GA's if the LM was skipped or failed).
+// iterations = GA generations + LM iterations. The trace is the GA's points
+// (phase "ga") followed by the LM's (phase "lm"); `iteration` counts within
+// each phase, evaluations and elapsed_s are cumulative over the whole solve.
+// Details: the GA's, plus "ga_generations", "lm_iterations", "ga_cost",
+// "lm_cost" and "lm_accepted" ("yes"/"no"/"skipped").
+class GaLmEstimator : public Estimator {
+ public:
+  GaLmEstimator() = default;
+
+  std::string_view name() const override { return "ga+lm"; }
+  std::vector<std::string> SupportedModels() const override {
+    return {"paper", "consistent"};
+  }
+
+ protected:
+  Status Solve(const Problem& problem,
+               const EstimatorOptions& options,
+               EstimateResult* result) const override;
+};
+
+std::unique_ptr<Estimator> NewGaLmEstimator();
+
+namespace internal {
+
+// The LM half of ga+lm, shared with the memetic hybrid's final polish:
+// `result` holds a GA outcome (parameters, termination, iterations, trace);
+// `solve_start` and `evaluations_at_start` (problem.cost_evaluations() when
+// the solve began) let the LM phase use only what remains of
+// options.max_wall_time_s and options.max_evaluations and offset its trace.
+// Implements everything after "x_ga = RunGa" in the pseudo-code above.
+Status PolishWithLm(const Problem& problem,
+                    const EstimatorOptions& options,
+                    std::chrono::steady_clock::time_point solve_start,
+                    std::int64_t evaluations_at_start,
+                    EstimateResult* result);
+
+}  // namespace internal
+}  // namespace imusysid
+
+#endif  // IMUSYSID_ESTIMATORS_GA_LM_ESTIMATOR_H_

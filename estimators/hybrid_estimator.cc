@@ -1,0 +1,127 @@
+#include "estimators/hybrid_estimator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "estimators/ga_estimator.h"
+#include "estimators/ga_lm_estimator.h"
+#include "estimators/lm_estimator.h"
+#include "glog/logging.h"
+
+namespace imusysid {
+
+std::unique_ptr<Estimator> NewHybridEstimator() {
+  return std::make_unique<HybridEstimator>();
+}
+
+Status HybridEstimator::Solve(const Problem& problem,
+                              const EstimatorOptions& options,
+                              EstimateResult* result) const {
+  CHECK(result != nullptr);
+  const auto solve_start = std::chrono::steady_clock::now();
+  const std::int64_t evaluations_at_start = problem.cost_evaluations();
+  const HybridOptions& hybrid = options.hybrid;
+  const int num_refined = hybrid.num_refined >= 0
+                              ? hybrid.num_refined
+                              : ComputeGaOffspringCounts(options.ga).elite;
+
+  int refinements = 0;
+  int reused = 0;
+  int improved = 0;
+  // LM is deterministic, so a start refined before (typically an elite that
+  // survived unchanged since the last period) would give the same answer
+  // again: reuse it instead of paying for another O(n) run.
+  std::map<std::vector<double>, Eigen::VectorXd> refined_cache;
+  std::int64_t lm_iterations = 0;
+  std::string refined_generations;
+  const GaGenerationHook hook = [&](int generation,
+                                    Eigen::MatrixXd* population,
+                                    Eigen::VectorXd* scores) {
+    if (generation % hybrid.period_generations != 0 || num_refined == 0) {
+      return;
+    }
+    const Eigen::Index rows = population->rows();
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(rows));
+    std::iota(order.begin(), order.end(), Eigen::Index{0});
+    std::stable_sort(
+        order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
+          return (*scores)[a] < (*scores)[b];
+        });
+    const std::size_t count =
+        std::min(order.size(), static_cast<std::size_t>(num_refined));
+    bool refined_any = false;
+    for (std::size_t i = 0; i < count; ++i) {
+      const double elapsed_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                        solve_start)
+              .count();
+      const double remaining_s = options.max_wall_time_s - elapsed_s;
+      const std::int64_t remaining_evaluations =
+          options.max_evaluations < 0
+              ? -1
+              : options.max_evaluations -
+                    (problem.cost_evaluations() - evaluations_at_start);
+      // Out of budget: leave the rest to the GA's own stopping rules.
+      if (!(remaining_s > 0.0) ||
+          (options.max_evaluations >= 0 && remaining_evaluations <= 0)) {
+        break;
+      }
+      const Eigen::Index row = order[i];
+      const Eigen::VectorXd start = population->row(row).transpose();
+      if (!start.allFinite()) continue;
+      const std::vector<double> key(start.data(), start.data() + start.size());
+      if (refined_cache.count(key) > 0) {
+        // Already refined; if that had improved it, the row would hold the
+        // refined point, so there is nothing to write back.
+        ++reused;
+        refined_any = true;
+        continue;
+      }
+      StatusOr<LmRun> run = RunLm(problem,
+                                  start,
+                                  options.lm,
+                                  hybrid.lm_iterations,
+                                  remaining_s,
+                                  remaining_evaluations);
+      if (!run.ok() || run->termination == Termination::kFailure) continue;
+      ++refinements;
+      refined_any = true;
+      lm_iterations += run->iterations;
+      refined_cache.emplace(key, run->x);
+      // Scored through Problem::Cost like every GA individual, so the score
+      // and the row agree exactly.
+      const double score = problem.CostToRmse(problem.Cost(run->x.data()));
+      if (score < (*scores)[row]) {
+        population->row(row) = run->x.transpose();
+        (*scores)[row] = score;
+        ++improved;
+      }
+    }
+    if (refined_any) {
+      if (!refined_generations.empty()) refined_generations += ' ';
+      refined_generations += std::to_string(generation);
+    }
+    VLOG(2) << "hybrid generation " << generation << ": " << refinements
+            << " refinements so far, " << improved << " improved";
+  };
+
+  IMUSYSID_RETURN_IF_ERROR(RunGa(problem, options, hook, result));
+  result->details.emplace_back("refinements", std::to_string(refinements));
+  result->details.emplace_back("refinements_reused", std::to_string(reused));
+  result->details.emplace_back("refinements_improved",
+                               std::to_string(improved));
+  result->details.emplace_back("refinement_lm_iterations",
+                               std::to_string(lm_iterations));
+  result->details.emplace_back("refined_generations", refined_generations);
+  result->details.emplace_back("final_polish", "lm");
+  return internal::PolishWithLm(
+      problem, options, solve_start, evaluations_at_start, result);
+}
+
+}  // namespace imusysid

@@ -1,0 +1,336 @@
+// The contract every registered estimator keeps, run over
+// BuiltinEstimators().Names() × ModelNames(): the name round-trips through
+// the registry, default options validate, an unsupported model is refused with
+// the list of estimators that can fit it, the same seed gives identical
+// parameters, the trace's best cost never increases within a phase, the
+// problem counts evaluations, the solve is timed, and (paper model) the truth
+// is recovered on the standard synthetic problem. Small GA settings
+// (population 60, max_generations 60) keep the whole file around a second.
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "Eigen/Dense"
+#include "estimators/estimator.h"
+#include "estimators/registry.h"
+#include "gtest/gtest.h"
+#include "src/imu_model.h"
+#include "src/paper_model.h"
+#include "src/problem.h"
+
+namespace imusysid {
+namespace {
+
+// The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
+const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
+// Recovery bound in standard deviations (σᵢ = σ·√diag((JᵀJ)⁻¹) at the truth):
+// a 4σ miss has probability ~6e-5 per parameter and the seed is fixed.
+constexpr double kSigmas = 4.0;
+// Cost relative to the closed-form optimum: estimators that finish with LM
+// (or are exact) stop at a relative cost change ≤ 1e-12, so 1e-9 is slack.
+constexpr double kExactCostRelTol = 1e-9;
+// The GA alone (paper settings, below) stops ~0.2 % above the optimum cost;
+// it may be 1 %. A cost excess Δc = ½δᵀJᵀJδ bounds every parameter's offset
+// from the optimum by √(2Δc/σ²) σᵢ = √(0.01·n) σᵢ ≈ 4.5σᵢ at n = 2000
+// (cost ≈ nσ²/2), plus the optimum's own ≤ 4σᵢ from the truth: 9σᵢ.
+constexpr double kGaCostRelTol = 0.01;
+constexpr double kGaSigmas = 9.0;
+
+// Same synthetic flight as linear_estimator_test.cc: ω = Σ sinusoids, ω̇ and
+// θ analytic, v = trapezoid of g sin θ, f_x = equation 9 + N(0, σ²).
+std::shared_ptr<ProblemData> MakeData(const Eigen::Vector4d& truth,
+                                      double sigma,
+                                      std::uint64_t seed) {
+  struct Sinusoid {
+    double amplitude, frequency_hz, phase;
+  };
+  const Sinusoid waves[] = {
+      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
+  constexpr double kDt = 0.01;
+  constexpr int kSamples = 2000;
+  auto data = std::make_shared<ProblemData>();
+  data->source = "synthetic";
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  double v = 0.0;
+  double previous_accel = 0.0;
+  for (int k = 0; k < kSamples; ++k) {
+    const double t = k * kDt;
+    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
+    for (const Sinusoid& w : waves) {
+      const double rate = 2.0 * kPi * w.frequency_hz;
+      omega += w.amplitude * std::sin(rate * t + w.phase);
+      omega_dot += w.amplitude * rate * std::cos(rate * t + w.phase);
+      theta += w.amplitude / rate *
+               (std::cos(w.phase) - std::cos(rate * t + w.phase));
+    }
+    const double accel = data->gravity * std::sin(theta);
+    if (k > 0) v += 0.5 * kDt * (accel + previous_accel);
+    previous_accel = accel;
+    data->t_s.push_back(t);
+    data->omega.push_back(omega);
+    data->omega_dot.push_back(omega_dot);
+    data->theta.push_back(theta);
+    data->v.push_back(v);
+    data->f_x.push_back(
+        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
+        sigma * noise(rng));
+  }
+  return data;
+}
+
+EstimatorOptions SmallGaOptions() {
+  EstimatorOptions options;
+  options.ga.population_size = 60;
+  options.ga.max_generations = 60;
+  return options;
+}
+
+const std::shared_ptr<ProblemData>& StandardData() {
+  static const auto* const data =
+      new std::shared_ptr<ProblemData>(MakeData(kTruth, kSigma, 2024));
+  return *data;
+}
+
+std::vector<std::string> EstimatorNames() {
+  return BuiltinEstimators().Names();
+}
+
+class EstimatorContractTest
+    : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {
+ protected:
+  const std::string& estimator_name() const { return std::get<0>(GetParam()); }
+  const std::string& model_name() const { return std::get<1>(GetParam()); }
+
+  void SetUp() override {
+    StatusOr<std::unique_ptr<Estimator>> estimator =
+        BuiltinEstimators().Create(estimator_name());
+    ASSERT_TRUE(estimator.ok()) << estimator.status().ToString();
+    estimator_ = std::move(estimator).value();
+    StatusOr<std::unique_ptr<Model>> model =
+        CreateModel(model_name(), StandardData());
+    if (!model.ok() && model.status().code() == StatusCode::kNotFound) {
+      GTEST_SKIP() << "model '" << model_name() << "' is not built in";
+    }
+    ASSERT_TRUE(model.ok()) << model.status().ToString();
+    problem_ = std::make_unique<Problem>(
+        std::shared_ptr<const Model>(std::move(model).value()));
+
+    const auto models = estimator_->SupportedModels();
+    if (std::find(models.begin(), models.end(), model_name()) == models.end()) {
+      // The refusal is part of the contract; the rest does not apply.
+      StatusOr<EstimateResult> refused =
+          estimator_->Estimate(*problem_, SmallGaOptions());
+      ASSERT_FALSE(refused.ok());
+      EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition);
+      const std::string& message = refused.status().message();
+      for (const std::string& able :
+           BuiltinEstimators().NamesSupporting(model_name())) {
+        EXPECT_NE(message.find(" " + able), std::string::npos)
+            << "'" << able << "' missing from: " << message;
+      }
+      GTEST_SKIP() << estimator_name() << " does not fit " << model_name()
+                   << " (refusal checked)";
+    }
+  }
+
+  EstimateResult Run(const EstimatorOptions& options) const {
+    StatusOr<EstimateResult> result = estimator_->Estimate(*problem_, options);
+    EXPECT_TRUE(result.ok()) << result.status().ToString();
+    return result.ok() ? *result : EstimateResult{};
+  }
+
+  // The run with SmallGaOptions() (seed 7), computed once per combination
+  // and shared by the checks that only read it: the GA on the consistent
+  // model is the slow part of this file.
+  const EstimateResult& DefaultResult() const {
+    static auto* const cache = new std::map<std::string, EstimateResult>;
+    const std::string key = estimator_name() + "/" + model_name();
+    auto it = cache->find(key);
+    if (it == cache->end()) {
+      it = cache->emplace(key, Run(DefaultOptions())).first;
+    }
+    return it->second;
+  }
+
+  static EstimatorOptions DefaultOptions() {
+    EstimatorOptions options = SmallGaOptions();
+    options.seed = 7;
+    return options;
+  }
+
+  std::unique_ptr<Estimator> estimator_;
+  std::unique_ptr<Problem> problem_;
+};
+
+TEST_P(EstimatorContractTest, NameRoundTripsThroughRegistry) {
+  EXPECT_EQ(estimator_->name(), estimator_name());
+  EXPECT_TRUE(EstimatorOptions{}.Validate().ok());
+}
+
+TEST_P(EstimatorContractTest, SameSeedGivesIdenticalParameters) {
+  const EstimateResult& first = DefaultResult();
+  const EstimateResult second = Run(DefaultOptions());
+  ASSERT_TRUE(first.IsUsable()) << first.message;
+  EXPECT_EQ(first.parameters, second.parameters);
+  EXPECT_EQ(first.termination, second.termination);
+}
+
+TEST_P(EstimatorContractTest, TraceBestCostNeverIncreasesWithinAPhase) {
+  const EstimateResult& result = DefaultResult();
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  for (std::size_t i = 1; i < result.trace.size(); ++i) {
+    const TracePoint& prev = result.trace[i - 1];
+    const TracePoint& point = result.trace[i];
+    if (point.phase != prev.phase) continue;
+    EXPECT_LE(point.best_cost, prev.best_cost)
+        << "phase " << point.phase << ", iteration " << point.iteration;
+  }
+}
+
+TEST_P(EstimatorContractTest, CountsEvaluationsAndTime) {
+  const EstimateResult& result = DefaultResult();
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_GT(result.cost_evaluations, 0);
+  EXPECT_GT(result.wall_time_s, 0.0);
+  EXPECT_GE(result.final_cost, 0.0);
+  EXPECT_EQ(result.estimator, estimator_name());
+  EXPECT_EQ(result.model, model_name());
+  EXPECT_EQ(result.parameters.size(), problem_->num_parameters());
+}
+
+TEST_P(EstimatorContractTest, RejectsInvalidOptionsNamingTheField) {
+  struct Case {
+    void (*mutate)(EstimatorOptions*);
+    const char* field;
+  };
+  const Case cases[] = {
+      {[](EstimatorOptions* o) { o->max_wall_time_s = 0.0; },
+       "EstimatorOptions::max_wall_time_s"},
+      {[](EstimatorOptions* o) { o->ga.population_size = 1; },
+       "GaOptions::population_size"},
+      {[](EstimatorOptions* o) { o->lm.max_iterations = -1; },
+       "LmOptions::max_iterations"},
+      {[](EstimatorOptions* o) { o->hybrid.period_generations = 0; },
+       "HybridOptions::period_generations"},
+  };
+  for (const Case& c : cases) {
+    EstimatorOptions options = SmallGaOptions();
+    c.mutate(&options);
+    StatusOr<EstimateResult> result = estimator_->Estimate(*problem_, options);
+    ASSERT_FALSE(result.ok()) << c.field;
+    EXPECT_EQ(result.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(result.status().message().find(c.field), std::string::npos)
+        << result.status().message();
+  }
+}
+
+TEST_P(EstimatorContractTest, RecoversTruthOnStandardProblem) {
+  if (model_name() != "paper") {
+    GTEST_SKIP() << "the standard problem is generated by the paper model; "
+                    "its truth is not that of '"
+                 << model_name() << "'";
+  }
+  const bool ga_only = estimator_name() == "ga";
+  // The GA alone is judged with the paper's settings (population 250, MATLAB's
+  // 100·nvars generations): the small ones are for speed, not accuracy.
+  EstimatorOptions paper_options;
+  paper_options.seed = 7;
+  const EstimateResult& result = ga_only ? Run(paper_options) : DefaultResult();
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+
+  const double k_sigmas = ga_only ? kGaSigmas : kSigmas;
+  const double cost_rel_tol = ga_only ? kGaCostRelTol : kExactCostRelTol;
+
+  // σᵢ = σ·√diag((JᵀJ)⁻¹) with J the residual Jacobian at the truth.
+  const int n = problem_->num_residuals();
+  Eigen::VectorXd residuals(n);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(n,
+                                                                             4);
+  ASSERT_TRUE(
+      problem_->model().Residuals(kTruth.data(), residuals.data(), jac.data()));
+  const Eigen::Matrix4d cov =
+      kSigma * kSigma *
+      (jac.transpose() * jac).ldlt().solve(Eigen::Matrix4d::Identity());
+  for (int i = 0; i < 4; ++i) {
+    const double sigma_i = std::sqrt(cov(i, i));
+    EXPECT_LE(std::abs(result.parameters[i] - kTruth[i]), k_sigmas * sigma_i)
+        << result.parameter_names[static_cast<std::size_t>(i)] << " = "
+        << result.parameters[i] << ", truth " << kTruth[i] << ", sigma "
+        << sigma_i;
+  }
+
+  // The closed-form optimum of the paper model, computed here from the
+  // normal equations of Φa = f_x (not by the library).
+  const ProblemData& d = *StandardData();
+  Eigen::MatrixXd phi(n, 4);
+  Eigen::VectorXd y(n);
+  for (int k = 0; k < n; ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    phi.row(k) << 1.0, -d.omega[s] * d.omega[s], d.omega_dot[s],
+        -std::copysign(d.v[s] * d.v[s], d.v[s]);
+    y[k] = d.f_x[s];
+  }
+  const Eigen::Vector4d a = phi.colPivHouseholderQr().solve(y);
+  ASSERT_GE(a[3], 0.0) << "the standard problem's optimum has mu >= 0";
+  const double optimum = 0.5 * (phi * a - y).squaredNorm();
+  EXPECT_LE(result.final_cost, optimum * (1.0 + cost_rel_tol));
+  EXPECT_GE(result.final_cost, optimum * (1.0 - kExactCostRelTol));
+}
+
+std::string ParamName(
+    const ::testing::TestParamInfo<std::tuple<std::string, std::string>>&
+        info) {
+  std::string name = std::get<0>(info.param) + "_" + std::get<1>(info.param);
+  std::string out;
+  for (char c : name) {
+    if (c == '+') {
+      out += "_plus_";
+    } else if (std::isalnum(static_cast<unsigned char>(c)) || c == '_') {
+      out += c;
+    } else {
+      out += '_';
+    }
+  }
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Registry,
+    EstimatorContractTest,
+    ::testing::Combine(::testing::ValuesIn(EstimatorNames()),
+                       ::testing::ValuesIn(ModelNames())),
+    ParamName);
+
+TEST(EstimatorRegistry, UnknownNameIsNotFoundListingValidNames) {
+  StatusOr<std::unique_ptr<Estimator>> estimator =
+      BuiltinEstimators().Create("simplex");
+  ASSERT_FALSE(estimator.ok());
+  EXPECT_EQ(estimator.status().code(), StatusCode::kNotFound);
+  const std::string& message = estimator.status().message();
+  EXPECT_NE(message.find("simplex"), std::string::npos) << message;
+  for (const std::string& name : BuiltinEstimators().Names()) {
+    EXPECT_NE(message.find(" " + name), std::string::npos)
+        << "'" << name << "' missing from: " << message;
+  }
+}
+
+TEST(EstimatorRegistry, HoldsTheBuiltinEstimators) {
+  const std::vector<std::string> names = BuiltinEstimators().Names();
+  for (const char* expected : {"lm", "ga+lm", "hybrid", "linear"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end())
+        << expected;
+  }
+}
+
+}  // namespace
+}  // namespace imusysid

@@ -1,0 +1,246 @@
+// Tests of the Ceres Levenberg–Marquardt estimator "lm" and RunLm: recovery of
+// the truth, agreement with the closed-form optimum, the Jacobian it is fed,
+// its stopping rules, bounds and the β wrap.
+
+#include "estimators/lm_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "Eigen/Dense"
+#include "estimators/linear_estimator.h"
+#include "gtest/gtest.h"
+#include "src/imu_model.h"
+#include "src/paper_model.h"
+#include "src/problem.h"
+
+namespace imusysid {
+namespace {
+
+// The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
+const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
+// LM on noise-free data converges quadratically to a zero-residual point;
+// 1e-8 relative is the project's standard for deterministic estimators.
+constexpr double kNoiseFreeRelTol = 1e-8;
+// Near the optimum cost − cost* = ½‖J δ‖²: a parameter error δ of ~1e-5·σθ
+// (what function_tolerance 1e-12 leaves) changes the cost by ~1e-10 relative,
+// so 1e-9 separates "at the optimum" from "close to it".
+constexpr double kCostRelTol = 1e-9;
+
+// Same synthetic flight as linear_estimator_test.cc: ω = Σ sinusoids, ω̇ and
+// θ analytic, v = trapezoid of g sin θ, f_x = equation 9 + N(0, σ²).
+std::shared_ptr<ProblemData> MakeData(const Eigen::Vector4d& truth,
+                                      double sigma,
+                                      std::uint64_t seed) {
+  struct Sinusoid {
+    double amplitude, frequency_hz, phase;
+  };
+  const Sinusoid waves[] = {
+      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
+  constexpr double kDt = 0.01;
+  constexpr int kSamples = 2000;
+  auto data = std::make_shared<ProblemData>();
+  data->source = "synthetic";
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  double v = 0.0;
+  double previous_accel = 0.0;
+  for (int k = 0; k < kSamples; ++k) {
+    const double t = k * kDt;
+    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
+    for (const Sinusoid& w : waves) {
+      const double rate = 2.0 * kPi * w.frequency_hz;
+      omega += w.amplitude * std::sin(rate * t + w.phase);
+      omega_dot += w.amplitude * rate * std::cos(rate * t + w.phase);
+      theta += w.amplitude / rate *
+               (std::cos(w.phase) - std::cos(rate * t + w.phase));
+    }
+    const double accel = data->gravity * std::sin(theta);
+    if (k > 0) v += 0.5 * kDt * (accel + previous_accel);
+    previous_accel = accel;
+    data->t_s.push_back(t);
+    data->omega.push_back(omega);
+    data->omega_dot.push_back(omega_dot);
+    data->theta.push_back(theta);
+    data->v.push_back(v);
+    data->f_x.push_back(
+        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
+        sigma * noise(rng));
+  }
+  return data;
+}
+
+Problem MakeProblem(std::shared_ptr<ProblemData> data) {
+  return Problem(std::make_shared<PaperModel>(std::move(data)));
+}
+
+EstimateResult RunEstimator(const Estimator& estimator,
+                            const Problem& problem,
+                            const EstimatorOptions& options = {}) {
+  StatusOr<EstimateResult> result = estimator.Estimate(problem, options);
+  EXPECT_TRUE(result.ok()) << result.status().ToString();
+  return result.ok() ? *result : EstimateResult{};
+}
+
+TEST(LmEstimator, ConvergesFromBoxCentreWhenNoiseFree) {
+  const Problem problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  ASSERT_TRUE(problem.initial_guess().isApprox(
+      0.5 * (problem.lower_bounds() + problem.upper_bounds())));
+  const EstimateResult result = RunEstimator(LmEstimator(), problem);
+  ASSERT_EQ(result.termination, Termination::kConverged) << result.message;
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(
+        result.parameters[i], kTruth[i], kNoiseFreeRelTol * std::abs(kTruth[i]))
+        << result.parameter_names[static_cast<std::size_t>(i)];
+  }
+  EXPECT_GT(result.iterations, 0);
+  EXPECT_GT(result.cost_evaluations, 0);
+  EXPECT_GT(result.jacobian_evaluations, 0);
+  EXPECT_GT(result.initial_cost, result.final_cost);
+}
+
+TEST(LmEstimator, ReachesLinearOptimumWhenNoisy) {
+  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const EstimateResult linear = RunEstimator(LinearEstimator(), problem);
+  const EstimateResult lm = RunEstimator(LmEstimator(), problem);
+  ASSERT_EQ(linear.termination, Termination::kConverged) << linear.message;
+  ASSERT_EQ(lm.termination, Termination::kConverged) << lm.message;
+  EXPECT_NEAR(
+      lm.final_cost, linear.final_cost, kCostRelTol * linear.final_cost);
+}
+
+TEST(LmEstimator, ResidualJacobianMatchesCentralDifferences) {
+  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 9));
+  const int n = problem.num_residuals();
+  const int p = problem.num_parameters();
+  const std::vector<Eigen::Vector4d> points = {
+      kTruth,
+      Eigen::Vector4d(0.25, 0.0, 0.0, 0.5),
+      Eigen::Vector4d(0.4, -120.0, 10.0, 0.9)};
+  for (const Eigen::Vector4d& x : points) {
+    Eigen::VectorXd r(n);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(
+        n, p);
+    ASSERT_TRUE(problem.Residuals(x.data(), r.data(), jac.data()));
+    for (int j = 0; j < p; ++j) {
+      // Central differences: truncation O(h²) and rounding O(eps/h) balance
+      // near h = eps^(1/3)·scale.
+      const double h = 1e-5 * std::max(1.0, std::abs(x[j]));
+      Eigen::Vector4d plus = x, minus = x;
+      plus[j] += h;
+      minus[j] -= h;
+      Eigen::VectorXd r_plus(n), r_minus(n);
+      ASSERT_TRUE(problem.Residuals(plus.data(), r_plus.data(), nullptr));
+      ASSERT_TRUE(problem.Residuals(minus.data(), r_minus.data(), nullptr));
+      const Eigen::VectorXd numeric = (r_plus - r_minus) / (2.0 * h);
+      // sqrt(eps)·scale, the scale being the column's largest entry.
+      const double tol = std::sqrt(std::numeric_limits<double>::epsilon()) *
+                         std::max(1.0, jac.col(j).lpNorm<Eigen::Infinity>());
+      EXPECT_LE((jac.col(j) - numeric).lpNorm<Eigen::Infinity>(), tol)
+          << "parameter " << j << " at " << x.transpose();
+    }
+  }
+}
+
+TEST(LmEstimator, TraceBestCostNeverIncreases) {
+  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const EstimateResult result = RunEstimator(LmEstimator(), problem);
+  ASSERT_FALSE(result.trace.empty());
+  for (std::size_t i = 0; i < result.trace.size(); ++i) {
+    EXPECT_EQ(result.trace[i].phase, "lm");
+    if (i > 0) {
+      EXPECT_LE(result.trace[i].best_cost, result.trace[i - 1].best_cost);
+      EXPECT_GE(result.trace[i].evaluations, result.trace[i - 1].evaluations);
+    }
+  }
+  EXPECT_DOUBLE_EQ(result.trace.front().best_cost, result.initial_cost);
+}
+
+TEST(LmEstimator, StopsAtIterationLimit) {
+  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  EstimatorOptions options;
+  options.lm.max_iterations = 1;
+  const EstimateResult result = RunEstimator(LmEstimator(), problem, options);
+  EXPECT_EQ(result.termination, Termination::kMaxIterations) << result.message;
+  EXPECT_TRUE(result.IsUsable());
+  EXPECT_TRUE(result.HasWarning("no_convergence"));
+  EXPECT_LE(result.iterations, 1);
+}
+
+TEST(LmEstimator, StopsAtEvaluationBudget) {
+  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  EstimatorOptions options;
+  options.max_evaluations = 2;
+  const EstimateResult result = RunEstimator(LmEstimator(), problem, options);
+  EXPECT_EQ(result.termination, Termination::kMaxEvaluations) << result.message;
+  // The budget is checked once per iteration, so it may be overrun by one
+  // iteration's evaluations (at most a trial step and a Jacobian).
+  EXPECT_LE(result.cost_evaluations, options.max_evaluations + 2);
+}
+
+TEST(LmEstimator, StaysWithinCustomBounds) {
+  auto problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  Eigen::VectorXd lower = problem.lower_bounds();
+  Eigen::VectorXd upper = problem.upper_bounds();
+  upper[kR] = 0.15;  // below the true 0.19 m
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  const EstimateResult result = RunEstimator(LmEstimator(), problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_DOUBLE_EQ(result.parameters[kR], 0.15);
+  EXPECT_TRUE(result.HasWarning("at_bound"));
+}
+
+TEST(LmEstimator, WrapsBetaOnlyWhenWrappedValueIsInBounds) {
+  auto problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  Eigen::VectorXd lower = problem.lower_bounds();
+  Eigen::VectorXd upper = problem.upper_bounds();
+  // β ∈ [−400°, 400°]; starting at −300° LM finds −303.701° ≡ 56.299°, which
+  // is in the box and is reported wrapped.
+  lower[kBeta] = -400.0;
+  upper[kBeta] = 400.0;
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  Eigen::VectorXd start = kTruth;
+  start[kBeta] = -300.0;
+  StatusOr<LmRun> run = RunLm(problem, start, LmOptions{}, -1, 10.0);
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  EXPECT_NEAR(run->x[kBeta], kTruth[kBeta], kNoiseFreeRelTol * kTruth[kBeta]);
+
+  // β ∈ [100°, 500°]: the optimum 416.299° wraps to 56.299°, outside the box,
+  // so it stays unwrapped.
+  lower[kBeta] = 100.0;
+  upper[kBeta] = 500.0;
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  start[kBeta] = 400.0;
+  run = RunLm(problem, start, LmOptions{}, -1, 10.0);
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  EXPECT_NEAR(
+      run->x[kBeta], kTruth[kBeta] + 360.0, kNoiseFreeRelTol * kTruth[kBeta]);
+}
+
+TEST(LmEstimator, RunLmRejectsStartOfWrongSize) {
+  const Problem problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  StatusOr<LmRun> run =
+      RunLm(problem, Eigen::VectorXd::Zero(3), LmOptions{}, -1, 1.0);
+  ASSERT_FALSE(run.ok());
+  EXPECT_EQ(run.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(run.status().message().find("3 entries"), std::string::npos)
+      << run.status().message();
+}
+
+TEST(LmEstimator, RunLmHonoursIterationOverride) {
+  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  StatusOr<LmRun> run =
+      RunLm(problem, problem.initial_guess(), LmOptions{}, 2, 10.0);
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  EXPECT_LE(run->iterations, 2);
+  EXPECT_LE(run->final_cost, run->initial_cost);
+}
+
+}  // namespace
+}  // namespace imusysid

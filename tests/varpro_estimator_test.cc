@@ -1,0 +1,379 @@
+#include "estimators/varpro_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "Eigen/Dense"
+#include "estimators/registry.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "src/consistent_model.h"
+#include "src/imu_model.h"
+#include "src/problem.h"
+
+namespace imusysid {
+namespace {
+
+// --- an independent simulation of the consistent dynamics ------------------
+//
+// Pitch is analytic, θ(τ) = c0 + A1 sin(w1 τ) + A2 (sin(w2 τ + φ) − sin φ)
+// (so the integrated gyro θ − c0 − c1 τ starts at 0), velocity is integrated
+// by classical RK4 at ten times the sample rate, and f_x is the prediction
+// formula of docs (header of src/consistent_model.h) written out here.
+
+struct Truth {
+  double r = 0.19;        // m
+  double beta = 56.299;   // deg
+  double alpha = -2.812;  // deg
+  double mu = 0.0716;     // 1/m
+  double c0 = 1.2;        // deg
+  double c1 = 0.04;       // deg/s
+  Eigen::VectorXd Vector() const {
+    Eigen::VectorXd x(6);
+    x << r, beta, alpha, mu, c0, c1;
+    return x;
+  }
+};
+
+struct SimOptions {
+  double rate_hz = 1000.0;
+  double duration_s = 20.0;
+  double t_start_s = 5.0;  // t_0 ≠ 0 checks that drift is measured from t_0
+  bool measured_fz = false;
+  double noise_sigma = 0.0;  // on f_x, m/s²
+  unsigned seed = 7;
+};
+
+constexpr double kA1 = 0.35;  // rad
+constexpr double kW1 = 2.0 * kPi * 0.25;
+constexpr double kA2 = 0.12;  // rad
+constexpr double kW2 = 2.0 * kPi * 0.9;
+constexpr double kPhi = 0.7;
+
+double Theta(double tau, double c0_rad) {
+  return c0_rad + kA1 * std::sin(kW1 * tau) +
+         kA2 * (std::sin(kW2 * tau + kPhi) - std::sin(kPhi));
+}
+double Omega(double tau) {
+  return kA1 * kW1 * std::cos(kW1 * tau) +
+         kA2 * kW2 * std::cos(kW2 * tau + kPhi);
+}
+double OmegaDot(double tau) {
+  return -kA1 * kW1 * kW1 * std::sin(kW1 * tau) -
+         kA2 * kW2 * kW2 * std::sin(kW2 * tau + kPhi);
+}
+// The measured z specific force of the f_z variant: hover thrust plus a
+// vertical wobble, so it differs from g / cos θ.
+double MeasuredFz(double tau, double c0_rad) {
+  return kGravity / std::cos(Theta(tau, c0_rad)) + 0.8 * std::sin(1.3 * tau);
+}
+
+std::shared_ptr<ProblemData> Simulate(const Truth& truth,
+                                      const SimOptions& opt) {
+  const double g = kGravity;
+  const double c0 = truth.c0 * kDegToRad;
+  const double c1 = truth.c1 * kDegToRad;
+  auto vdot = [&](double tau, double v) {
+    const double th = Theta(tau, c0);
+    if (opt.measured_fz) {
+      return MeasuredFz(tau, c0) * std::sin(th) -
+             truth.mu * v * std::abs(v) * std::cos(th) * std::cos(th);
+    }
+    return g * std::tan(th) - truth.mu * v * std::abs(v);
+  };
+  const int n = static_cast<int>(opt.duration_s * opt.rate_hz) + 1;
+  const double h = 1.0 / opt.rate_hz;
+  constexpr int kSubsteps = 10;
+  const double hs = h / kSubsteps;
+  std::mt19937 rng(opt.seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+
+  auto d = std::make_shared<ProblemData>();
+  d->source = "varpro_estimator_test simulation";
+  double v = 0.0;
+  double v_eq7 = 0.0;
+  const double a = truth.alpha * kDegToRad;
+  const double bma = (truth.beta - truth.alpha) * kDegToRad;
+  for (int k = 0; k < n; ++k) {
+    const double tau = k * h;
+    if (k > 0) {
+      double tt = (k - 1) * h;
+      for (int s = 0; s < kSubsteps; ++s) {
+        const double k1 = vdot(tt, v);
+        const double k2 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k1);
+        const double k3 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k2);
+        const double k4 = vdot(tt + hs, v + hs * k3);
+        v += hs / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        tt += hs;
+      }
+    }
+    const double th = Theta(tau, c0);
+    const double q = v * std::abs(v);
+    const double fz = opt.measured_fz
+                          ? MeasuredFz(tau, c0)
+                          : g / std::cos(th) - truth.mu * q * std::sin(th);
+    const double w = Omega(tau);
+    const double wd = OmegaDot(tau);
+    const double fx = fz * std::sin(a) - truth.r * w * w * std::cos(bma) +
+                      truth.r * wd * std::sin(bma) -
+                      truth.mu * q * std::cos(th);
+    const double theta_gyro = th - c0 - c1 * tau;
+    if (k > 0) {
+      // Equation 7 (for the paper model's v column), trapezoid.
+      const double th_prev = d->theta.back();
+      v_eq7 += 0.5 * h * g * (std::sin(th_prev) + std::sin(theta_gyro));
+    }
+    d->t_s.push_back(opt.t_start_s + tau);
+    d->f_x.push_back(fx + opt.noise_sigma * noise(rng));
+    if (opt.measured_fz) d->f_z.push_back(fz);
+    d->omega.push_back(w);
+    d->omega_dot.push_back(wd);
+    d->theta.push_back(theta_gyro);
+    d->v.push_back(v_eq7);
+  }
+  return d;
+}
+
+Problem MakeProblem(std::shared_ptr<ProblemData> data,
+                    const char* model_name,
+                    bool measured_fz = false) {
+  ModelOptions options;
+  options.use_measured_fz = measured_fz;
+  auto model = CreateModel(model_name, std::move(data), options);
+  EXPECT_TRUE(model.ok()) << model.status().ToString();
+  return Problem(std::shared_ptr<const Model>(std::move(model).value()));
+}
+
+EstimateResult RunVarpro(const Problem& problem,
+                         const EstimatorOptions& options = {}) {
+  auto estimator = BuiltinEstimators().Create("varpro");
+  EXPECT_TRUE(estimator.ok()) << estimator.status().ToString();
+  auto result = (*estimator)->Estimate(problem, options);
+  EXPECT_TRUE(result.ok()) << result.status().ToString();
+  return std::move(result).value();
+}
+
+// Noise-free data still differ from the model by the Heun error of the
+// model's integration (RMSE ≈ 3e-7 m/s² at 1 kHz, see consistent_model_test).
+// Propagated through (JᵀJ)⁻¹Jᵀ it is worth about σ_e·√n·√(JᵀJ)⁻¹_ii: with the
+// standard errors of the noisy test scaled from 0.3 m/s² to 3e-7 m/s² and the
+// factor √n for a systematic (not white) error, ~1e-7 m, ~2e-4° (β, the least
+// determined), ~4e-6° (α), ~2e-6 relative (μ). The limits below are the
+// project's targets; β's is the one with the least margin.
+constexpr double kNoiseFreeR = 1e-6;           // m
+constexpr double kNoiseFreeBeta = 1e-4;        // deg
+constexpr double kNoiseFreeAlpha = 1e-5;       // deg
+constexpr double kNoiseFreeMuRelative = 1e-5;  // of μ
+constexpr double kNoiseFreeC0 = 1e-4;          // deg
+constexpr double kNoiseFreeC1 = 1e-5;          // deg/s
+// Noisy data: each estimate within this many of its standard errors.
+constexpr double kSigmas = 4.0;
+
+void ExpectNoiseFreeRecovery(const EstimateResult& result, const Truth& truth) {
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  ASSERT_EQ(result.parameters.size(), 6);
+  EXPECT_EQ(result.termination, Termination::kConverged) << result.message;
+  const Eigen::VectorXd& x = result.parameters;
+  EXPECT_NEAR(x[kR], truth.r, kNoiseFreeR);
+  EXPECT_NEAR(x[kBeta], truth.beta, kNoiseFreeBeta);
+  EXPECT_NEAR(x[kAlpha], truth.alpha, kNoiseFreeAlpha);
+  EXPECT_NEAR(x[kMu], truth.mu, kNoiseFreeMuRelative * truth.mu);
+  EXPECT_NEAR(x[kC0], truth.c0, kNoiseFreeC0);
+  EXPECT_NEAR(x[kC1], truth.c1, kNoiseFreeC1);
+}
+
+TEST(VarproEstimator, IsRegisteredForPaperAndConsistent) {
+  auto estimator = BuiltinEstimators().Create("varpro");
+  ASSERT_TRUE(estimator.ok());
+  EXPECT_EQ((*estimator)->name(), "varpro");
+  EXPECT_THAT((*estimator)->SupportedModels(),
+              ::testing::UnorderedElementsAre("paper", "consistent"));
+  EXPECT_THAT(BuiltinEstimators().NamesSupporting("consistent"),
+              ::testing::Contains("varpro"));
+}
+
+TEST(VarproEstimator, RecoversTruthFromNoiseFreeDataWhenAltitudeHeld) {
+  const Truth truth;
+  const Problem problem =
+      MakeProblem(Simulate(truth, SimOptions()), "consistent");
+  const EstimateResult result = RunVarpro(problem);
+  ExpectNoiseFreeRecovery(result, truth);
+  EXPECT_LT(result.rmse, 1e-5);
+}
+
+TEST(VarproEstimator, RecoversTruthFromNoiseFreeDataWithMeasuredFz) {
+  const Truth truth;
+  SimOptions opt;
+  opt.measured_fz = true;
+  const Problem problem =
+      MakeProblem(Simulate(truth, opt), "consistent", /*measured_fz=*/true);
+  ExpectNoiseFreeRecovery(RunVarpro(problem), truth);
+}
+
+TEST(VarproEstimator, NoisyEstimateIsWithinFourStandardErrors) {
+  Truth truth;
+  truth.beta = 66.066;
+  truth.alpha = -4.0132;
+  truth.r = 0.213;
+  truth.mu = 0.107;
+  SimOptions opt;
+  opt.noise_sigma = 0.3;  // m/s², about the paper's OF scale
+  opt.rate_hz = 250.0;
+  opt.duration_s = 40.0;
+  const Problem problem = MakeProblem(Simulate(truth, opt), "consistent");
+  const EstimateResult result = RunVarpro(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_EQ(result.termination, Termination::kConverged);
+  const Eigen::VectorXd x_true = truth.Vector();
+  for (int i = 0; i < 6; ++i) {
+    const double se = result.standard_errors[i];
+    ASSERT_TRUE(std::isfinite(se) && se > 0.0) << result.parameter_names[i];
+    EXPECT_LE(std::abs(result.parameters[i] - x_true[i]), kSigmas * se)
+        << result.parameter_names[i] << " = " << result.parameters[i]
+        << ", truth " << x_true[i] << ", se " << se;
+  }
+  // The OF is the noise level (n ≫ p): within 5 % at n = 10 001.
+  EXPECT_NEAR(result.rmse, opt.noise_sigma, 0.05 * opt.noise_sigma);
+}
+
+TEST(VarproEstimator, CountsEvaluationsThroughTheProblem) {
+  SimOptions opt;
+  opt.duration_s = 10.0;
+  const Problem problem = MakeProblem(Simulate(Truth(), opt), "consistent");
+  const std::int64_t before = problem.cost_evaluations();
+  const EstimateResult result = RunVarpro(problem);
+  ASSERT_TRUE(result.IsUsable());
+  EXPECT_GT(result.cost_evaluations, 5);  // the μ grid alone has 5
+  EXPECT_GT(result.jacobian_evaluations, 0);
+  EXPECT_EQ(result.cost_evaluations, problem.cost_evaluations() - before);
+  EXPECT_GT(result.iterations, 0);
+  ASSERT_FALSE(result.trace.empty());
+  for (std::size_t i = 1; i < result.trace.size(); ++i) {
+    EXPECT_LE(result.trace[i].best_cost, result.trace[i - 1].best_cost);
+  }
+}
+
+TEST(VarproEstimator, StopsAtTheEvaluationLimit) {
+  SimOptions opt;
+  opt.duration_s = 10.0;
+  const Problem problem = MakeProblem(Simulate(Truth(), opt), "consistent");
+  EstimatorOptions options;
+  options.max_evaluations = 7;
+  const EstimateResult result = RunVarpro(problem, options);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_EQ(result.termination, Termination::kMaxEvaluations);
+  EXPECT_TRUE(result.HasWarning("no_convergence"));
+}
+
+TEST(VarproEstimator, KeepsMuInsideItsBounds) {
+  const Truth truth;  // μ = 0.0716
+  SimOptions opt;
+  opt.duration_s = 10.0;
+  Problem problem = MakeProblem(Simulate(truth, opt), "consistent");
+  Eigen::VectorXd lower = problem.lower_bounds();
+  Eigen::VectorXd upper = problem.upper_bounds();
+  upper[kMu] = 0.05;
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  const EstimateResult result = RunVarpro(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_LE(result.parameters[kMu], 0.05);
+  EXPECT_NEAR(result.parameters[kMu], 0.05, 1e-9);
+  EXPECT_TRUE(result.HasWarning("at_bound"));
+}
+
+TEST(VarproEstimator, FailsWithA1ExceedsGOnALargeOffset) {
+  SimOptions opt;
+  opt.duration_s = 5.0;
+  for (const char* model : {"consistent", "paper"}) {
+    auto data = Simulate(Truth(), opt);
+    for (double& f : data->f_x) f += 15.0;  // no tilt explains 15 m/s²
+    const Problem problem = MakeProblem(data, model);
+    const EstimateResult result = RunVarpro(problem);
+    EXPECT_EQ(result.termination, Termination::kFailure) << model;
+    EXPECT_TRUE(result.HasWarning("a1_exceeds_g")) << model;
+  }
+}
+
+// The paper model's least squares written out here with a different solver
+// (SVD of the unscaled regressors) than the estimator's.
+struct ClosedForm {
+  Eigen::VectorXd a;
+  double cost;
+};
+ClosedForm PaperLeastSquares(const ProblemData& d, int columns) {
+  const auto n = static_cast<Eigen::Index>(d.size());
+  Eigen::MatrixXd phi(n, columns);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const double v = d.v[i];
+    const double regressors[4] = {
+        1.0,
+        -d.omega[i] * d.omega[i],
+        d.omega_dot[i],
+        -(v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0)) * v * v};
+    for (int j = 0; j < columns; ++j) phi(k, j) = regressors[j];
+    y[k] = d.f_x[i];
+  }
+  ClosedForm out;
+  out.a = phi.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(y);
+  out.cost = 0.5 * (y - phi * out.a).squaredNorm();
+  return out;
+}
+
+// Both solvers are backward stable: the costs agree to ~κ ε ≪ 1e-9.
+constexpr double kCostRelativeTolerance = 1e-9;
+
+TEST(VarproEstimator, PaperModelEqualsClosedFormLeastSquares) {
+  SimOptions opt;
+  opt.noise_sigma = 0.2;
+  opt.duration_s = 15.0;
+  auto data = Simulate(Truth(), opt);
+  const Problem problem = MakeProblem(data, "paper");
+  const EstimateResult result = RunVarpro(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  const ClosedForm ls = PaperLeastSquares(*data, 4);
+  ASSERT_GT(ls.a[3], 0.0) << "the data should not need the mu constraint";
+  EXPECT_NEAR(result.final_cost, ls.cost, kCostRelativeTolerance * ls.cost);
+  EXPECT_EQ(result.cost_evaluations, 1);
+  EXPECT_THAT(result.details,
+              ::testing::Contains(std::make_pair(std::string("mu_constrained"),
+                                                 std::string("no"))));
+  // The parameters map back from a (model.md): α = asin(a1/g), r = |a2, a3|.
+  EXPECT_NEAR(result.parameters[kAlpha],
+              std::asin(ls.a[0] / kGravity) * kRadToDeg,
+              1e-7);
+  EXPECT_NEAR(result.parameters[kR], std::hypot(ls.a[1], ls.a[2]), 1e-9);
+  EXPECT_NEAR(result.parameters[kMu], ls.a[3], 1e-9);
+}
+
+TEST(VarproEstimator, PaperModelConstrainsNegativeMuToZero) {
+  SimOptions opt;
+  opt.noise_sigma = 0.2;
+  opt.duration_s = 15.0;
+  auto data = Simulate(Truth(), opt);
+  // Reverse the drag's sign in the data so the free fit wants μ < 0.
+  for (std::size_t k = 0; k < data->size(); ++k) {
+    data->f_x[k] += 2.0 * 0.0716 * data->v[k] * std::abs(data->v[k]);
+  }
+  const Problem problem = MakeProblem(data, "paper");
+  const ClosedForm free_ls = PaperLeastSquares(*data, 4);
+  ASSERT_LT(free_ls.a[3], 0.0);
+  const EstimateResult result = RunVarpro(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  const ClosedForm constrained = PaperLeastSquares(*data, 3);
+  EXPECT_EQ(result.parameters[kMu], 0.0);
+  EXPECT_NEAR(result.final_cost,
+              constrained.cost,
+              kCostRelativeTolerance * constrained.cost);
+  EXPECT_THAT(result.details,
+              ::testing::Contains(std::make_pair(std::string("mu_constrained"),
+                                                 std::string("yes"))));
+}
+
+}  // namespace
+}  // namespace imusysid
