@@ -1,7 +1,8 @@
 // The paper's measurement model (its equation 9), its objective (equation 10)
 // and the exact map between the four physical parameters (r, β, α, μ) and the
 // linear coefficients a = (g sin α, r cos(β−α), r sin(β−α), μ) that make the
-// model linear in disguise. Sign conventions: ../docs/model.md (FLU body frame).
+// model linear in disguise. Sign conventions: ../docs/model.md (FLU body
+// frame).
 
 #ifndef IMUSYSID_SRC_IMU_MODEL_H_
 #define IMUSYSID_SRC_IMU_MODEL_H_
@@ -57,8 +58,23 @@ T PaperPrediction(const T* x,
   const T alpha = x[kAlpha] * kDegToRad;
   const T beta_minus_alpha = x[kBeta] * kDegToRad - alpha;
   const double drag = (v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0)) * v * v;
-  return gravity * sin(alpha) - x[kR] * (omega * omega) * cos(beta_minus_alpha) +
+  return gravity * sin(alpha) -
+         x[kR] * (omega * omega) * cos(beta_minus_alpha) +
          x[kR] * omega_dot * sin(beta_minus_alpha) - x[kMu] * drag;
+}
+
+// The coefficients a(x) = (g sin α, r cos(β−α), r sin(β−α), μ) for a
+// parameter vector x in the paper's units; templated for Ceres Jets.
+template <typename T>
+void CoefficientsOf(const T* x, double gravity, T* a) {
+  using std::cos;
+  using std::sin;
+  const T alpha = x[kAlpha] * kDegToRad;
+  const T beta_minus_alpha = x[kBeta] * kDegToRad - alpha;
+  a[0] = gravity * sin(alpha);
+  a[1] = x[kR] * cos(beta_minus_alpha);
+  a[2] = x[kR] * sin(beta_minus_alpha);
+  a[3] = x[kMu];
 }
 
 // The map (r, β, α, μ) → a = (g sin α, r cos(β−α), r sin(β−α), μ).
