@@ -257,11 +257,15 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
     const double lo = problem.lower_bounds()[i];
     const double hi = problem.upper_bounds()[i];
     const double tol = kAtBoundFraction * std::max(hi - lo, 1e-12);
-    if (x[i] - lo <= tol || hi - x[i] <= tol) {
+    const bool outside = x[i] < lo - tol || x[i] > hi + tol;
+    if (outside || x[i] - lo <= tol || hi - x[i] <= tol) {
       std::ostringstream msg;
       msg << info[static_cast<std::size_t>(i)].name << " = " << x[i] << " "
-          << info[static_cast<std::size_t>(i)].unit << " is at its bound ["
-          << lo << ", " << hi << "]: the optimum may lie outside";
+          << info[static_cast<std::size_t>(i)].unit
+          << (outside ? " is outside its bounds [" : " is at its bound [")
+          << lo << ", " << hi << "]"
+          << (outside ? " (this estimator does not impose them)"
+                      : ": the optimum may lie outside");
       result->warnings.push_back({"at_bound", msg.str()});
     }
   }

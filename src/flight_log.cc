@@ -110,8 +110,11 @@ Status ErrorAt(const std::string& name,
                int line,
                int column,
                const std::string& message) {
+  // Compiler-style "file:line:col:" for tools, then the line in words for
+  // people.
   return InvalidArgumentError(name + ":" + std::to_string(line) + ":" +
-                              std::to_string(column) + ": " + message);
+                              std::to_string(column) + ": line " +
+                              std::to_string(line) + ": " + message);
 }
 
 // The text of the field that starts at `start`: up to the next comma or the

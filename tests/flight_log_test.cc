@@ -344,7 +344,7 @@ TEST(FlightLogError, NanOnLineFiveNamesLineFive) {
   std::vector<std::string> lines = StandardLines(12);
   lines[4] = "0.03,0.1,-0.2,9.8,nan,-0.02,0.03";  // line 5
   EXPECT_EQ(ParseError(Join(lines)),
-            "log.csv:5:19: column 'gx': 'nan' is not a finite number");
+            "log.csv:5:19: line 5: column 'gx': 'nan' is not a finite number");
 }
 
 TEST(FlightLogError, InfinitySpellingsAreNotFinite) {
@@ -353,25 +353,25 @@ TEST(FlightLogError, InfinitySpellingsAreNotFinite) {
     lines[7] = "0.06,0.1,-0.2," + text + ",0.01,-0.02,0.03";  // line 8
     const std::string message = ParseError(Join(lines));
     EXPECT_THAT(message,
-                StartsWith("log.csv:8:15: column 'az': '" + text +
+                StartsWith("log.csv:8:15: line 8: column 'az': '" + text +
                            "' is not a finite number"));
   }
 }
 
 TEST(FlightLogError, EmptyFile) {
-  EXPECT_THAT(ParseError(""), StartsWith("log.csv:1:1: the file is empty"));
+  EXPECT_THAT(ParseError(""), StartsWith("log.csv:1:1: line 1: the file is empty"));
 }
 
 TEST(FlightLogError, OnlyCommentsAndBlankLines) {
   EXPECT_THAT(ParseError("# vehicle: x\n\n# nothing else\n"),
-              StartsWith("log.csv:3:1: no header line"));
+              StartsWith("log.csv:3:1: line 3: no header line"));
 }
 
 TEST(FlightLogError, FirstLineIsDataNotAHeader) {
   const std::vector<std::string> lines = StandardLines(12);
   const std::vector<std::string> rows(lines.begin() + 1, lines.end());
   const std::string message = ParseError(Join(rows));
-  EXPECT_THAT(message, StartsWith("log.csv:1:1: no header"));
+  EXPECT_THAT(message, StartsWith("log.csv:1:1: line 1: no header"));
   EXPECT_THAT(message, HasSubstr("'0.00'"));
 }
 
@@ -379,7 +379,7 @@ TEST(FlightLogError, MissingRequiredColumnsAreListed) {
   std::vector<std::string> lines = StandardLines(12);
   lines[0] = "t,ax,ay,gx,gy";
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:1:1: "));
+  EXPECT_THAT(message, StartsWith("log.csv:1:1: line 1: "));
   EXPECT_THAT(message, HasSubstr("missing required columns 'az', 'gz'"));
 }
 
@@ -387,41 +387,41 @@ TEST(FlightLogError, DuplicateColumnName) {
   std::vector<std::string> lines = StandardLines(12);
   lines[0] = "t,ax,ay,az,gx,gy,gz,ay";
   EXPECT_EQ(ParseError(Join(lines)),
-            "log.csv:1:21: duplicate column name 'ay' (first at column 6)");
+            "log.csv:1:21: line 1: duplicate column name 'ay' (first at column 6)");
 }
 
 TEST(FlightLogError, EmptyColumnName) {
   std::vector<std::string> lines = StandardLines(12);
   lines[0] = "t,ax,ay,az,,gx,gy,gz";
   EXPECT_THAT(ParseError(Join(lines)),
-              StartsWith("log.csv:1:12: header column 5 has an empty name"));
+              StartsWith("log.csv:1:12: line 1: header column 5 has an empty name"));
 }
 
 TEST(FlightLogError, NonNumericCell) {
   std::vector<std::string> lines = StandardLines(12);
   lines[2] = "0.01,0.1,-0.2,9.8,0.01,-0.02,1.5x";  // line 3
   EXPECT_EQ(ParseError(Join(lines)),
-            "log.csv:3:30: column 'gz': '1.5x' is not a number");
+            "log.csv:3:30: line 3: column 'gz': '1.5x' is not a number");
 }
 
 TEST(FlightLogError, NumberOutsideTheDoubleRange) {
   std::vector<std::string> lines = StandardLines(12);
   lines[2] = "0.01,1e999,-0.2,9.8,0.01,-0.02,0.03";
   EXPECT_EQ(ParseError(Join(lines)),
-            "log.csv:3:6: column 'ax': '1e999' is outside the range of a "
+            "log.csv:3:6: line 3: column 'ax': '1e999' is outside the range of a "
             "double");
 }
 
 TEST(FlightLogError, EmptyCell) {
   std::vector<std::string> lines = StandardLines(12);
   lines[6] = "0.05,0.1,,9.8,0.01,-0.02,0.03";  // line 7
-  EXPECT_EQ(ParseError(Join(lines)), "log.csv:7:10: column 'ay': empty cell");
+  EXPECT_EQ(ParseError(Join(lines)), "log.csv:7:10: line 7: column 'ay': empty cell");
 }
 
 TEST(FlightLogError, EmptyLastCellIsAnEmptyCellNotARaggedRow) {
   std::vector<std::string> lines = StandardLines(12);
   lines[6] = "0.05,0.1,-0.2,9.8,0.01,-0.02,";  // line 7
-  EXPECT_EQ(ParseError(Join(lines)), "log.csv:7:30: column 'gz': empty cell");
+  EXPECT_EQ(ParseError(Join(lines)), "log.csv:7:30: line 7: column 'gz': empty cell");
 }
 
 TEST(FlightLogError, RowWithTooFewFields) {
@@ -429,7 +429,7 @@ TEST(FlightLogError, RowWithTooFewFields) {
   lines[9] = "0.08,0.1,-0.2,9.8,0.01";  // line 10
   const std::string message = ParseError(Join(lines));
   EXPECT_THAT(message,
-              StartsWith("log.csv:10:23: row has 5 fields, expected 7"));
+              StartsWith("log.csv:10:23: line 10: row has 5 fields, expected 7"));
   EXPECT_THAT(message, HasSubstr("column 'gy' is missing"));
 }
 
@@ -438,7 +438,7 @@ TEST(FlightLogError, RowWithTooManyFields) {
   lines[9] = "0.08,0.1,-0.2,9.8,0.01,-0.02,0.03,7,8";  // line 10
   const std::string message = ParseError(Join(lines));
   EXPECT_THAT(message,
-              StartsWith("log.csv:10:35: row has 9 fields, expected 7"));
+              StartsWith("log.csv:10:35: line 10: row has 9 fields, expected 7"));
   EXPECT_THAT(message, HasSubstr("'7'"));
 }
 
@@ -446,7 +446,7 @@ TEST(FlightLogError, TimeGoingBackwardsNamesBothValues) {
   std::vector<std::string> lines = StandardLines(12);
   lines[6] = "0.02,0.1,-0.2,9.8,0.01,-0.02,0.03";  // line 7, after 0.04
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:7:1: column 't': time '0.02'"));
+  EXPECT_THAT(message, StartsWith("log.csv:7:1: line 7: column 't': time '0.02'"));
   EXPECT_THAT(message, HasSubstr("previous time '0.04' (line 6)"));
 }
 
@@ -456,7 +456,7 @@ TEST(FlightLogError, RepeatedTimeNamesBothValues) {
     lines.push_back("0,0,9.8,0,0,0," + std::to_string(i == 4 ? 3 : i));
   }
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:6:15: column 't': time '3'"));
+  EXPECT_THAT(message, StartsWith("log.csv:6:15: line 6: column 't': time '3'"));
   EXPECT_THAT(message, HasSubstr("repeats the previous time '3' (line 5)"));
 }
 
@@ -464,13 +464,13 @@ TEST(FlightLogError, FewerSamplesThanNeeded) {
   CsvReadOptions options;
   options.min_samples = 20;
   const std::string message = ParseError(Join(StandardLines(12)), options);
-  EXPECT_THAT(message, StartsWith("log.csv:13:1: "));
+  EXPECT_THAT(message, StartsWith("log.csv:13:1: line 13: "));
   EXPECT_THAT(message, HasSubstr("12 samples, fewer than the 20"));
 }
 
 TEST(FlightLogError, HeaderWithoutRows) {
   EXPECT_THAT(ParseError(std::string(kHeader) + "\n"),
-              StartsWith("log.csv:1:1: the log has 0 samples, fewer than the "
+              StartsWith("log.csv:1:1: line 1: the log has 0 samples, fewer than the "
                          "10"));
 }
 
@@ -483,7 +483,7 @@ TEST(FlightLogError, GapLongerThanTheFactorTimesTheMedian) {
         "1" + Row(i).substr(1);  // "0.08" -> "1.08"
   }
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:10:1: column 't': gap of 1.01 s"));
+  EXPECT_THAT(message, StartsWith("log.csv:10:1: line 10: column 't': gap of 1.01 s"));
   EXPECT_THAT(message, HasSubstr("median interval 0.01 s"));
 
   CsvReadOptions tolerant;
@@ -493,14 +493,14 @@ TEST(FlightLogError, GapLongerThanTheFactorTimesTheMedian) {
 
 TEST(FlightLogError, UnknownFrameInMetadata) {
   const std::string message = ParseError(LevelFrdLog("# frame: ned"));
-  EXPECT_THAT(message, StartsWith("log.csv:1:10: metadata 'frame': "));
+  EXPECT_THAT(message, StartsWith("log.csv:1:10: line 1: metadata 'frame': "));
   EXPECT_THAT(message, HasSubstr("'ned'"));
 }
 
 TEST(FlightLogError, ContradictoryFrameLines) {
   const std::string text = "# frame: frd\n" + LevelFrdLog("# frame: flu");
   EXPECT_THAT(ParseError(text),
-              StartsWith("log.csv:2:10: metadata 'frame': 'flu' contradicts"));
+              StartsWith("log.csv:2:10: line 2: metadata 'frame': 'flu' contradicts"));
 }
 
 // --- Small accessors

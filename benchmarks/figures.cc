@@ -1,0 +1,549 @@
+#include "benchmarks/figures.h"
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "src/imu_model.h"
+
+namespace imusysid {
+namespace bench {
+namespace {
+
+// Enough points for a readable line on a 1000-pixel-wide plot; more only
+// makes the SVG large.
+constexpr std::size_t kMaxPointsPerSeries = 6000;
+
+const char* const kTerminal =
+    "set encoding utf8\n"
+    "set terminal svg size 1000,520 dynamic noenhanced font 'Helvetica,13' "
+    "background rgb 'white'\n"
+    "set grid lc rgb '#dddddd'\n"
+    "set key outside top center horizontal\n";
+
+std::string Quote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string HtmlEscape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::size_t Stride(std::size_t n) {
+  return std::max<std::size_t>(
+      1, (n + kMaxPointsPerSeries - 1) / kMaxPointsPerSeries);
+}
+
+// Columns of equal length as a whitespace-separated table, every `stride`
+// rows; NaN as gnuplot's missing value.
+std::string Table(const std::vector<const std::vector<double>*>& columns,
+                  std::size_t stride = 1) {
+  std::ostringstream out;
+  out.precision(9);
+  const std::size_t n = columns.empty() ? 0 : columns.front()->size();
+  for (std::size_t k = 0; k < n; k += stride) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      const double v = k < columns[c]->size() ? (*columns[c])[k] : NAN;
+      if (c > 0) out << ' ';
+      if (std::isfinite(v)) {
+        out << v;
+      } else {
+        out << "NaN";
+      }
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+Status WriteText(const std::string& dir,
+                 const std::string& name,
+                 const std::string& text) {
+  return WriteFileAtomically(dir + "/" + name, text);
+}
+
+// Writes NAME.gp and runs gnuplot on it in dir, producing NAME.svg.
+Status RunGnuplot(const std::string& gnuplot,
+                  const std::string& dir,
+                  const std::string& name,
+                  const std::string& body) {
+  const std::string script = std::string(kTerminal) + "set output " +
+                             Quote(name + ".svg") + "\n" + body;
+  IMUSYSID_RETURN_IF_ERROR(WriteText(dir, name + ".gp", script));
+  const std::string command = "cd " + Quote(dir) + " && " + Quote(gnuplot) +
+                              " " + Quote(name + ".gp") + " > " +
+                              Quote(name + ".log") + " 2>&1";
+  const int status = std::system(command.c_str());
+  if (status != 0 || !std::filesystem::exists(dir + "/" + name + ".svg")) {
+    return IoError("gnuplot failed on " + dir + "/" + name + ".gp (see " +
+                   name + ".log)");
+  }
+  std::error_code ec;
+  std::filesystem::remove(dir + "/" + name + ".log", ec);
+  return Status::Ok();
+}
+
+double CostToOf(double cost, std::size_t n) {
+  return std::sqrt(2.0 * cost /
+                   static_cast<double>(std::max<std::size_t>(n, 1)));
+}
+
+std::string Label(const EstimateResult& r) {
+  return r.model + " / " + r.estimator;
+}
+
+}  // namespace
+
+std::string FindGnuplot() {
+  const char* path_env = std::getenv("PATH");
+  std::stringstream dirs(path_env != nullptr ? path_env : "/usr/bin:/bin");
+  std::string d;
+  while (std::getline(dirs, d, ':')) {
+    if (d.empty()) continue;
+    const std::string candidate = d + "/gnuplot";
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+  }
+  return "";
+}
+
+std::vector<double> ConsistentVelocity(const ProblemData& data,
+                                       const Eigen::VectorXd& x) {
+  const std::size_t n = data.size();
+  std::vector<double> v(n, 0.0);
+  if (n == 0 || x.size() < 6) return v;
+  // θ: the data's integrated gyro (trapezoid when absent) plus the drift.
+  std::vector<double> theta_gyro = data.theta;
+  if (theta_gyro.size() != n) {
+    theta_gyro.assign(n, 0.0);
+    for (std::size_t k = 1; k < n; ++k) {
+      theta_gyro[k] =
+          theta_gyro[k - 1] + 0.5 * (data.t_s[k] - data.t_s[k - 1]) *
+                                  (data.omega[k] + data.omega[k - 1]);
+    }
+  }
+  const double mu = x[kMu];
+  const double c0 = x[4] * kDegToRad;
+  const double c1 = x[5] * kDegToRad;
+  const double g = data.gravity;
+  auto forcing = [&](std::size_t k, double vk) {
+    const double theta = theta_gyro[k] + c0 + c1 * (data.t_s[k] - data.t_s[0]);
+    return g * std::tan(theta) - mu * vk * std::abs(vk);
+  };
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    const double h = data.t_s[k + 1] - data.t_s[k];
+    const double fk = forcing(k, v[k]);
+    const double predicted = v[k] + h * fk;
+    v[k + 1] = v[k] + 0.5 * h * (fk + forcing(k + 1, predicted));
+  }
+  return v;
+}
+
+Status WriteFitFigures(const std::string& dir,
+                       std::shared_ptr<const ProblemData> data,
+                       const std::vector<EstimateResult>& results,
+                       const FitFigureOptions& options,
+                       std::vector<Figure>* figures) {
+  const std::string gnuplot = FindGnuplot();
+  if (gnuplot.empty()) {
+    return FailedPreconditionError(
+        "gnuplot is not installed (Debian: gnuplot-nox); figures skipped");
+  }
+  if (data == nullptr || data->size() < 2) {
+    return InvalidArgumentError("WriteFitFigures: no data to plot");
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return IoError("cannot create '" + dir + "': " + ec.message());
+  const std::string& p = options.prefix;
+  const std::string title =
+      options.title.empty() ? data->source : options.title;
+  std::vector<Figure> drawn;
+  const std::size_t n = data->size();
+  const double t0 = data->t_s.front();
+  const double t1 = data->t_s.back();
+
+  // Fig. 7 and 8 analogs: the raw signal over the flight and the filtered
+  // one the fit sees.
+  struct Signal {
+    const char* name;
+    const char* ylabel;
+    const std::vector<double>* raw;
+    const std::vector<double>* fitted;
+    const char* caption;
+  };
+  const Signal signals[] = {
+      {"accel_x",
+       "x specific force (m/s²)",
+       options.raw_log ? &options.raw_log->ax : nullptr,
+       &data->f_x,
+       "Analog of the paper's Fig. 7: the x accelerometer over the flight "
+       "(grey: as logged; blue: filtered, inside the fit segment)."},
+      {"gyro_y",
+       "y angular rate (rad/s)",
+       options.raw_log ? &options.raw_log->gy : nullptr,
+       &data->omega,
+       "Analog of the paper's Fig. 8: the y gyroscope over the flight (grey: "
+       "as logged; blue: bias removed and filtered, inside the fit segment)."}};
+  for (const Signal& s : signals) {
+    const std::string name = p + s.name;
+    std::string plot = "plot ";
+    if (s.raw != nullptr) {
+      IMUSYSID_RETURN_IF_ERROR(WriteText(
+          dir,
+          name + "_raw.dat",
+          Table({&options.raw_log->t_s, s.raw}, Stride(s.raw->size()))));
+      plot += Quote(name + "_raw.dat") +
+              " using 1:2 with lines lc rgb '#aaaaaa' title 'logged', ";
+    }
+    IMUSYSID_RETURN_IF_ERROR(WriteText(
+        dir, name + ".dat", Table({&data->t_s, s.fitted}, Stride(n))));
+    plot +=
+        Quote(name + ".dat") +
+        " using 1:2 with lines lw 1.5 lc rgb '#1f77b4' title 'fit segment'\n";
+    IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+        gnuplot,
+        dir,
+        name,
+        "set title " + Quote(title) + "\nset xlabel 'time (s)'\nset ylabel " +
+            Quote(s.ylabel) + "\n" + plot));
+    drawn.push_back({name + ".svg", title + ": " + s.caption});
+  }
+
+  // Fig. 9 analog: GA convergence, best and mean OF per generation.
+  {
+    std::string plot;
+    int series = 0;
+    for (const auto& r : results) {
+      // The plain GA, as in the paper's figure (the composites' traces are
+      // in traces.json).
+      if (r.estimator != "ga") continue;
+      std::vector<double> gen, best, mean;
+      for (const auto& t : r.trace) {
+        if (t.mean_cost < 0) continue;  // GA generations carry a mean
+        gen.push_back(static_cast<double>(t.iteration));
+        best.push_back(CostToOf(t.best_cost, n));
+        mean.push_back(CostToOf(t.mean_cost, n));
+      }
+      if (gen.size() < 2) continue;
+      const std::string file =
+          p + "ga_convergence_" + std::to_string(series) + ".dat";
+      IMUSYSID_RETURN_IF_ERROR(
+          WriteText(dir, file, Table({&gen, &best, &mean})));
+      plot += std::string(plot.empty() ? "plot " : ", ") + Quote(file) +
+              " using 1:2 with lines lw 2 lc " + std::to_string(series + 1) +
+              " title " + Quote(Label(r) + " best") + ", " + Quote(file) +
+              " using 1:3 with lines dt 2 lc " + std::to_string(series + 1) +
+              " title " + Quote(Label(r) + " mean");
+      ++series;
+    }
+    if (series > 0) {
+      const std::string name = p + "ga_convergence";
+      IMUSYSID_RETURN_IF_ERROR(
+          RunGnuplot(gnuplot,
+                     dir,
+                     name,
+                     "set title " + Quote(title) +
+                         "\nset xlabel 'generation'\nset ylabel 'OF (m/s²)'\n"
+                         "set logscale y\n" +
+                         plot + "\n"));
+      drawn.push_back(
+          {name + ".svg",
+           title + ": analog of the paper's Fig. 9: convergence of the GA "
+                   "(estimator ga) on each model, the best OF (solid) and the "
+                   "population's mean (dashed; the OF of the mean cost ½Σr²) "
+                   "per generation."});
+    }
+  }
+
+  // Best result per model, for Fig. 10 and the residuals.
+  std::map<std::string, const EstimateResult*> best_per_model;
+  for (const auto& r : results) {
+    if (!r.IsUsable() || r.parameters.size() < kNumPhysicalParameters) continue;
+    auto it = best_per_model.find(r.model);
+    if (it == best_per_model.end() || r.rmse < it->second->rmse) {
+      best_per_model[r.model] = &r;
+    }
+  }
+  std::vector<std::vector<double>> predictions, residuals;
+  std::vector<const EstimateResult*> shown;
+  for (const auto& entry : best_per_model) {
+    StatusOr<std::unique_ptr<Model>> model = CreateModel(entry.first, data);
+    if (!model.ok()) continue;
+    std::vector<double> res(
+        static_cast<std::size_t>((*model)->num_residuals()));
+    if (res.size() != n ||
+        !(*model)->Residuals(
+            entry.second->parameters.data(), res.data(), nullptr)) {
+      continue;
+    }
+    std::vector<double> pred(n);
+    for (std::size_t k = 0; k < n; ++k) pred[k] = data->f_x[k] - res[k];
+    predictions.push_back(std::move(pred));
+    residuals.push_back(std::move(res));
+    shown.push_back(entry.second);
+  }
+  if (!shown.empty()) {
+    std::vector<const std::vector<double>*> cols = {&data->t_s, &data->f_x};
+    for (const auto& v : predictions) cols.push_back(&v);
+    const std::string name = p + "fx_fit";
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteText(dir, name + ".dat", Table(cols, Stride(n))));
+    std::string lines = Quote(name + ".dat") +
+                        " using 1:2 with lines lw 5 lc rgb '#cccccc' title "
+                        "'measured f_x'";
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+      lines += ", " + Quote(name + ".dat") +
+               " using 1:" + std::to_string(i + 3) + " with lines lw 1.5 lc " +
+               std::to_string(i + 1) + " title " +
+               Quote(Label(*shown[i]) + " (OF " +
+                     std::to_string(shown[i]->rmse).substr(0, 5) + ")");
+    }
+    const double zoom0 = std::min(t1, t0 + 10.0);
+    const double zoom1 = std::min(t1, t0 + 20.0);
+    IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+        gnuplot,
+        dir,
+        name,
+        "set terminal svg size 1000,800 dynamic noenhanced font 'Helvetica,13' "
+        "background rgb 'white'\nset output " +
+            Quote(name + ".svg") + "\nset multiplot layout 2,1 title " +
+            Quote(title) +
+            "\nset ylabel 'f_x (m/s²)'\nset xlabel 'time (s)'\nplot " + lines +
+            "\nset xrange [" + std::to_string(zoom0) + ":" +
+            std::to_string(zoom1) + "]\nset title 'zoom'\nplot " + lines +
+            "\nunset multiplot\n"));
+    drawn.push_back(
+        {name + ".svg",
+         title + ": analog of the paper's Fig. 10: measured x specific force "
+                 "(wide grey) and the fitted model of each kind (its lowest-OF "
+                 "fit); top the fit segment, bottom a 10 s zoom."});
+
+    std::vector<const std::vector<double>*> rcols = {&data->t_s};
+    for (const auto& v : residuals) rcols.push_back(&v);
+    const std::string rname = p + "residuals";
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteText(dir, rname + ".dat", Table(rcols, Stride(n))));
+    std::string rplot;
+    for (std::size_t i = 0; i < shown.size(); ++i) {
+      rplot += std::string(i == 0 ? "plot " : ", ") + Quote(rname + ".dat") +
+               " using 1:" + std::to_string(i + 2) + " with lines lc " +
+               std::to_string(i + 1) + " title " + Quote(Label(*shown[i]));
+    }
+    IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+        gnuplot,
+        dir,
+        rname,
+        "set title " + Quote(title) +
+            "\nset xlabel 'time (s)'\nset ylabel 'residual f_x − model "
+            "(m/s²)'\n" +
+            rplot + "\n"));
+    drawn.push_back({rname + ".svg",
+                     title + ": residuals over time of the fits in the "
+                             "previous figure (structure left in them is "
+                             "model error, not noise)."});
+  }
+
+  // Velocity: equation 7 (what the paper model uses), the consistent
+  // model's, and the simulator's truth.
+  {
+    std::vector<const std::vector<double>*> cols = {&data->t_s, &data->v};
+    std::string plot = "plot " + Quote(p + "velocity.dat") +
+                       " using 1:2 with lines lw 1.5 lc 1 title 'equation 7 "
+                       "(g∫sin θ)'";
+    std::vector<double> v_consistent, v_truth;
+    int column = 3;
+    auto it = best_per_model.find("consistent");
+    if (it != best_per_model.end() && it->second->parameters.size() >= 6) {
+      v_consistent = ConsistentVelocity(*data, it->second->parameters);
+      cols.push_back(&v_consistent);
+      plot += ", " + Quote(p + "velocity.dat") +
+              " using 1:" + std::to_string(column++) +
+              " with lines lw 1.5 lc 2 title 'consistent model (" +
+              it->second->estimator + " fit)'";
+    }
+    if (options.truth != nullptr && !options.truth->t_s.empty()) {
+      const auto& tt = options.truth->t_s;
+      v_truth.assign(n, NAN);
+      for (std::size_t k = 0; k < n; ++k) {
+        auto pos = std::lower_bound(tt.begin(), tt.end(), data->t_s[k] - 1e-9);
+        if (pos == tt.end()) continue;
+        const auto idx = static_cast<std::size_t>(pos - tt.begin());
+        if (std::abs(tt[idx] - data->t_s[k]) < 1e-6) {
+          v_truth[k] = options.truth->vx[idx];
+        }
+      }
+      cols.push_back(&v_truth);
+      plot += ", " + Quote(p + "velocity.dat") +
+              " using 1:" + std::to_string(column++) +
+              " with lines lw 1 dt 2 lc rgb 'black' title 'truth (simulator)'";
+    }
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteText(dir, p + "velocity.dat", Table(cols, Stride(n))));
+    IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+        gnuplot,
+        dir,
+        p + "velocity",
+        "set title " + Quote(title) +
+            "\nset xlabel 'time (s)'\nset ylabel 'horizontal velocity "
+            "(m/s)'\n" +
+            plot + "\n"));
+    drawn.push_back(
+        {p + "velocity.svg",
+         title + ": horizontal velocity: equation 7 from the gyro alone, "
+                 "the consistent model's v̇ = g tan θ − μv|v| with its fitted "
+                 "μ, c0, c1 (integrated in figures.cc by the model's scheme), "
+                 "and the simulator's truth when known."});
+  }
+
+  if (options.write_index) {
+    IMUSYSID_RETURN_IF_ERROR(WriteIndexHtml(dir, title, drawn));
+  }
+  if (figures != nullptr) {
+    figures->insert(figures->end(), drawn.begin(), drawn.end());
+  }
+  return Status::Ok();
+}
+
+Status WriteBenchFigures(const BenchReport& report,
+                         const std::string& dir,
+                         std::vector<Figure>* figures) {
+  const std::string gnuplot = FindGnuplot();
+  if (gnuplot.empty()) {
+    return FailedPreconditionError(
+        "gnuplot is not installed (Debian: gnuplot-nox); figures skipped");
+  }
+  std::vector<Figure> drawn;
+  std::vector<const PreparedLog*> logs;
+  for (const auto& pl : report.logs) {
+    if (pl.data == nullptr) continue;
+    if (!report.has_pair || pl.name == report.pair_before ||
+        pl.name == report.pair_after) {
+      logs.push_back(&pl);
+    }
+  }
+  for (const PreparedLog* pl : logs) {
+    std::vector<EstimateResult> results;
+    for (const auto& run : report.runs) {
+      if (run.log_path == pl->path && run.Usable())
+        results.push_back(run.result);
+    }
+    FitFigureOptions options;
+    options.prefix = pl->name + "_";
+    options.title = pl->name;
+    options.raw_log = pl->log;
+    options.write_index = false;
+    if (pl->truth.known) {
+      StatusOr<SimulatorOptions> so =
+          TruthToSimulatorOptions(pl->truth, pl->truth.seed);
+      if (so.ok()) {
+        StatusOr<SimulatedFlight> flight = Simulate(*so);
+        if (flight.ok()) {
+          options.truth =
+              std::make_shared<const SimulatedFlight>(std::move(*flight));
+        }
+      }
+    }
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteFitFigures(dir, pl->data, results, options, &drawn));
+  }
+
+  // Runtime versus samples.
+  if (!report.scaling.empty()) {
+    std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>
+        series;
+    std::vector<std::string> order;
+    for (const auto& pt : report.scaling) {
+      const std::string key = pt.model + " / " + pt.estimator;
+      if (series.count(key) == 0) order.push_back(key);
+      series[key].first.push_back(static_cast<double>(pt.samples));
+      series[key].second.push_back(pt.wall_ms);
+    }
+    std::string plot;
+    int i = 0;
+    for (const auto& key : order) {
+      const std::string file = "runtime_" + std::to_string(i) + ".dat";
+      IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+          dir + "/" + file, Table({&series[key].first, &series[key].second})));
+      const bool consistent = key.rfind("consistent", 0) == 0;
+      plot += std::string(plot.empty() ? "plot " : ", ") + Quote(file) +
+              " using 1:2 with linespoints lw 1.5 pt " +
+              std::to_string(consistent ? 7 : 5) + " dt " +
+              (consistent ? "1" : "2") + " lc " + std::to_string(i % 8 + 1) +
+              " title " + Quote(key);
+      ++i;
+    }
+    IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+        gnuplot,
+        dir,
+        "runtime_vs_samples",
+        "set title 'runtime versus samples'\nset logscale xy\n"
+        "set xlabel 'samples n'\nset ylabel 'wall time of one fit (ms)'\n"
+        "set key outside right top vertical\n" +
+            plot + "\n"));
+    drawn.push_back(
+        {"runtime_vs_samples.svg",
+         "Runtime versus samples for every model / estimator (log-log): one "
+         "fit on the first n samples of the fit segment (beyond its length, "
+         "the segment repeated with time continued), plus the full-log run. "
+         "A size is skipped when its predicted time exceeds the preset's "
+         "budget, so the slow GA family on the consistent model has few "
+         "points."});
+  }
+  IMUSYSID_RETURN_IF_ERROR(WriteIndexHtml(
+      dir, "imusysid bench (" + report.context.preset + ")", drawn));
+  if (figures != nullptr) {
+    figures->insert(figures->end(), drawn.begin(), drawn.end());
+  }
+  return Status::Ok();
+}
+
+Status WriteIndexHtml(const std::string& dir,
+                      const std::string& title,
+                      const std::vector<Figure>& figures) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta "
+          "charset=\"utf-8\">\n<title>"
+       << HtmlEscape(title)
+       << "</title>\n<style>body{font-family:sans-serif;max-width:1040px;"
+          "margin:auto}figure{margin:2em 0}img{max-width:100%}"
+          "figcaption{color:#333}</style>\n</head>\n<body>\n<h1>"
+       << HtmlEscape(title) << "</h1>\n";
+  for (const Figure& f : figures) {
+    html << "<figure>\n<img src=\"" << HtmlEscape(f.file) << "\" alt=\""
+         << HtmlEscape(f.file) << "\">\n<figcaption>" << HtmlEscape(f.caption)
+         << "</figcaption>\n</figure>\n";
+  }
+  html << "</body>\n</html>\n";
+  return WriteFileAtomically(dir + "/index.html", html.str());
+}
+
+}  // namespace bench
+}  // namespace imusysid

@@ -1,0 +1,114 @@
+// Parsing throughput of the binary log readers on the real sample logs
+// (shared/data/real). Reports bytes/s via SetBytesProcessed against wall
+// time (UseRealTime): most of a full decode's cost is first-touching the
+// output columns, which the kernel, not the thread, pays for. A missing file
+// marks the benchmark as skipped instead of failing the suite.
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "benchmark/benchmark.h"
+#include "src/dataflash_reader.h"
+#include "src/log_reader.h"
+#include "src/ulog_reader.h"
+
+namespace imusysid {
+namespace {
+
+std::string RealDataDir() {
+  const char* env = std::getenv("IMUSYSID_REAL_DATA_DIR");
+  if (env != nullptr) return env;
+  return std::string(IMUSYSID_DATA_DIR) + "/../../shared/data/real";
+}
+
+// Returns false (and skips the benchmark) when the file is absent.
+bool Load(benchmark::State& state, const std::string& name, std::string* out) {
+  std::ifstream in(RealDataDir() + "/" + name, std::ios::binary);
+  if (!in) {
+    state.SkipWithError(("real log not found: " + name).c_str());
+    return false;
+  }
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  *out = bytes.str();
+  return true;
+}
+
+// Full decode: every topic, every field.
+void BM_ParseUlog(benchmark::State& state, const char* name) {
+  std::string bytes;
+  if (!Load(state, name, &bytes)) return;
+  for (auto _ : state) {
+    StatusOr<UlogData> data = ParseUlog(bytes, name);
+    if (!data.ok()) {
+      state.SkipWithError(data.status().message().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(data->topics.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(bytes.size()));
+}
+
+// What ReadFlightLog does: decode the IMU/attitude topics and convert.
+void BM_UlogToFlightLog(benchmark::State& state, const char* name) {
+  std::string bytes;
+  if (!Load(state, name, &bytes)) return;
+  LogReadOptions options;
+  options.max_gap_factor = 0;
+  for (auto _ : state) {
+    StatusOr<FlightLog> log = ParseFlightLog(bytes, name, options);
+    if (!log.ok()) {
+      state.SkipWithError(log.status().message().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(log->t_s.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(bytes.size()));
+}
+
+void BM_ParseDataFlash(benchmark::State& state, const char* name) {
+  std::string bytes;
+  if (!Load(state, name, &bytes)) return;
+  for (auto _ : state) {
+    StatusOr<DataFlashLog> log = ParseDataFlash(bytes, name);
+    if (!log.ok()) {
+      state.SkipWithError(log.status().message().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(log->messages.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(bytes.size()));
+}
+
+BENCHMARK_CAPTURE(BM_ParseUlog, sample, "pyulog__sample.ulg")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ParseUlog,
+                  impulse_response,
+                  "impulse-response__S250_flight3_log1.ulg")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ParseUlog, log_small, "pyulog__sample_log_small.ulg")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ParseUlog,
+                  appended_multiple,
+                  "pyulog__sample_appended_multiple.ulg")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_UlogToFlightLog, sample, "pyulog__sample.ulg")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_ParseDataFlash, log171, "dronekit-la-testdata__log171.bin")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace imusysid
+
+BENCHMARK_MAIN();

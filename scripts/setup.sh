@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs the Debian packages imusysid needs, if any are missing.
+# As root it runs apt-get itself; otherwise it prints the exact command to run.
+#   scripts/setup.sh              build + test dependencies
+#   scripts/setup.sh --with-fuzz  also clang's libFuzzer runtime
+set -euo pipefail
+
+packages=(
+  build-essential cmake git
+  libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
+  libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
+  gnuplot-nox
+)
+for arg in "$@"; do
+  case "$arg" in
+    --with-fuzz) packages+=(clang libclang-rt-dev) ;;
+    -h|--help) sed -n '2,5p' "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown option '$arg'" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+cmd=(apt-get install -y --no-install-recommends "${missing[@]}")
+if [ "$(id -u)" -ne 0 ]; then
+  echo "setup: missing packages: ${missing[*]}" >&2
+  echo "setup: run:  sudo apt-get update && sudo ${cmd[*]}" >&2
+  exit 1
+fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+"${cmd[@]}"

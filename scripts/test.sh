@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds imusysid and runs every test:
+#   1. Release build with warnings as errors: unit tests, slow end-to-end
+#      tests, the installed-package consumer test, benchmark smoke runs;
+#   2. the unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer.
+# Usage: scripts/test.sh [--no-sanitizers]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+sanitizers=1
+for arg in "$@"; do
+  case "$arg" in
+    --no-sanitizers) sanitizers=0 ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    *) echo "test.sh: unknown option '$arg'" >&2; exit 2 ;;
+  esac
+done
+
+bash scripts/setup.sh
+jobs=$(nproc)
+
+echo "== Release build and all tests"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON >/dev/null
+cmake --build build -j"$jobs"
+(cd build && ctest -j"$jobs" --output-on-failure --timeout 600)
+
+if [ "$sanitizers" = 1 ]; then
+  echo "== Unit tests under address;undefined sanitizers"
+  cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DIMUSYSID_SANITIZERS="address;undefined" -DIMUSYSID_BUILD_BENCHMARKS=OFF \
+    -DIMUSYSID_WERROR=ON >/dev/null
+  cmake --build build-asan -j"$jobs"
+  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest -j"$jobs" -L unit --output-on-failure --timeout 600)
+fi

@@ -1,0 +1,340 @@
+// `imusysid fit`: preprocess a log, fit a model with one estimator (or all
+// that support it) and report the parameters, their standard errors, the
+// paper's OF, the cost of the solve and any warnings.
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "estimators/registry.h"
+#include "nlohmann/json.hpp"
+#include "src/cli_common.h"
+#include "src/cli_log.h"
+#include "src/cli_results.h"
+#include "src/preprocess.h"
+#include "src/problem.h"
+#include "src/problem_io.h"
+
+DEFINE_string(model,
+              "consistent",
+              "Model: paper (equation 9 with v from equation 7) or consistent "
+              "(drag and thrust consistent, with attitude drift).");
+DEFINE_string(estimator,
+              "ga+lm",
+              "Estimator name (ga, lm, ga+lm, hybrid, linear, varpro) or all.");
+DEFINE_string(bounds,
+              "",
+              "Override search bounds: name:lo:hi[,name:lo:hi...] with names "
+              "r, beta, alpha, mu, c0, c1 in m, deg, deg, 1/m, deg, deg/s.");
+DEFINE_string(initial,
+              "",
+              "Start point for lm: comma-separated values in parameter order "
+              "(default: centre of the bounds).");
+DEFINE_int32(ga_population, 250, "GA population size (the paper's 250).");
+DEFINE_string(ga_mode,
+              "bounded",
+              "GA mode: bounded (MATLAB with bounds: adaptive-feasible "
+              "mutation) or unbounded (Gaussian mutation).");
+DEFINE_int32(ga_max_generations, -1, "GA generation limit; -1: 100 x nvars.");
+DEFINE_int32(ga_stall_generations, 50, "GA stall generation limit.");
+DEFINE_double(ga_tolerance,
+              1e-6,
+              "GA function tolerance of the average-change stall test, m/s^2.");
+DEFINE_int32(threads, 2, "Threads evaluating the GA population.");
+DEFINE_int32(lm_max_iterations, 200, "Levenberg-Marquardt iteration limit.");
+DEFINE_int32(hybrid_period, 10, "hybrid: LM refinement every N generations.");
+DEFINE_int32(hybrid_lm_iterations, 5, "hybrid: LM iterations per refinement.");
+DEFINE_double(max_time_s, 0, "Wall-time limit per estimator, s; 0: none.");
+DEFINE_bool(use_measured_fz,
+            false,
+            "consistent model: integrate velocity with the measured z "
+            "specific force instead of assuming altitude hold.");
+DEFINE_bool(trace, false, "Include the convergence trace in JSON output.");
+DEFINE_string(problem,
+              "",
+              "Problem CSV to fit instead of a log (from export-problem or "
+              "another pipeline; docs/problem-files.md): no preprocessing, "
+              "model paper only.");
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+Status ApplyBounds(Problem* problem) {
+  Eigen::VectorXd lo = problem->lower_bounds();
+  Eigen::VectorXd hi = problem->upper_bounds();
+  const auto& info = problem->model().parameter_info();
+  std::stringstream items(FLAGS_bounds);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    if (item.empty()) continue;
+    const auto c1 = item.find(':');
+    const auto c2 = c1 == std::string::npos ? c1 : item.find(':', c1 + 1);
+    if (c2 == std::string::npos) {
+      return InvalidArgumentError("--bounds: '" + item + "' is not name:lo:hi");
+    }
+    const std::string name = item.substr(0, c1);
+    int index = -1;
+    for (std::size_t i = 0; i < info.size(); ++i) {
+      if (info[i].name == name) index = static_cast<int>(i);
+    }
+    if (index < 0) {
+      std::string valid;
+      for (const auto& p : info) valid += " " + p.name;
+      return InvalidArgumentError(
+          "--bounds: model '" + std::string(problem->model().name()) +
+          "' has no parameter '" + name + "'; valid:" + valid);
+    }
+    char* e1 = nullptr;
+    char* e2 = nullptr;
+    const std::string a = item.substr(c1 + 1, c2 - c1 - 1);
+    const std::string b = item.substr(c2 + 1);
+    lo[index] = std::strtod(a.c_str(), &e1);
+    hi[index] = std::strtod(b.c_str(), &e2);
+    if (a.empty() || b.empty() || *e1 != '\0' || *e2 != '\0') {
+      return InvalidArgumentError("--bounds: '" + item +
+                                  "': bounds are not numbers");
+    }
+  }
+  IMUSYSID_RETURN_IF_ERROR(problem->SetBounds(lo, hi).WithPrefix("--bounds"));
+  if (!FLAGS_initial.empty()) {
+    std::vector<double> values;
+    std::stringstream vs(FLAGS_initial);
+    std::string v;
+    while (std::getline(vs, v, ',')) {
+      char* end = nullptr;
+      values.push_back(std::strtod(v.c_str(), &end));
+      if (v.empty() || *end != '\0') {
+        return InvalidArgumentError("--initial: '" + v + "' is not a number");
+      }
+    }
+    IMUSYSID_RETURN_IF_ERROR(
+        problem
+            ->SetInitialGuess(Eigen::Map<Eigen::VectorXd>(
+                values.data(), static_cast<Eigen::Index>(values.size())))
+            .WithPrefix("--initial"));
+  }
+  return Status::Ok();
+}
+
+StatusOr<EstimatorOptions> OptionsFromFlags() {
+  EstimatorOptions o;
+  o.seed = FLAGS_seed;
+  if (FLAGS_max_time_s > 0) o.max_wall_time_s = FLAGS_max_time_s;
+  o.record_trace = true;
+  o.ga.population_size = FLAGS_ga_population;
+  StatusOr<GaMode> mode = GaModeFromString(FLAGS_ga_mode);
+  if (!mode.ok()) return mode.status().WithPrefix("--ga_mode");
+  o.ga.mode = *mode;
+  o.ga.max_generations = FLAGS_ga_max_generations;
+  o.ga.max_stall_generations = FLAGS_ga_stall_generations;
+  o.ga.function_tolerance = FLAGS_ga_tolerance;
+  o.ga.num_threads = FLAGS_threads;
+  o.lm.max_iterations = FLAGS_lm_max_iterations;
+  o.hybrid.period_generations = FLAGS_hybrid_period;
+  o.hybrid.lm_iterations = FLAGS_hybrid_lm_iterations;
+  IMUSYSID_RETURN_IF_ERROR(o.Validate());
+  return o;
+}
+
+// Reads and preprocesses the log at `path` for the fit; fills `context`.
+StatusOr<std::shared_ptr<ProblemData>> DataFromLog(const std::string& path,
+                                                   FitContext* context) {
+  StatusOr<FlightLog> log = ReadLogFromFlags(path);
+  if (!log.ok()) return log.status();
+  StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
+  if (!po.ok()) return po.status();
+  StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
+  if (!pre.ok()) return pre.status();
+  for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
+  context->plane = PlaneToString(po->plane);
+  context->velocity = VelocitySourceToString(po->velocity_source);
+  return std::make_shared<ProblemData>(std::move(pre->data));
+}
+
+// Reads a problem file as it is (no preprocessing); fills `context` from its
+// metadata.
+StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
+    const std::string& path, FitContext* context) {
+  StatusOr<ProblemFile> file = ReadProblemCsv(path);
+  if (!file.ok()) return file.status();
+  if (!file->ignored_columns.empty()) {
+    std::cerr << "note: " << path << ": ignoring column"
+              << (file->ignored_columns.size() > 1 ? "s" : "");
+    for (const auto& c : file->ignored_columns) std::cerr << " '" << c << "'";
+    std::cerr << " (the fit uses t, f, omega, omega_dot, v)\n";
+  }
+  const std::string* plane = file->FindMetadata("plane");
+  const std::string* velocity = file->FindMetadata("velocity");
+  context->plane = plane != nullptr ? *plane : "unknown";
+  context->velocity = velocity != nullptr ? *velocity : "unknown";
+  return std::make_shared<ProblemData>(std::move(file->data));
+}
+
+int Run(const std::vector<std::string>& positional) {
+  const std::string cmd = "fit";
+  std::string path = FLAGS_log;
+  const bool from_problem = !FLAGS_problem.empty();
+  if (from_problem) {
+    if (!FLAGS_log.empty() || !positional.empty()) {
+      return UsageError(cmd,
+                        "give either a log (--log=FILE) or a problem file "
+                        "(--problem=P.csv), not both");
+    }
+    // A problem file is already preprocessed: these flags would be ignored.
+    std::vector<std::string> log_only = PreprocessFlagNames();
+    for (const auto& f : LogFlagNames()) log_only.push_back(f);
+    log_only.push_back("use_measured_fz");
+    for (const auto& f : log_only) {
+      if (FlagWasSet(f)) {
+        return UsageError(cmd,
+                          "--" + f +
+                              " applies to a log; a problem file is fitted "
+                              "as it is, already preprocessed");
+      }
+    }
+    path = FLAGS_problem;
+  } else if (path.empty() && positional.size() == 1) {
+    path = positional[0];
+  } else if (!positional.empty() || path.empty()) {
+    return UsageError(cmd,
+                      "give the log with --log=FILE (or a problem file with "
+                      "--problem=P.csv)");
+  }
+  // With a problem file the only model is paper, so it is the default there.
+  const std::string model_name =
+      from_problem && !FlagWasSet("model") ? "paper" : FLAGS_model;
+  if (from_problem && model_name == "consistent") {
+    return ReportError(
+        cmd,
+        FailedPreconditionError(
+            "model 'consistent' cannot be fitted from a problem file: it "
+            "needs the raw log (it integrates attitude and velocity from the "
+            "IMU itself); fit the log with --log=FILE, or use --model=paper "
+            "with --problem"));
+  }
+  StatusOr<EstimatorOptions> options = OptionsFromFlags();
+  if (!options.ok()) return ReportError(cmd, options.status());
+
+  // Estimators to run, validated before any work is done.
+  const EstimatorRegistry& registry = BuiltinEstimators();
+  std::vector<std::string> names;
+  if (FLAGS_estimator == "all") {
+    names = registry.NamesSupporting(model_name);
+  } else {
+    StatusOr<std::unique_ptr<Estimator>> e = registry.Create(FLAGS_estimator);
+    if (!e.ok()) return ReportError(cmd, e.status());
+    names.push_back(FLAGS_estimator);
+  }
+
+  FitContext context;
+  StatusOr<std::shared_ptr<ProblemData>> loaded =
+      from_problem ? DataFromProblemFile(path, &context)
+                   : DataFromLog(path, &context);
+  if (!loaded.ok()) return ReportError(cmd, loaded.status());
+  std::shared_ptr<ProblemData> data = std::move(loaded).value();
+  ModelOptions model_options;
+  model_options.use_measured_fz = FLAGS_use_measured_fz;
+  StatusOr<std::unique_ptr<Model>> model =
+      CreateModel(model_name, data, model_options);
+  if (!model.ok()) return ReportError(cmd, model.status());
+  Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+  Status s = ApplyBounds(&problem);
+  if (!s.ok()) return ReportError(cmd, s);
+
+  context.log = path;
+  context.t_start_s = data->t_s.front();
+  context.t_end_s = data->t_s.back();
+  context.samples = data->size();
+  context.seed = FLAGS_seed;
+  context.include_trace = FLAGS_trace;
+
+  std::vector<EstimateResult> results;
+  for (const std::string& name : names) {
+    StatusOr<std::unique_ptr<Estimator>> created = registry.Create(name);
+    if (!created.ok()) return ReportError(cmd, created.status());
+    std::unique_ptr<Estimator> estimator = std::move(created).value();
+    std::cerr << "fitting " << model_name << " with " << name << " ("
+              << data->size() << " samples)...\n";
+    StatusOr<EstimateResult> r = estimator->Estimate(problem, *options);
+    if (!r.ok()) return ReportError(cmd, r.status());
+    results.push_back(std::move(*r));
+  }
+
+  std::string text;
+  if (JsonOutput()) {
+    if (FLAGS_estimator == "all") {
+      nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+      for (const auto& r : results) arr.push_back(ResultToJson(r, context));
+      text = arr.dump(2) + "\n";
+    } else {
+      text = ResultToJson(results.front(), context).dump(2) + "\n";
+    }
+  } else {
+    text = ResultsToTable(results, context);
+  }
+  s = EmitOutput(text, FLAGS_out);
+  if (!s.ok()) return ReportError(cmd, s);
+  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  for (const auto& r : results) {
+    if (!r.IsUsable()) return kExitBadInput;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+const Command& FitCommand() {
+  static const Command c{
+      "fit",
+      "Fit the IMU position, tilt and drag to a log with one or all "
+      "estimators.",
+      "imusysid fit --log=FILE [--model=paper|consistent] "
+      "[--estimator=NAME|all] [--format=table|json] [--seed=N]\n"
+      "       imusysid fit --problem=P.csv [--model=paper] "
+      "[--estimator=NAME|all] [--format=table|json] [--seed=N]",
+      "Parameters: r (m) and beta (deg) place the IMU relative to the CoM, "
+      "p = r(cos beta, sin beta)\nin the FLU body x-z plane; alpha (deg) tilts "
+      "the sensor x axis toward +z; mu (1/m) is the\nquadratic drag per unit "
+      "mass. OF is the paper's RMSE of the x specific force (m/s^2).\nStandard "
+      "errors are 1-sigma from s^2 (J^T J)^-1. r and beta are withheld (null) "
+      "when the\nlog cannot determine them. --problem fits a problem CSV "
+      "(export-problem, docs/problem-files.md)\nas it is, with the paper "
+      "model (the default there); consistent needs the raw log.",
+      {"log",
+       "problem",
+       "model",
+       "estimator",
+       "format",
+       "seed",
+       "frame",
+       "imu",
+       "t_start",
+       "t_end",
+       "cutoff_hz",
+       "plane",
+       "velocity",
+       "gyro_bias",
+       "bounds",
+       "initial",
+       "ga_population",
+       "ga_mode",
+       "ga_max_generations",
+       "ga_stall_generations",
+       "ga_tolerance",
+       "threads",
+       "lm_max_iterations",
+       "hybrid_period",
+       "hybrid_lm_iterations",
+       "max_time_s",
+       "use_measured_fz",
+       "trace",
+       "out"},
+      &Run};
+  return c;
+}
+
+}  // namespace cli
+}  // namespace imusysid

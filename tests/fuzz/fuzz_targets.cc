@@ -1,0 +1,57 @@
+#include "tests/fuzz/fuzz_targets.h"
+
+#include <string>
+#include <string_view>
+
+#include "src/flight_log.h"
+#include "src/log_reader.h"
+
+namespace imusysid {
+namespace fuzz {
+namespace {
+
+std::string_view View(const std::uint8_t* data, std::size_t size) {
+  return std::string_view(reinterpret_cast<const char*>(data), size);
+}
+
+// Accept tiny logs so the conversions run on small fuzz inputs too.
+LogReadOptions Permissive() {
+  LogReadOptions options;
+  options.min_samples = 1;
+  options.max_gap_factor = 0;
+  return options;
+}
+
+}  // namespace
+
+void FuzzCsv(const std::uint8_t* data, std::size_t size) {
+  CsvReadOptions options;
+  options.min_samples = 1;
+  StatusOr<FlightLog> log = ParseCsvLog(View(data, size), "fuzz.csv", options);
+  if (log.ok()) (void)FormatCsvLog(*log);
+}
+
+void FuzzUlog(const std::uint8_t* data, std::size_t size) {
+  StatusOr<UlogData> ulog = ParseUlog(View(data, size), "fuzz.ulg");
+  if (!ulog.ok()) return;
+  for (int instance = 0; instance < 2; ++instance) {
+    LogReadOptions options = Permissive();
+    options.imu_instance = instance;
+    (void)UlogToFlightLog(*ulog, "fuzz.ulg", options);
+  }
+  (void)SummarizeLogBytes(View(data, size), "fuzz.ulg");
+}
+
+void FuzzDataFlash(const std::uint8_t* data, std::size_t size) {
+  StatusOr<DataFlashLog> log = ParseDataFlash(View(data, size), "fuzz.bin");
+  if (!log.ok()) return;
+  for (int instance = 0; instance < 2; ++instance) {
+    LogReadOptions options = Permissive();
+    options.imu_instance = instance;
+    (void)DataFlashToFlightLog(*log, "fuzz.bin", options);
+  }
+  (void)SummarizeLogBytes(View(data, size), "fuzz.bin");
+}
+
+}  // namespace fuzz
+}  // namespace imusysid

@@ -1,0 +1,12 @@
+// libFuzzer entry point for the ulog reader (see docs/binary-logs.md).
+
+#include <cstddef>
+#include <cstdint>
+
+#include "tests/fuzz/fuzz_targets.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
+                                      std::size_t size) {
+  imusysid::fuzz::FuzzUlog(data, size);
+  return 0;
+}
