@@ -1,0 +1,156 @@
+// Estimators against known truth on the simulator's logs: the model_exact
+// scenario (equation 9 plus white noise, where every estimator must reach the
+// same exact optimum) and the realistic paper scenarios, where only the
+// consistent model can recover the truth and the paper model's bias is a
+// finding that this test reports.
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "estimators/registry.h"
+#include "gtest/gtest.h"
+#include "src/displacement.h"
+#include "src/flight_log.h"
+#include "src/preprocess.h"
+#include "src/problem.h"
+#include "src/simulator.h"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace {
+
+std::shared_ptr<ProblemData> PreprocessLog(const FlightLog& log,
+                                           const PreprocessOptions& options) {
+  StatusOr<PreprocessResult> pre = Preprocess(log, options);
+  EXPECT_TRUE(pre.ok()) << pre.status().ToString();
+  if (!pre.ok()) return nullptr;
+  return std::make_shared<ProblemData>(std::move(pre->data));
+}
+
+EstimateResult RunEstimator(const std::string& estimator,
+                            const std::string& model,
+                            std::shared_ptr<ProblemData> data,
+                            EstimatorOptions options = {}) {
+  StatusOr<std::unique_ptr<Model>> m = CreateModel(model, data);
+  EXPECT_TRUE(m.ok()) << m.status().ToString();
+  Problem problem(std::shared_ptr<const Model>(std::move(*m)));
+  StatusOr<std::unique_ptr<Estimator>> e =
+      BuiltinEstimators().Create(estimator);
+  EXPECT_TRUE(e.ok());
+  StatusOr<EstimateResult> r = (*e)->Estimate(problem, options);
+  EXPECT_TRUE(r.ok()) << r.status().ToString();
+  return *r;
+}
+
+// --- model_exact: f_x from equation 9 + white noise --------------------------
+
+class ModelExact : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    StatusOr<FlightLog> log =
+        ReadCsvLog(testing::DataDir() + "/model_exact.csv");
+    ASSERT_TRUE(log.ok()) << log.status().ToString();
+    // The simulator integrates equation 7 from its reference instant, 11.5 s
+    // (model_exact.truth.json); with the same start and no low-pass filter
+    // the preprocessed problem is exactly the paper's model.
+    PreprocessOptions options;
+    options.t_start = 11.5;
+    options.cutoff_hz = 0.0;
+    data_ = PreprocessLog(*log, options);
+  }
+  static std::shared_ptr<ProblemData> data_;
+};
+std::shared_ptr<ProblemData> ModelExact::data_;
+
+// Every estimator minimises the same linear least-squares problem, whose
+// exact optimum `linear` computes in closed form. LM-type estimators converge
+// quadratically to it, so 1e-9 relative in OF is reachable; the GA stops by
+// MATLAB's stall rule, which the issue bounds at 1e-4 relative.
+constexpr double kExactOfRelTol = 1e-9;
+constexpr double kGaOfRelTol = 1e-4;
+// Parameters within 4 standard errors of the truth (a 4σ event has
+// probability 6e-5 per parameter for a Gaussian estimate).
+constexpr double kSigmas = 4.0;
+
+TEST_F(ModelExact, EveryEstimatorReachesTheLinearOptimumAndTheTruth) {
+  ASSERT_NE(data_, nullptr);
+  const EstimateResult linear = RunEstimator("linear", "paper", data_);
+  ASSERT_TRUE(linear.IsUsable());
+  const double truth[4] = {0.19, 56.299, -2.812, 0.0716};
+  for (const char* name : {"linear", "lm", "ga+lm", "hybrid", "varpro", "ga"}) {
+    const EstimateResult r = RunEstimator(name, "paper", data_);
+    ASSERT_TRUE(r.IsUsable()) << name << ": " << r.message;
+    const double tol = std::string(name) == "ga" ? kGaOfRelTol : kExactOfRelTol;
+    EXPECT_NEAR(r.rmse, linear.rmse, tol * linear.rmse) << name;
+    for (int i = 0; i < 4; ++i) {
+      const double se = r.standard_errors[i];
+      ASSERT_TRUE(std::isfinite(se)) << name;
+      EXPECT_NEAR(r.parameters[i], truth[i], kSigmas * se)
+          << name << " parameter " << r.parameter_names[i];
+    }
+    std::cout << name << ": OF " << r.rmse << " (linear " << linear.rmse
+              << "), r " << r.parameters[0] << " beta " << r.parameters[1]
+              << " alpha " << r.parameters[2] << " mu " << r.parameters[3]
+              << "\n";
+  }
+}
+
+// --- the paper's realistic scenarios, 10 noise seeds each --------------------
+
+// Accuracy the issue asks of the consistent model at the simulator's default
+// noise. The standard errors it reports on these logs are ~0.05 mm for r,
+// 0.02° for β, 0.001° for α and 0.02% for μ, so these bounds leave room for
+// the remaining model error (differentiator, filter, Heun integration) which
+// dominates the noise.
+constexpr double kRTolM = 0.005;
+constexpr double kBetaTolDeg = 2.0;
+constexpr double kAlphaTolDeg = 0.15;
+constexpr double kMuRelTol = 0.05;
+constexpr double kDisplacementTolM = 0.003;
+
+TEST(PaperScenarios, ConsistentModelRecoversTruthForTenSeeds) {
+  const ComDisplacement truth_d =
+      ComputeDisplacement(0.19, 56.299, 0.213, 66.066);
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    double fitted[2][2];  // [test][r, beta]
+    int test = 0;
+    for (const char* scenario : {"paper_test1", "paper_test2"}) {
+      StatusOr<SimulatorOptions> options = ScenarioOptions(scenario);
+      ASSERT_TRUE(options.ok());
+      options->seed = seed;
+      StatusOr<SimulatedFlight> flight = Simulate(*options);
+      ASSERT_TRUE(flight.ok()) << flight.status().ToString();
+      auto data = PreprocessLog(flight->log, PreprocessOptions());
+      ASSERT_NE(data, nullptr);
+      const EstimateResult c = RunEstimator("varpro", "consistent", data);
+      ASSERT_TRUE(c.IsUsable()) << c.message;
+      const auto& x = c.parameters;
+      EXPECT_NEAR(x[kR], options->r_m, kRTolM) << scenario << " seed " << seed;
+      EXPECT_NEAR(x[kBeta], options->beta_deg, kBetaTolDeg)
+          << scenario << " seed " << seed;
+      EXPECT_NEAR(x[kAlpha], options->alpha_deg, kAlphaTolDeg)
+          << scenario << " seed " << seed;
+      EXPECT_NEAR(x[kMu], options->mu, kMuRelTol * options->mu)
+          << scenario << " seed " << seed;
+      fitted[test][0] = x[kR];
+      fitted[test][1] = x[kBeta];
+      // The paper's model on the same problem: biased, reported not judged.
+      const EstimateResult p = RunEstimator("linear", "paper", data);
+      std::cout << scenario << " seed " << seed << ": consistent r " << x[kR]
+                << " beta " << x[kBeta] << " alpha " << x[kAlpha] << " mu "
+                << x[kMu] << " | paper r " << p.parameters[kR] << " beta "
+                << p.parameters[kBeta] << " alpha " << p.parameters[kAlpha]
+                << " mu " << p.parameters[kMu] << "\n";
+      ++test;
+    }
+    const ComDisplacement d = ComputeDisplacement(
+        fitted[0][0], fitted[0][1], fitted[1][0], fitted[1][1]);
+    EXPECT_NEAR(d.dx_m, truth_d.dx_m, kDisplacementTolM) << "seed " << seed;
+    EXPECT_NEAR(d.dz_m, truth_d.dz_m, kDisplacementTolM) << "seed " << seed;
+  }
+}
+
+}  // namespace
+}  // namespace imusysid
