@@ -13,6 +13,7 @@
 #include <numeric>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
@@ -56,8 +57,8 @@ double ExpectedCost(const std::string& model, const std::string& estimator) {
   return consistent ? 0.2 : 0.05;
 }
 
-// Runs task(i) for i in [0, n) on `threads` workers, in index order of
-// dispatch.
+// Runs task(i) for i in [0, n) on `threads` workers; tasks start in index
+// order, so callers put the longest first.
 void ParallelFor(std::size_t n,
                  int threads,
                  const std::function<void(std::size_t)>& task) {

@@ -278,8 +278,13 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
   }
   const double se_r = result->standard_errors[kR];
   const double se_beta = result->standard_errors[kBeta];
-  const double r = std::abs(x[kR]);
+  // Judge r's uncertainty against a plausible r: an unconstrained solve on
+  // data without excitation can return r = 100 m with a "small" relative
+  // error, which is no identification at all.
+  const double r_upper = problem.upper_bounds()[kR];
+  const double r = std::min(std::abs(x[kR]), r_upper);
   if (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
+      std::abs(x[kR]) > r_upper ||
       se_r > std::max(kMaxRelativeStderrR * r, kMinAbsoluteStderrR) ||
       se_beta > kMaxStderrBetaDeg) {
     std::ostringstream msg;

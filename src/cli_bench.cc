@@ -15,25 +15,25 @@
 
 DEFINE_string(preset,
               "paper",
-              "bench: paper (the paper's experiment: paper_test1 and "
+              "Preset: paper (the paper's experiment: paper_test1 and "
               "paper_test2, every model x estimator) or ci (all bundled logs, "
               "the paper model's estimators plus consistent varpro and lm, "
               "10 Monte Carlo seeds).");
 DEFINE_string(logs,
               "",
-              "bench: comma-separated logs to fit instead of the preset's "
+              "Comma-separated logs to fit instead of the preset's "
               "(a NAME.truth.json beside a log gives errors against truth).");
-DEFINE_string(models, "", "bench: comma-separated models (paper,consistent).");
+DEFINE_string(models, "", "Comma-separated models (paper,consistent).");
 DEFINE_string(estimators,
               "",
-              "bench: comma-separated estimators (default: every estimator "
+              "Comma-separated estimators (default: every estimator "
               "that supports each model, or the preset's choice).");
-DEFINE_int32(repeats, 1, "bench: timed repetitions of each run.");
+DEFINE_int32(repeats, 1, "Timed repetitions of each run.");
 DEFINE_int32(seeds,
              -1,
-             "bench: Monte Carlo noise seeds per simulator scenario (0: none; "
+             "Monte Carlo noise seeds per simulator scenario (0: none; "
              "-1: the preset's).");
-DEFINE_bool(figures, true, "bench: draw the SVG figures into --out.");
+DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
 
 DECLARE_int32(threads);
 DECLARE_int32(ga_population);
@@ -117,7 +117,15 @@ int Run(const std::vector<std::string>& positional) {
     std::cerr << "wrote " << FLAGS_out
               << "/{results.json,results.csv,traces.json,context.json}\n";
   }
-  return kExitOk;
+  // A log that could not be fitted at all is bad input, even though the
+  // other logs' results were reported.
+  int exit_code = kExitOk;
+  for (const auto& log : report->logs) {
+    if (log.status.ok()) continue;
+    std::cerr << "imusysid bench: error: " << log.status.message() << "\n";
+    exit_code = log.status.ExitCode();
+  }
+  return exit_code;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "estimators/registry.h"
 #include "nlohmann/json.hpp"
 #include "src/cli_common.h"
+#include "src/cli_emit.h"
 #include "src/cli_log.h"
 #include "src/cli_results.h"
 #include "src/preprocess.h"
@@ -20,7 +21,10 @@
 DEFINE_string(model,
               "consistent",
               "Model: paper (equation 9 with v from equation 7) or consistent "
-              "(drag and thrust consistent, with attitude drift).");
+              "(drag and thrust consistent, with attitude drift). Default: "
+              "consistent, but paper when the velocity comes from the log "
+              "(--velocity=log, auto on ULog/DataFlash), which only paper "
+              "uses.");
 DEFINE_string(estimator,
               "ga+lm",
               "Estimator name (ga, lm, ga+lm, hybrid, linear, varpro) or all.");
@@ -140,14 +144,29 @@ StatusOr<EstimatorOptions> OptionsFromFlags() {
 }
 
 // Reads and preprocesses the log at `path` for the fit; fills `context`.
-StatusOr<std::shared_ptr<ProblemData>> DataFromLog(const std::string& path,
-                                                   FitContext* context) {
+// `unidentifiable` gets a reason when the log itself shows r and β cannot be
+// identified (no maneuver, or no flight in the segment), whatever the fit's
+// standard errors say.
+StatusOr<std::shared_ptr<ProblemData>> DataFromLog(
+    const std::string& path, FitContext* context, std::string* unidentifiable) {
   StatusOr<FlightLog> log = ReadLogFromFlags(path);
   if (!log.ok()) return log.status();
   StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
   if (!po.ok()) return po.status();
+  // No maneuver and no window: fit a stretch anyway and let the
+  // identifiability rule answer, rather than refuse.
+  StatusOr<std::string> fallback = ApplyFallbackSegment(*log, &*po);
+  if (!fallback.ok()) return fallback.status();
+  if (!fallback->empty()) std::cerr << "note: " << *fallback << "\n";
   StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
   if (!pre.ok()) return pre.status();
+  *unidentifiable =
+      NoFlightReason(path, pre->data.t_s.front(), pre->data.t_s.back());
+  if (unidentifiable->empty() && !fallback->empty()) {
+    *unidentifiable =
+        "no maneuver was detected in this log, so the segment does not "
+        "excite the lever-arm terms: r and beta are not identifiable";
+  }
   for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
   context->plane = PlaneToString(po->plane);
   context->velocity = VelocitySourceToString(po->velocity_source);
@@ -171,6 +190,56 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
   context->plane = plane != nullptr ? *plane : "unknown";
   context->velocity = velocity != nullptr ? *velocity : "unknown";
   return std::make_shared<ProblemData>(std::move(file->data));
+}
+
+// --emit: the autopilot's terms for every result, in the JSON (an "emit"
+// object per fit) or after the table; --emit_out gets the file of the
+// lowest-OF usable result.
+Status AddEmit(const Problem& problem,
+               const std::vector<EstimateResult>& results,
+               EmitFormat format,
+               const FitContext& context,
+               std::string* text) {
+  std::vector<AutopilotParameters> emitted(results.size());
+  std::vector<bool> have(results.size(), false);
+  int best = -1;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    StatusOr<AutopilotParameters> p = ToAutopilotParameters(
+        problem, results[i], format, context.plane, FLAGS_imu, context.log);
+    if (!p.ok()) continue;  // an unusable fit: nothing to restate
+    emitted[i] = std::move(p).value();
+    have[i] = true;
+    if (best < 0 || results[i].rmse < results[best].rmse) {
+      best = static_cast<int>(i);
+    }
+  }
+  if (JsonOutput()) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(*text);
+    auto add = [&](nlohmann::ordered_json* fit, std::size_t i) {
+      (*fit)["emit"] =
+          have[i] ? AutopilotParametersToJson(emitted[i])
+                  : nlohmann::ordered_json{{"format", FLAGS_emit},
+                                           {"reason", "the fit failed"}};
+    };
+    if (j.is_array()) {
+      for (std::size_t i = 0; i < j.size(); ++i) add(&j[i], i);
+    } else {
+      add(&j, 0);
+    }
+    *text = j.dump(2) + "\n";
+  } else if (best >= 0) {
+    *text += AutopilotParametersToText(emitted[static_cast<std::size_t>(best)]);
+  }
+  if (!FLAGS_emit_out.empty()) {
+    if (best < 0) {
+      return FailedPreconditionError(
+          "--emit_out: no usable fit to write parameters from");
+    }
+    IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+        FLAGS_emit_out, emitted[static_cast<std::size_t>(best)].snippet));
+    std::cerr << "wrote " << FLAGS_emit_out << "\n";
+  }
+  return Status::Ok();
 }
 
 int Run(const std::vector<std::string>& positional) {
@@ -204,7 +273,7 @@ int Run(const std::vector<std::string>& positional) {
                       "--problem=P.csv)");
   }
   // With a problem file the only model is paper, so it is the default there.
-  const std::string model_name =
+  std::string model_name =
       from_problem && !FlagWasSet("model") ? "paper" : FLAGS_model;
   if (from_problem && model_name == "consistent") {
     return ReportError(
@@ -217,6 +286,12 @@ int Run(const std::vector<std::string>& positional) {
   }
   StatusOr<EstimatorOptions> options = OptionsFromFlags();
   if (!options.ok()) return ReportError(cmd, options.status());
+  StatusOr<EmitFormat> emit = EmitFormatFromString(FLAGS_emit);
+  if (!emit.ok()) return ReportError(cmd, emit.status().WithPrefix("--emit"));
+  const EmitFormat emit_format = *emit;
+  if (emit_format == EmitFormat::kNone && !FLAGS_emit_out.empty()) {
+    return UsageError(cmd, "--emit_out needs --emit=px4|ardupilot");
+  }
 
   // Estimators to run, validated before any work is done.
   const EstimatorRegistry& registry = BuiltinEstimators();
@@ -230,11 +305,22 @@ int Run(const std::vector<std::string>& positional) {
   }
 
   FitContext context;
+  std::string unidentifiable;
   StatusOr<std::shared_ptr<ProblemData>> loaded =
       from_problem ? DataFromProblemFile(path, &context)
-                   : DataFromLog(path, &context);
+                   : DataFromLog(path, &context, &unidentifiable);
   if (!loaded.ok()) return ReportError(cmd, loaded.status());
   std::shared_ptr<ProblemData> data = std::move(loaded).value();
+  // Only the paper model uses the autopilot's velocity (consistent integrates
+  // its own from θ = ∫ω, which on a 3-D flight drifts far from the pitch), so
+  // a log velocity makes paper the default.
+  if (!from_problem && !FlagWasSet("model") && context.velocity == "log" &&
+      model_name != "paper") {
+    std::cerr << "note: model paper (the default when the velocity comes "
+                 "from the log; --model=consistent ignores it)\n";
+    model_name = "paper";
+    if (FLAGS_estimator == "all") names = registry.NamesSupporting(model_name);
+  }
   ModelOptions model_options;
   model_options.use_measured_fz = FLAGS_use_measured_fz;
   StatusOr<std::unique_ptr<Model>> model =
@@ -262,6 +348,13 @@ int Run(const std::vector<std::string>& positional) {
     if (!r.ok()) return ReportError(cmd, r.status());
     results.push_back(std::move(*r));
   }
+  if (!unidentifiable.empty()) {
+    for (EstimateResult& r : results) {
+      if (!r.HasWarning("not_identifiable")) {
+        r.warnings.push_back({"not_identifiable", unidentifiable});
+      }
+    }
+  }
 
   std::string text;
   if (JsonOutput()) {
@@ -274,6 +367,10 @@ int Run(const std::vector<std::string>& positional) {
     }
   } else {
     text = ResultsToTable(results, context);
+  }
+  if (emit_format != EmitFormat::kNone) {
+    s = AddEmit(problem, results, emit_format, context, &text);
+    if (!s.ok()) return ReportError(cmd, s);
   }
   s = EmitOutput(text, FLAGS_out);
   if (!s.ok()) return ReportError(cmd, s);
@@ -331,6 +428,8 @@ const Command& FitCommand() {
        "max_time_s",
        "use_measured_fz",
        "trace",
+       "emit",
+       "emit_out",
        "out"},
       &Run};
   return c;

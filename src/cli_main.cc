@@ -22,6 +22,7 @@ std::vector<const Command*> AllCommands() {
           &FitCommand(),
           &DisplacementCommand(),
           &ExportProblemCommand(),
+          &ConvertCommand(),
           &BenchCommand()};
 }
 

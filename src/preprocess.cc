@@ -63,6 +63,10 @@ constexpr double kMaxManeuverRms = 0.3;   // rad/s
 constexpr double kManeuverMergeS = 2.0;
 constexpr double kMinManeuverS = 2.0;
 
+// A step longer than this many median intervals inside the fit segment is
+// an error: the same limit the CSV reader applies to a whole file.
+constexpr double kMaxSegmentGapFactor = 10.0;
+
 // A sample-interval spread beyond this fraction of the median is reported:
 // the IIR low-pass treats samples as uniform.
 constexpr double kJitterNoteFraction = 0.1;
@@ -649,6 +653,24 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
         " s holds " + std::to_string(count) + " samples; at least " +
         std::to_string(std::max<std::size_t>(options.min_samples, 2)) +
         " are needed");
+  }
+
+  // A hole inside the segment breaks θ = ∫ω and v (the trapezoid bridges it
+  // with a straight line) and the derivative windows; holes elsewhere only
+  // pass through the resampled low-pass.
+  std::size_t gap_at = i0 + 1;
+  for (std::size_t i = i0 + 1; i < i1; ++i) {
+    if (t[i] - t[i - 1] > t[gap_at] - t[gap_at - 1]) gap_at = i;
+  }
+  const double gap = t[gap_at] - t[gap_at - 1];
+  if (gap > kMaxSegmentGapFactor * median_dt) {
+    return FailedPreconditionError(
+        log.source + ": the fit segment " + Num(t[i0]) + "–" + Num(t[i1 - 1]) +
+        " s has a " + Num(gap) + " s gap in the samples at t = " +
+        Num(t[gap_at - 1]) + " s (" + Num(gap / median_dt, 0) +
+        " median intervals; at most " + Num(kMaxSegmentGapFactor, 0) +
+        " allowed): choose a segment without it with t_start/t_end "
+        "(--t_start/--t_end)");
   }
 
   // Plane signals over the whole log; filtered before the cut so the

@@ -180,7 +180,9 @@ struct PreprocessResult {
 // Builds the problem. InvalidArgument names the option and value (e.g.
 // t_start beyond the log's end, a cutoff above Nyquist) or the first bad log
 // sample; FailedPrecondition when no maneuver is found and no window was
-// given, when too few samples remain, or when kLog lacks channels.
+// given, when too few samples remain, when the fit segment has a step longer
+// than 10 median sample intervals (a logging hole; the log itself may have
+// them elsewhere), or when kLog lacks channels.
 StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
                                       const PreprocessOptions& options);
 

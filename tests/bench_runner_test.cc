@@ -308,6 +308,31 @@ TEST(BenchFigures, IndexShowsEveryFigureAndEveryImageExists) {
   EXPECT_EQ(sources.size(), 11u);
 }
 
+TEST(BenchFigures, FitFiguresNeedOnlyTheProblemData) {
+  // What `fit --plot` has for a --problem file: data and results, no raw
+  // log, no truth. Figs. 7, 8, 10, residuals and velocity are still drawn.
+  if (FindGnuplot().empty()) {
+    GTEST_SKIP() << "gnuplot not installed";
+  }
+  const BenchReport& report = TinyReport();
+  const PreparedLog& log = report.logs.front();
+  ASSERT_NE(log.data, nullptr);
+  std::vector<EstimateResult> results;
+  for (const auto& run : report.runs) {
+    if (run.log == log.name) results.push_back(run.result);
+  }
+  const std::string dir = testing::MakeTempDir() + "/plots";
+  FitFigureOptions options;
+  std::vector<Figure> figures;
+  Status s = WriteFitFigures(dir, log.data, results, options, &figures);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_EQ(figures.size(), 5u);
+  for (const auto& f : figures) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f.file)) << f.file;
+  }
+  EXPECT_NE(ReadAll(dir + "/index.html").find("fx_fit.svg"), std::string::npos);
+}
+
 TEST(BenchFigures, ConsistentVelocityIntegratesTheDragEquation) {
   // θ constant at 10°, no drift, μ = 0.1: v̇ = g tan θ − μ v|v| tends to the
   // terminal speed sqrt(g tan θ / μ).

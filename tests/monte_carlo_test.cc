@@ -4,10 +4,12 @@
 // time. 50 seeds; a few seconds on two cores (simulation ~30 ms per seed).
 
 #include <cmath>
+#include <fstream>
 
 #include "Eigen/LU"
 #include "benchmarks/runner.h"
 #include "gtest/gtest.h"
+#include "nlohmann/json.hpp"
 #include "src/imu_model.h"
 #include "tests/test_util.h"
 
@@ -39,8 +41,13 @@ TEST(MonteCarlo, ModelExactReachesTheCramerRaoBound) {
   ASSERT_TRUE(records.ok()) << records.status().message();
   ASSERT_EQ(records->size(), 3u);
 
-  // σ from the simulator's settings: 250 µg/√Hz at 250 Hz.
-  const double sigma = 250e-6 * kGravity * std::sqrt(250.0 / 2.0);
+  // σ per sample from the sidecar's settings: density [µg/√Hz] · 1e-6 g ·
+  // sqrt(rate / 2), read here from the JSON directly.
+  std::ifstream in(testing::DataDir() + "/model_exact.truth.json");
+  const nlohmann::json settings = nlohmann::json::parse(in)["settings"];
+  const double sigma = settings["accel_noise_density_ug"].get<double>() * 1e-6 *
+                       kGravity *
+                       std::sqrt(settings["rate_hz"].get<double>() / 2.0);
   for (const MonteCarloRecord& rec : *records) {
     SCOPED_TRACE(rec.estimator);
     EXPECT_EQ(rec.usable, kSeeds);

@@ -544,5 +544,39 @@ TEST(EnumStrings, RoundTripAndRejectUnknown) {
             StatusCode::kInvalidArgument);
 }
 
+TEST(Preprocess, GapInsideTheFitSegmentIsRejectedWithItsTimeAndLength) {
+  // The sinusoid log at 250 Hz with 0.5 s of samples removed after t = 8 s:
+  // a 0.504 s step, 126 median intervals, far beyond the limit of 10.
+  const FlightLog full = SinusoidLog(false);
+  FlightLog log = full;
+  log.t_s.clear();
+  log.ax.clear();
+  log.ay.clear();
+  log.az.clear();
+  log.gx.clear();
+  log.gy.clear();
+  log.gz.clear();
+  for (std::size_t i = 0; i < full.size(); ++i) {
+    if (full.t_s[i] > 8.001 && full.t_s[i] < 8.502) continue;
+    log.t_s.push_back(full.t_s[i]);
+    log.ax.push_back(full.ax[i]);
+    log.ay.push_back(full.ay[i]);
+    log.az.push_back(full.az[i]);
+    log.gx.push_back(full.gx[i]);
+    log.gy.push_back(full.gy[i]);
+    log.gz.push_back(full.gz[i]);
+  }
+  StatusOr<PreprocessResult> result = Preprocess(log, WindowOptions(0.0, 20.0));
+  ASSERT_EQ(result.status().code(), StatusCode::kFailedPrecondition);
+  const std::string& message = result.status().message();
+  EXPECT_NE(message.find("0.504 s gap"), std::string::npos) << message;
+  EXPECT_NE(message.find("t = 8.000 s"), std::string::npos) << message;
+  EXPECT_NE(message.find("--t_start/--t_end"), std::string::npos) << message;
+  // The same log fits on either side of the hole: gaps outside the segment
+  // only pass through the (resampled) low-pass.
+  EXPECT_TRUE(Preprocess(log, WindowOptions(9.0, 20.0)).ok());
+  EXPECT_TRUE(Preprocess(log, WindowOptions(0.0, 7.9)).ok());
+}
+
 }  // namespace
 }  // namespace imusysid

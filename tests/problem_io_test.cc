@@ -78,7 +78,7 @@ TEST(ProblemIo, GravityComesFromDataNotFromMetadata) {
   ProblemData d = MakeData();
   d.gravity = 9.81;
   const std::string text = FormatProblemCsv(d, {{"gravity", "1.5"}});
-  EXPECT_EQ(text.find("1.5"), std::string::npos);
+  EXPECT_EQ(text.find("# gravity: 1.5"), std::string::npos);
   StatusOr<ProblemFile> file = ParseProblemCsv(text, "p.csv");
   ASSERT_TRUE(file.ok()) << file.status().message();
   EXPECT_EQ(file->data.gravity, 9.81);

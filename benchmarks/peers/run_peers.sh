@@ -5,44 +5,52 @@
 # a Markdown table side by side: OF, gap to the best OF, r, beta, alpha, mu,
 # evaluations, wall time and its ratios to imusysid's linear and ga.
 #
-# Usage: run_peers.sh PROBLEM.csv [--seed N] [--out DIR] [--max-gap REL]
+# Usage: run_peers.sh PROBLEM.csv [--seed N] [--objective direct|gram]
+#                     [--out DIR] [--max-gap REL]
 #   --seed N       seed for imusysid, Octave's rand/randn and SciPy (default 1)
+#   --objective    how Octave's ga and SciPy's differential_evolution compute
+#                  the OF: direct (default: the sum over the samples) or gram
+#                  (the 5 x 5 Gram matrix, O(1) like imusysid's paper model)
 #   --out DIR      also write DIR/peers.jsonl (every fit) and DIR/peers.md
 #   --max-gap REL  exit 1 when some fit's OF is more than REL (relative)
 #                  above the best one (used by the ctest label 'peers')
 # Environment: IMUSYSID (the imusysid binary; default: on PATH, else
-# build/imusysid in this checkout), PEERS_PYTHON (a python3 with SciPy),
-# OCTAVE (octave-cli). A peer whose tool is missing is skipped with a message
+# build/imusysid in this checkout), PEERS_PYTHON (the python3 with SciPy;
+# default: python3, else /usr/bin/python3), OCTAVE (default octave-cli). A peer whose tool is missing is skipped with a message
 # and the script still exits 0.
 
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 
-usage() {
-  sed -n '7,16p' "$0" | sed 's/^# \{0,1\}//' >&2
-  exit 2
+usage() {  # [exit code]
+  sed -n '7,20p' "$0" | sed 's/^# \{0,1\}//' >&2
+  exit "${1:-2}"
 }
 
 problem=""
 seed=1
 out=""
 max_gap=""
+objective=direct
 while [ $# -gt 0 ]; do
   case "$1" in
     --seed) seed=${2:-}; shift 2 || usage ;;
     --seed=*) seed=${1#--seed=}; shift ;;
+    --objective) objective=${2:-}; shift 2 || usage ;;
+    --objective=*) objective=${1#--objective=}; shift ;;
     --out) out=${2:-}; shift 2 || usage ;;
     --out=*) out=${1#--out=}; shift ;;
     --max-gap) max_gap=${2:-}; shift 2 || usage ;;
     --max-gap=*) max_gap=${1#--max-gap=}; shift ;;
-    -h|--help) usage ;;
+    -h|--help) usage 0 ;;
     -*) echo "run_peers.sh: unknown option '$1'" >&2; usage ;;
     *) [ -z "$problem" ] || usage; problem=$1; shift ;;
   esac
 done
 [ -n "$problem" ] || usage
 case "$seed" in ''|*[!0-9]*) echo "run_peers.sh: --seed needs a whole number" >&2; exit 2 ;; esac
+case "$objective" in direct|gram) ;; *) echo "run_peers.sh: --objective must be direct or gram" >&2; exit 2 ;; esac
 if [ ! -r "$problem" ]; then
   echo "run_peers.sh: cannot read problem file '$problem'" >&2
   exit 2
@@ -57,7 +65,7 @@ if [ -z "$table_python" ]; then
   exit 2
 fi
 scipy_python=""
-for candidate in ${PEERS_PYTHON:-} python3 /usr/bin/python3; do
+for candidate in ${PEERS_PYTHON:-python3 /usr/bin/python3}; do
   if command -v "$candidate" >/dev/null 2>&1 &&
       "$candidate" -c 'import scipy.optimize, numpy' >/dev/null 2>&1; then
     scipy_python=$candidate
@@ -106,9 +114,9 @@ fi
 # --- GNU Octave ga ---------------------------------------------------------
 if command -v "$octave" >/dev/null 2>&1 &&
     "$octave" -q --no-init-file --eval 'pkg load ga' >/dev/null 2>&1; then
-  echo "running Octave ga (250 x 400 generations)" >&2
+  echo "running Octave ga (250 x 400 generations, $objective objective; minutes)" >&2
   t0=$(now_ms)
-  if "$octave" -q --no-init-file "$here/octave_ga.m" "$problem" "$seed" \
+  if "$octave" -q --no-init-file "$here/octave_ga.m" "$problem" "$seed" "$objective" \
       > "$work/octave.json" 2> "$work/octave.err"; then
     cat "$work/octave.json" >> "$results"
     add_time "octave ga" $(( $(now_ms) - t0 ))
@@ -126,6 +134,7 @@ if [ -n "$scipy_python" ]; then
   echo "running SciPy least_squares and differential_evolution ($scipy_python)" >&2
   t0=$(now_ms)
   if "$scipy_python" "$here/scipy_peers.py" "$problem" --seed "$seed" \
+      --objective "$objective" \
       > "$work/scipy.json" 2> "$work/scipy.err"; then
     cat "$work/scipy.json" >> "$results"
     add_time "scipy (both methods)" $(( $(now_ms) - t0 ))
