@@ -3,6 +3,8 @@
 # As root it runs apt-get itself; otherwise it prints the exact command to run.
 #   scripts/setup.sh              build + test dependencies
 #   scripts/setup.sh --with-fuzz  also clang's libFuzzer runtime
+#   scripts/setup.sh --with-peers also GNU Octave + octave-ga and SciPy, for
+#                                 benchmarks/peers/run_peers.sh
 set -euo pipefail
 
 packages=(
@@ -14,7 +16,8 @@ packages=(
 for arg in "$@"; do
   case "$arg" in
     --with-fuzz) packages+=(clang libclang-rt-dev) ;;
-    -h|--help) sed -n '2,5p' "$0"; exit 0 ;;
+    --with-peers) packages+=(octave octave-ga python3 python3-numpy python3-scipy) ;;
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done

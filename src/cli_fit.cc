@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "benchmarks/figures.h"
 #include "estimators/registry.h"
 #include "nlohmann/json.hpp"
 #include "src/cli_common.h"
@@ -56,6 +57,10 @@ DEFINE_bool(use_measured_fz,
             "consistent model: integrate velocity with the measured z "
             "specific force instead of assuming altitude hold.");
 DEFINE_bool(trace, false, "Include the convergence trace in JSON output.");
+DEFINE_string(plot,
+              "",
+              "Write the per-log figures (SVG via gnuplot) and an index.html "
+              "into this folder.");
 DEFINE_string(problem,
               "",
               "Problem CSV to fit instead of a log (from export-problem or "
@@ -375,6 +380,21 @@ int Run(const std::vector<std::string>& positional) {
   s = EmitOutput(text, FLAGS_out);
   if (!s.ok()) return ReportError(cmd, s);
   if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  if (!FLAGS_plot.empty()) {
+    bench::FitFigureOptions figure_options;
+    figure_options.title = path;
+    std::vector<bench::Figure> figures;
+    s = bench::WriteFitFigures(
+        FLAGS_plot, data, results, figure_options, &figures);
+    if (s.code() == StatusCode::kFailedPrecondition) {
+      std::cerr << "warning: no figures: " << s.message() << "\n";
+    } else if (!s.ok()) {
+      return ReportError(cmd, s);
+    } else {
+      std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_plot
+                << "/index.html\n";
+    }
+  }
   for (const auto& r : results) {
     if (!r.IsUsable()) return kExitBadInput;
   }
@@ -427,6 +447,7 @@ const Command& FitCommand() {
        "hybrid_lm_iterations",
        "max_time_s",
        "use_measured_fz",
+       "plot",
        "trace",
        "emit",
        "emit_out",
