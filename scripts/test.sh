@@ -3,6 +3,8 @@
 #   1. Release build with warnings as errors: unit tests, slow end-to-end
 #      tests, the installed-package consumer test, benchmark smoke runs;
 #   2. the unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer.
+# The peer comparison (label "peers": GNU Octave, SciPy) is not part of it:
+#   ctest --test-dir build -L peers   after scripts/setup.sh --with-peers
 # Usage: scripts/test.sh [--no-sanitizers]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,7 +24,7 @@ jobs=$(nproc)
 echo "== Release build and all tests"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON >/dev/null
 cmake --build build -j"$jobs"
-(cd build && ctest -j"$jobs" --output-on-failure --timeout 600)
+(cd build && ctest -j"$jobs" -LE peers --output-on-failure --timeout 600)
 
 if [ "$sanitizers" = 1 ]; then
   echo "== Unit tests under address;undefined sanitizers"

@@ -64,8 +64,10 @@ Status ErrorAt(const std::string& name,
                int line,
                int column,
                const std::string& message) {
+  // The log CSV's form: "file:line:col:" for tools, the line in words too.
   return InvalidArgumentError(name + ":" + std::to_string(line) + ":" +
-                              std::to_string(column) + ": " + message);
+                              std::to_string(column) + ": line " +
+                              std::to_string(line) + ": " + message);
 }
 
 // One comma-separated field: its text without surrounding blanks and where

@@ -180,15 +180,16 @@ TEST(CliProblem, BadProblemFileGivesLineAndColumn) {
   const CommandResult r = RunCli("fit --problem=" + Quoted(path) +
                                  " --estimator=linear --format=json");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_THAT(r.err,
-              HasSubstr(path + ":6:3: column 'f': 'abc' is not a number"));
+  EXPECT_THAT(
+      r.err,
+      HasSubstr(path + ":6:3: line 6: column 'f': 'abc' is not a number"));
   EXPECT_TRUE(r.out.empty());
 
   const std::string ragged = testing::WriteTempFile(
       "ragged.csv", "t,f,omega,omega_dot,v\n0,1,2,3,4\n1,1,2\n");
   const CommandResult r2 = RunCli("fit --problem=" + Quoted(ragged));
   EXPECT_EQ(r2.exit_code, 2);
-  EXPECT_THAT(r2.err, HasSubstr(ragged + ":3:6: row has 3 fields"));
+  EXPECT_THAT(r2.err, HasSubstr(ragged + ":3:6: line 3: row has 3 fields"));
 }
 
 TEST(CliProblem, MissingProblemFileIsBadInput) {
