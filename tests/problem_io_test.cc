@@ -155,60 +155,60 @@ TEST(ProblemIo, BadInputsNameLineColumnAndValue) {
   const BadCase cases[] = {
       {"not a number",
        header + rows(0, 3) + "3,abc,2,3,4\n" + rows(4, 8),
-       "p.csv:5:3: column 'f': 'abc' is not a number"},
+       "p.csv:5:3: line 5: column 'f': 'abc' is not a number"},
       {"nan",
        header + rows(0, 5) + "5,1,nan,3,4\n" + rows(6, 8),
-       "p.csv:7:5: column 'omega': 'nan' is not a finite number"},
+       "p.csv:7:5: line 7: column 'omega': 'nan' is not a finite number"},
       {"inf",
        header + rows(0, 1) + "1,1,2,-inf,4\n" + rows(2, 9),
-       "p.csv:3:7: column 'omega_dot': '-inf' is not a finite number"},
+       "p.csv:3:7: line 3: column 'omega_dot': '-inf' is not a finite number"},
       {"empty cell",
        header + rows(0, 2) + "2,1,2,3,\n" + rows(3, 9),
-       "p.csv:4:9: column 'v': empty cell"},
+       "p.csv:4:9: line 4: column 'v': empty cell"},
       {"out of range",
        header + "0,1e999,2,3,4\n" + rows(1, 10),
-       "p.csv:2:3: column 'f': '1e999' is outside the range of a double"},
+       "p.csv:2:3: line 2: column 'f': '1e999' is outside the range of a double"},
       {"repeated time",
        header + rows(0, 4) + "3,1,2,3,4\n" + rows(4, 8),
-       "p.csv:6:1: column 't': time '3' repeats the previous time '3' "
+       "p.csv:6:1: line 6: column 't': time '3' repeats the previous time '3' "
        "(line 5); t must increase strictly"},
       {"time going back",
        header + rows(0, 4) + "1.5,1,2,3,4\n" + rows(4, 8),
-       "p.csv:6:1: column 't': time '1.5' is before the previous time '3'"},
+       "p.csv:6:1: line 6: column 't': time '1.5' is before the previous time '3'"},
       {"too few fields",
        header + rows(0, 2) + "2,1,2\n" + rows(3, 9),
-       "p.csv:4:6: row has 3 fields, expected 5 (the header's count); column "
+       "p.csv:4:6: line 4: row has 3 fields, expected 5 (the header's count); column "
        "'omega_dot' is missing"},
       {"too many fields",
        header + rows(0, 2) + "2,1,2,3,4,5\n" + rows(3, 9),
-       "p.csv:4:11: row has 6 fields, expected 5 (the header's count); extra "
+       "p.csv:4:11: line 4: row has 6 fields, expected 5 (the header's count); extra "
        "field '5'"},
       {"missing columns",
        "# x\nt,f,omega\n" + rows(0, 10),
-       "p.csv:2:1: header 't,f,omega' is missing required columns "
+       "p.csv:2:1: line 2: header 't,f,omega' is missing required columns "
        "'omega_dot', 'v'"},
       {"too few samples",
        header + rows(0, 9),
-       "p.csv:10:1: the problem has 9 samples, fewer than the 10 the fit "
+       "p.csv:10:1: line 10: the problem has 9 samples, fewer than the 10 the fit "
        "needs"},
-      {"empty file", "", "p.csv:1:1: the file is empty"},
-      {"only comments", "# a\n# b\n", "p.csv:2:1: no header line"},
+      {"empty file", "", "p.csv:1:1: line 1: the file is empty"},
+      {"only comments", "# a\n# b\n", "p.csv:2:1: line 2: no header line"},
       {"numbers instead of header",
        rows(0, 11),
-       "p.csv:1:1: no header: the first non-comment line holds the number "
+       "p.csv:1:1: line 1: no header: the first non-comment line holds the number "
        "'0'"},
       {"duplicate column",
        "t,f,omega,f,omega_dot,v\n",
-       "p.csv:1:11: duplicate column name 'f' (first at column 3)"},
+       "p.csv:1:11: line 1: duplicate column name 'f' (first at column 3)"},
       {"empty column name",
        "t,f,,omega_dot,v\n",
-       "p.csv:1:5: header column 3 has an empty name"},
+       "p.csv:1:5: line 1: header column 3 has an empty name"},
       {"bad gravity",
        "# gravity: heavy\n" + header + rows(0, 10),
-       "p.csv:1:12: metadata 'gravity': 'heavy' is not a number"},
+       "p.csv:1:12: line 1: metadata 'gravity': 'heavy' is not a number"},
       {"negative gravity",
        header + rows(0, 10) + "# gravity: -9.8\n",
-       "p.csv:12:12: metadata 'gravity': '-9.8' is not positive"},
+       "p.csv:12:12: line 12: metadata 'gravity': '-9.8' is not positive"},
   };
   for (const BadCase& c : cases) {
     StatusOr<ProblemFile> file = ParseProblemCsv(c.text, "p.csv");
@@ -226,7 +226,7 @@ TEST(ProblemIo, IgnoredColumnsAreNotParsedButCounted) {
   StatusOr<ProblemFile> file = ParseProblemCsv(text, "p.csv");
   ASSERT_FALSE(file.ok());
   EXPECT_THAT(file.status().message(),
-              HasSubstr("p.csv:12:11: row has 5 fields, expected 6"));
+              HasSubstr("p.csv:12:11: line 12: row has 5 fields, expected 6"));
 }
 
 TEST(ProblemIo, MinimalValidFileParses) {
