@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <random>
 #include <vector>
 
 #include "Eigen/Core"
@@ -12,129 +11,15 @@
 #include "gtest/gtest.h"
 #include "src/imu_model.h"
 #include "src/problem.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
 
-// --- an independent simulation of the consistent dynamics ------------------
-//
-// Pitch is analytic, θ(τ) = c0 + A1 sin(w1 τ) + A2 (sin(w2 τ + φ) − sin φ)
-// (so the integrated gyro θ − c0 − c1 τ starts at 0), velocity is integrated
-// by classical RK4 at ten times the sample rate, and f_x is the prediction
-// formula of docs (header of src/consistent_model.h) written out here.
-
-struct Truth {
-  double r = 0.19;        // m
-  double beta = 56.299;   // deg
-  double alpha = -2.812;  // deg
-  double mu = 0.0716;     // 1/m
-  double c0 = 1.2;        // deg
-  double c1 = 0.04;       // deg/s
-  Eigen::VectorXd Vector() const {
-    Eigen::VectorXd x(6);
-    x << r, beta, alpha, mu, c0, c1;
-    return x;
-  }
-};
-
-struct SimOptions {
-  double rate_hz = 1000.0;
-  double duration_s = 20.0;
-  double t_start_s = 5.0;  // t_0 ≠ 0 checks that drift is measured from t_0
-  bool measured_fz = false;
-  double noise_sigma = 0.0;  // on f_x, m/s²
-  unsigned seed = 7;
-};
-
-constexpr double kA1 = 0.35;  // rad
-constexpr double kW1 = 2.0 * kPi * 0.25;
-constexpr double kA2 = 0.12;  // rad
-constexpr double kW2 = 2.0 * kPi * 0.9;
-constexpr double kPhi = 0.7;
-
-double Theta(double tau, double c0_rad) {
-  return c0_rad + kA1 * std::sin(kW1 * tau) +
-         kA2 * (std::sin(kW2 * tau + kPhi) - std::sin(kPhi));
-}
-double Omega(double tau) {
-  return kA1 * kW1 * std::cos(kW1 * tau) +
-         kA2 * kW2 * std::cos(kW2 * tau + kPhi);
-}
-double OmegaDot(double tau) {
-  return -kA1 * kW1 * kW1 * std::sin(kW1 * tau) -
-         kA2 * kW2 * kW2 * std::sin(kW2 * tau + kPhi);
-}
-// The measured z specific force of the f_z variant: hover thrust plus a
-// vertical wobble, so it differs from g / cos θ.
-double MeasuredFz(double tau, double c0_rad) {
-  return kGravity / std::cos(Theta(tau, c0_rad)) + 0.8 * std::sin(1.3 * tau);
-}
-
-std::shared_ptr<ProblemData> Simulate(const Truth& truth,
-                                      const SimOptions& opt) {
-  const double g = kGravity;
-  const double c0 = truth.c0 * kDegToRad;
-  const double c1 = truth.c1 * kDegToRad;
-  auto vdot = [&](double tau, double v) {
-    const double th = Theta(tau, c0);
-    if (opt.measured_fz) {
-      return MeasuredFz(tau, c0) * std::sin(th) -
-             truth.mu * v * std::abs(v) * std::cos(th) * std::cos(th);
-    }
-    return g * std::tan(th) - truth.mu * v * std::abs(v);
-  };
-  const int n = static_cast<int>(opt.duration_s * opt.rate_hz) + 1;
-  const double h = 1.0 / opt.rate_hz;
-  constexpr int kSubsteps = 10;
-  const double hs = h / kSubsteps;
-  std::mt19937 rng(opt.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-
-  auto d = std::make_shared<ProblemData>();
-  d->source = "consistent_model_test simulation";
-  double v = 0.0;
-  double v_eq7 = 0.0;
-  const double a = truth.alpha * kDegToRad;
-  const double bma = (truth.beta - truth.alpha) * kDegToRad;
-  for (int k = 0; k < n; ++k) {
-    const double tau = k * h;
-    if (k > 0) {
-      double tt = (k - 1) * h;
-      for (int s = 0; s < kSubsteps; ++s) {
-        const double k1 = vdot(tt, v);
-        const double k2 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k1);
-        const double k3 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k2);
-        const double k4 = vdot(tt + hs, v + hs * k3);
-        v += hs / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-        tt += hs;
-      }
-    }
-    const double th = Theta(tau, c0);
-    const double q = v * std::abs(v);
-    const double fz = opt.measured_fz
-                          ? MeasuredFz(tau, c0)
-                          : g / std::cos(th) - truth.mu * q * std::sin(th);
-    const double w = Omega(tau);
-    const double wd = OmegaDot(tau);
-    const double fx = fz * std::sin(a) - truth.r * w * w * std::cos(bma) +
-                      truth.r * wd * std::sin(bma) -
-                      truth.mu * q * std::cos(th);
-    const double theta_gyro = th - c0 - c1 * tau;
-    if (k > 0) {
-      // Equation 7 (for the paper model's v column), trapezoid.
-      const double th_prev = d->theta.back();
-      v_eq7 += 0.5 * h * g * (std::sin(th_prev) + std::sin(theta_gyro));
-    }
-    d->t_s.push_back(opt.t_start_s + tau);
-    d->f_x.push_back(fx + opt.noise_sigma * noise(rng));
-    if (opt.measured_fz) d->f_z.push_back(fz);
-    d->omega.push_back(w);
-    d->omega_dot.push_back(wd);
-    d->theta.push_back(theta_gyro);
-    d->v.push_back(v_eq7);
-  }
-  return d;
-}
+// The independent simulation of the consistent dynamics (tests/test_util.h).
+using Truth = testing::ConsistentTruth;
+using SimOptions = testing::ConsistentSimOptions;
+using testing::SimulateConsistent;
 
 std::unique_ptr<Model> MakeModel(std::shared_ptr<ProblemData> data,
                                  bool measured_fz) {
@@ -160,7 +45,7 @@ constexpr double kTruthRmseTolerance = 3.3e-6;  // m/s²
 TEST(ConsistentModel, NamesBoundsAndNuisanceFlags) {
   const auto names = ModelNames();
   EXPECT_THAT(names, ::testing::Contains("consistent"));
-  auto model = MakeModel(Simulate(Truth(), SimOptions()), false);
+  auto model = MakeModel(SimulateConsistent(Truth(), SimOptions()), false);
   EXPECT_EQ(model->name(), "consistent");
   ASSERT_EQ(model->num_parameters(), 6);
   const auto& info = model->parameter_info();
@@ -181,7 +66,7 @@ TEST(ConsistentModel, NamesBoundsAndNuisanceFlags) {
 
 TEST(ConsistentModel, CostAtTruthIsNearZeroWhenAltitudeHeld) {
   const Truth truth;
-  auto model = MakeModel(Simulate(truth, SimOptions()), false);
+  auto model = MakeModel(SimulateConsistent(truth, SimOptions()), false);
   EXPECT_LT(RmseAt(*model, truth.Vector()), kTruthRmseTolerance);
   // The same data are far from zero cost without the drift correction: the
   // check above is not vacuous.
@@ -195,7 +80,7 @@ TEST(ConsistentModel, CostAtTruthIsNearZeroWithMeasuredFz) {
   const Truth truth;
   SimOptions opt;
   opt.measured_fz = true;
-  auto data = Simulate(truth, opt);
+  auto data = SimulateConsistent(truth, opt);
   auto model = MakeModel(data, true);
   EXPECT_LT(RmseAt(*model, truth.Vector()), kTruthRmseTolerance);
   // The altitude-held model does not explain the vertical wobble in f_z.
@@ -213,16 +98,16 @@ TEST(ConsistentModel, HeunErrorIsSecondOrder) {
   coarse.duration_s = 10.0;
   SimOptions fine = coarse;
   fine.rate_hz = 500.0;
-  const double rmse_coarse =
-      RmseAt(*MakeModel(Simulate(truth, coarse), false), truth.Vector());
-  const double rmse_fine =
-      RmseAt(*MakeModel(Simulate(truth, fine), false), truth.Vector());
+  const double rmse_coarse = RmseAt(
+      *MakeModel(SimulateConsistent(truth, coarse), false), truth.Vector());
+  const double rmse_fine = RmseAt(
+      *MakeModel(SimulateConsistent(truth, fine), false), truth.Vector());
   EXPECT_GT(rmse_coarse / rmse_fine, 3.0);
   EXPECT_LT(rmse_coarse / rmse_fine, 5.0);
 }
 
 TEST(ConsistentModel, MeasuredFzWithoutFzIsFailedPrecondition) {
-  auto data = Simulate(Truth(), SimOptions());
+  auto data = SimulateConsistent(Truth(), SimOptions());
   ASSERT_TRUE(data->f_z.empty());
   ModelOptions options;
   options.use_measured_fz = true;
@@ -233,7 +118,7 @@ TEST(ConsistentModel, MeasuredFzWithoutFzIsFailedPrecondition) {
 }
 
 TEST(ConsistentModel, CostEqualsHalfSumOfSquaredResiduals) {
-  auto model = MakeModel(Simulate(Truth(), SimOptions()), false);
+  auto model = MakeModel(SimulateConsistent(Truth(), SimOptions()), false);
   Eigen::VectorXd x(6);
   x << 0.25, 40.0, 1.0, 0.2, -0.5, 0.02;
   Eigen::VectorXd res(model->num_residuals());
@@ -284,7 +169,7 @@ void CheckJacobian(const Model& model, const Eigen::VectorXd& x) {
 TEST(ConsistentModel, JacobianMatchesCentralDifferencesWhenAltitudeHeld) {
   SimOptions opt;
   opt.duration_s = 8.0;
-  auto model = MakeModel(Simulate(Truth(), opt), false);
+  auto model = MakeModel(SimulateConsistent(Truth(), opt), false);
   Eigen::VectorXd x(6);
   x << 0.25, 40.0, 1.5, 0.2, -0.7, 0.03;  // away from truth: residuals ≠ 0
   CheckJacobian(*model, x);
@@ -294,7 +179,7 @@ TEST(ConsistentModel, JacobianMatchesCentralDifferencesWithMeasuredFz) {
   SimOptions opt;
   opt.duration_s = 8.0;
   opt.measured_fz = true;
-  auto model = MakeModel(Simulate(Truth(), opt), true);
+  auto model = MakeModel(SimulateConsistent(Truth(), opt), true);
   Eigen::VectorXd x(6);
   x << 0.1, -120.0, -4.0, 0.5, 2.0, -0.08;
   CheckJacobian(*model, x);
@@ -305,7 +190,7 @@ TEST(ConsistentModel, LinearSystemReproducesPredictionAndDerivatives) {
     SimOptions opt;
     opt.duration_s = 6.0;
     opt.measured_fz = measured_fz;
-    auto model_ptr = MakeModel(Simulate(Truth(), opt), measured_fz);
+    auto model_ptr = MakeModel(SimulateConsistent(Truth(), opt), measured_fz);
     const auto& model = dynamic_cast<const ConsistentModel&>(*model_ptr);
     Eigen::VectorXd x(6);
     x << 0.22, 70.0, -3.5, 0.15, 0.4, -0.02;
@@ -382,7 +267,7 @@ TEST(ConsistentModel, ParametersFromLinearInvertsLinearCoefficients) {
 TEST(ConsistentModel, NonFiniteOrUnholdablePitchIsRejected) {
   SimOptions opt;
   opt.duration_s = 4.0;
-  auto data = Simulate(Truth(), opt);
+  auto data = SimulateConsistent(Truth(), opt);
   auto model = MakeModel(data, false);
   const int n = model->num_residuals();
   Eigen::VectorXd res(n);
@@ -419,7 +304,7 @@ TEST(ConsistentModel, IntegratesGyroWhenThetaColumnIsEmpty) {
   // without drift: compare on data with c1 = 0.
   Truth truth;
   truth.c1 = 0.0;
-  auto a = Simulate(truth, opt);
+  auto a = SimulateConsistent(truth, opt);
   auto b = std::make_shared<ProblemData>(*a);
   b->theta.clear();
   auto model_a = MakeModel(a, false);

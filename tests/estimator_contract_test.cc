@@ -10,10 +10,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdint>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -23,11 +21,14 @@
 #include "estimators/registry.h"
 #include "gtest/gtest.h"
 #include "src/imu_model.h"
-#include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
+
+using testing::MakeSyntheticPaperData;
+using testing::SmallGaOptions;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
 const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
@@ -45,59 +46,9 @@ constexpr double kExactCostRelTol = 1e-9;
 constexpr double kGaCostRelTol = 0.01;
 constexpr double kGaSigmas = 9.0;
 
-// Same synthetic flight as linear_estimator_test.cc: ω = Σ sinusoids, ω̇ and
-// θ analytic, v = trapezoid of g sin θ, f_x = equation 9 + N(0, σ²).
-std::shared_ptr<ProblemData> MakeData(const Eigen::Vector4d& truth,
-                                      double sigma,
-                                      std::uint64_t seed) {
-  struct Sinusoid {
-    double amplitude, frequency_hz, phase;
-  };
-  const Sinusoid waves[] = {
-      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
-  constexpr double kDt = 0.01;
-  constexpr int kSamples = 2000;
-  auto data = std::make_shared<ProblemData>();
-  data->source = "synthetic";
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  double v = 0.0;
-  double previous_accel = 0.0;
-  for (int k = 0; k < kSamples; ++k) {
-    const double t = k * kDt;
-    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
-    for (const Sinusoid& w : waves) {
-      const double rate = 2.0 * kPi * w.frequency_hz;
-      omega += w.amplitude * std::sin(rate * t + w.phase);
-      omega_dot += w.amplitude * rate * std::cos(rate * t + w.phase);
-      theta += w.amplitude / rate *
-               (std::cos(w.phase) - std::cos(rate * t + w.phase));
-    }
-    const double accel = data->gravity * std::sin(theta);
-    if (k > 0) v += 0.5 * kDt * (accel + previous_accel);
-    previous_accel = accel;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(
-        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
-        sigma * noise(rng));
-  }
-  return data;
-}
-
-EstimatorOptions SmallGaOptions() {
-  EstimatorOptions options;
-  options.ga.population_size = 60;
-  options.ga.max_generations = 60;
-  return options;
-}
-
 const std::shared_ptr<ProblemData>& StandardData() {
-  static const auto* const data =
-      new std::shared_ptr<ProblemData>(MakeData(kTruth, kSigma, 2024));
+  static const auto* const data = new std::shared_ptr<ProblemData>(
+      MakeSyntheticPaperData(kTruth, kSigma, 2024));
   return *data;
 }
 

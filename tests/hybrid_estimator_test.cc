@@ -5,9 +5,7 @@
 #include "estimators/hybrid_estimator.h"
 
 #include <cmath>
-#include <cstdint>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -15,11 +13,17 @@
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
 #include "src/imu_model.h"
-#include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
+
+using testing::Detail;
+using testing::MakePaperProblem;
+using testing::MakeSyntheticPaperData;
+using testing::RunEstimator;
+using testing::SmallGaOptions;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
 const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
@@ -29,79 +33,9 @@ constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
 // alone misses it by orders of magnitude.
 constexpr double kOfRelTol = 1e-9;
 
-// Same synthetic flight as linear_estimator_test.cc: ω = Σ sinusoids, ω̇ and
-// θ analytic, v = trapezoid of g sin θ, f_x = equation 9 + N(0, σ²).
-std::shared_ptr<ProblemData> MakeData(const Eigen::Vector4d& truth,
-                                      double sigma,
-                                      std::uint64_t seed) {
-  struct Sinusoid {
-    double amplitude, frequency_hz, phase;
-  };
-  const Sinusoid waves[] = {
-      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
-  constexpr double kDt = 0.01;
-  constexpr int kSamples = 2000;
-  auto data = std::make_shared<ProblemData>();
-  data->source = "synthetic";
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  double v = 0.0;
-  double previous_accel = 0.0;
-  for (int k = 0; k < kSamples; ++k) {
-    const double t = k * kDt;
-    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
-    for (const Sinusoid& w : waves) {
-      const double rate = 2.0 * kPi * w.frequency_hz;
-      omega += w.amplitude * std::sin(rate * t + w.phase);
-      omega_dot += w.amplitude * rate * std::cos(rate * t + w.phase);
-      theta += w.amplitude / rate *
-               (std::cos(w.phase) - std::cos(rate * t + w.phase));
-    }
-    const double accel = data->gravity * std::sin(theta);
-    if (k > 0) v += 0.5 * kDt * (accel + previous_accel);
-    previous_accel = accel;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(
-        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
-        sigma * noise(rng));
-  }
-  return data;
-}
-
-Problem MakeProblem(std::shared_ptr<ProblemData> data) {
-  return Problem(std::make_shared<PaperModel>(std::move(data)));
-}
-
-EstimateResult RunEstimator(const Estimator& estimator,
-                            const Problem& problem,
-                            const EstimatorOptions& options) {
-  StatusOr<EstimateResult> result = estimator.Estimate(problem, options);
-  EXPECT_TRUE(result.ok()) << result.status().ToString();
-  return result.ok() ? *result : EstimateResult{};
-}
-
-std::string Detail(const EstimateResult& result, const std::string& key) {
-  for (const auto& [k, v] : result.details) {
-    if (k == key) return v;
-  }
-  return "";
-}
-
-// Small GA settings keep each run to a few milliseconds: 60 individuals and
-// 60 generations are plenty for 4 parameters once LM does the last digits.
-EstimatorOptions SmallGaOptions() {
-  EstimatorOptions options;
-  options.ga.population_size = 60;
-  options.ga.max_generations = 60;
-  return options;
-}
-
 TEST(HybridEstimator, ReachesLinearOptimumWhenNoisy) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   const EstimateResult linear =
       RunEstimator(LinearEstimator(), problem, EstimatorOptions{});
   const EstimateResult result =
@@ -113,7 +47,8 @@ TEST(HybridEstimator, ReachesLinearOptimumWhenNoisy) {
 }
 
 TEST(HybridEstimator, SameSeedGivesIdenticalResult) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   EstimatorOptions options = SmallGaOptions();
   options.seed = 99;
   const EstimateResult first =
@@ -128,7 +63,8 @@ TEST(HybridEstimator, SameSeedGivesIdenticalResult) {
 }
 
 TEST(HybridEstimator, RefinesAtTheConfiguredPeriod) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   EstimatorOptions options = SmallGaOptions();
   // 30 generations: the GA's average-change test cannot fire before
   // generation max_stall_generations + 1 = 51, so all 30 run.
@@ -157,7 +93,8 @@ TEST(HybridEstimator, RefinesAtTheConfiguredPeriod) {
 }
 
 TEST(HybridEstimator, DefaultRefinesTheEliteCount) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   EstimatorOptions options = SmallGaOptions();
   options.ga.max_generations = 20;
   options.hybrid.period_generations = 10;
@@ -173,7 +110,8 @@ TEST(HybridEstimator, DefaultRefinesTheEliteCount) {
 }
 
 TEST(HybridEstimator, RefinementShowsInTheGaTrace) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   const EstimateResult linear =
       RunEstimator(LinearEstimator(), problem, EstimatorOptions{});
   EstimatorOptions options = SmallGaOptions();

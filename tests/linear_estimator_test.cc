@@ -6,21 +6,23 @@
 #include "estimators/linear_estimator.h"
 
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "Eigen/Dense"
 #include "gtest/gtest.h"
 #include "src/imu_model.h"
-#include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
+
+using testing::Detail;
+using testing::MakePaperProblem;
+using testing::MakeSyntheticPaperData;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
 const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
@@ -32,60 +34,6 @@ constexpr double kNoiseFreeRelTol = 1e-8;
 // Noisy recovery bound in standard deviations; a 4σ miss has probability
 // ~6e-5 per parameter, and the seed is fixed, so the test is deterministic.
 constexpr double kSigmas = 4.0;
-
-// ω(t) = s·Σ Aᵢ sin(2π fᵢ t + φᵢ): a slow component that tilts the vehicle
-// (θ up to ~0.3 rad, v in [0, 4] m/s) and faster ones that excite ω² and ω̇
-// independently. Every phase is ±π/2 so that θ has no constant part: a
-// constant tilt would make v drift without bound. ω̇ and θ = ∫ω are analytic; v
-// is the trapezoidal integral of g sin θ (equation 7); f_x is equation 9 plus
-// N(0, σ²) noise.
-std::shared_ptr<ProblemData> MakeData(const Eigen::Vector4d& truth,
-                                      double sigma,
-                                      std::uint64_t seed,
-                                      double omega_scale = 1.0,
-                                      double fx_offset = 0.0) {
-  struct Sinusoid {
-    double amplitude, frequency_hz, phase;
-  };
-  const Sinusoid waves[] = {
-      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
-  constexpr double kDt = 0.01;
-  constexpr int kSamples = 2000;
-  auto data = std::make_shared<ProblemData>();
-  data->source = "synthetic";
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  double v = 0.0;
-  double previous_accel = 0.0;
-  for (int k = 0; k < kSamples; ++k) {
-    const double t = k * kDt;
-    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
-    for (const Sinusoid& w : waves) {
-      const double rate = 2.0 * kPi * w.frequency_hz;
-      omega += omega_scale * w.amplitude * std::sin(rate * t + w.phase);
-      omega_dot +=
-          omega_scale * w.amplitude * rate * std::cos(rate * t + w.phase);
-      theta += omega_scale * w.amplitude / rate *
-               (std::cos(w.phase) - std::cos(rate * t + w.phase));
-    }
-    const double accel = data->gravity * std::sin(theta);
-    if (k > 0) v += 0.5 * kDt * (accel + previous_accel);
-    previous_accel = accel;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(
-        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
-        fx_offset + sigma * noise(rng));
-  }
-  return data;
-}
-
-Problem MakeProblem(std::shared_ptr<ProblemData> data) {
-  return Problem(std::make_shared<PaperModel>(std::move(data)));
-}
 
 // Φ with columns (1, −ω², ω̇, −sign(v)v²), written here from the equation.
 Eigen::MatrixXd Regressors(const ProblemData& d) {
@@ -127,15 +75,9 @@ EstimateResult RunLinear(const Problem& problem,
   return result.ok() ? *result : EstimateResult{};
 }
 
-std::string Detail(const EstimateResult& result, const std::string& key) {
-  for (const auto& [k, v] : result.details) {
-    if (k == key) return v;
-  }
-  return "";
-}
-
 TEST(LinearEstimator, RecoversTruthWhenNoiseFree) {
-  const Problem problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, 0.0, 1));
   const EstimateResult result = RunLinear(problem);
   ASSERT_EQ(result.termination, Termination::kConverged) << result.message;
   for (int i = 0; i < 4; ++i) {
@@ -153,8 +95,8 @@ TEST(LinearEstimator, RecoversTruthWhenNoiseFree) {
 }
 
 TEST(LinearEstimator, WithinFourSigmaWhenNoisy) {
-  auto data = MakeData(kTruth, kSigma, 7);
-  const Problem problem = MakeProblem(data);
+  auto data = MakeSyntheticPaperData(kTruth, kSigma, 7);
+  const Problem problem = MakePaperProblem(data);
   const EstimateResult result = RunLinear(problem);
   ASSERT_EQ(result.termination, Termination::kConverged) << result.message;
 
@@ -196,8 +138,8 @@ TEST(LinearEstimator, WithinFourSigmaWhenNoisy) {
 TEST(LinearEstimator, ClampsMuToZeroAtKktPointWhenTruthMuNegative) {
   Eigen::Vector4d truth = kTruth;
   truth[kMu] = -0.05;
-  auto data = MakeData(truth, 0.0, 3);
-  const Problem problem = MakeProblem(data);
+  auto data = MakeSyntheticPaperData(truth, 0.0, 3);
+  const Problem problem = MakePaperProblem(data);
   const EstimateResult result = RunLinear(problem);
   ASSERT_EQ(result.termination, Termination::kConverged) << result.message;
   EXPECT_EQ(result.parameters[kMu], 0.0);
@@ -229,7 +171,10 @@ TEST(LinearEstimator, ClampsMuToZeroAtKktPointWhenTruthMuNegative) {
 
 TEST(LinearEstimator, FailsWithWarningWhenOffsetExceedsGravity) {
   // A 12 m/s² accelerometer offset: no tilt can produce it.
-  const Problem problem = MakeProblem(MakeData(kTruth, 0.0, 5, 1.0, 12.0));
+  testing::PaperFlightOptions offset;
+  offset.fx_offset = 12.0;
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, 0.0, 5, offset));
   LinearEstimator estimator;
   StatusOr<EstimateResult> result = estimator.Estimate(problem, {});
   ASSERT_TRUE(result.ok()) << result.status().ToString();
@@ -243,7 +188,10 @@ TEST(LinearEstimator, FailsWithWarningWhenOffsetExceedsGravity) {
 TEST(LinearEstimator, WarnsWhenPitchRateBarelyExcited) {
   // Hover-like: ω a thousandth of the maneuver's, so r ω² and r ω̇ vanish
   // under the noise and r, β cannot be determined.
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 11, 1e-3));
+  testing::PaperFlightOptions hover;
+  hover.omega_scale = 1e-3;
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 11, hover));
   const EstimateResult result = RunLinear(problem);
   ASSERT_TRUE(result.IsUsable()) << result.message;
   EXPECT_TRUE(result.HasWarning("not_identifiable") ||
@@ -252,7 +200,8 @@ TEST(LinearEstimator, WarnsWhenPitchRateBarelyExcited) {
 }
 
 TEST(LinearEstimator, FinalCostMatchesProblemCost) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 13));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 13));
   const EstimateResult result = RunLinear(problem);
   ASSERT_TRUE(result.IsUsable());
   double direct = 0.0;

@@ -6,21 +6,23 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <memory>
-#include <random>
 #include <vector>
 
 #include "Eigen/Dense"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
 #include "src/imu_model.h"
-#include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
+
+using testing::MakePaperProblem;
+using testing::MakeSyntheticPaperData;
+using testing::RunEstimator;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
 const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
@@ -33,63 +35,9 @@ constexpr double kNoiseFreeRelTol = 1e-8;
 // so 1e-9 separates "at the optimum" from "close to it".
 constexpr double kCostRelTol = 1e-9;
 
-// Same synthetic flight as linear_estimator_test.cc: ω = Σ sinusoids, ω̇ and
-// θ analytic, v = trapezoid of g sin θ, f_x = equation 9 + N(0, σ²).
-std::shared_ptr<ProblemData> MakeData(const Eigen::Vector4d& truth,
-                                      double sigma,
-                                      std::uint64_t seed) {
-  struct Sinusoid {
-    double amplitude, frequency_hz, phase;
-  };
-  const Sinusoid waves[] = {
-      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
-  constexpr double kDt = 0.01;
-  constexpr int kSamples = 2000;
-  auto data = std::make_shared<ProblemData>();
-  data->source = "synthetic";
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  double v = 0.0;
-  double previous_accel = 0.0;
-  for (int k = 0; k < kSamples; ++k) {
-    const double t = k * kDt;
-    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
-    for (const Sinusoid& w : waves) {
-      const double rate = 2.0 * kPi * w.frequency_hz;
-      omega += w.amplitude * std::sin(rate * t + w.phase);
-      omega_dot += w.amplitude * rate * std::cos(rate * t + w.phase);
-      theta += w.amplitude / rate *
-               (std::cos(w.phase) - std::cos(rate * t + w.phase));
-    }
-    const double accel = data->gravity * std::sin(theta);
-    if (k > 0) v += 0.5 * kDt * (accel + previous_accel);
-    previous_accel = accel;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(
-        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
-        sigma * noise(rng));
-  }
-  return data;
-}
-
-Problem MakeProblem(std::shared_ptr<ProblemData> data) {
-  return Problem(std::make_shared<PaperModel>(std::move(data)));
-}
-
-EstimateResult RunEstimator(const Estimator& estimator,
-                            const Problem& problem,
-                            const EstimatorOptions& options = {}) {
-  StatusOr<EstimateResult> result = estimator.Estimate(problem, options);
-  EXPECT_TRUE(result.ok()) << result.status().ToString();
-  return result.ok() ? *result : EstimateResult{};
-}
-
 TEST(LmEstimator, ConvergesFromBoxCentreWhenNoiseFree) {
-  const Problem problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, 0.0, 1));
   ASSERT_TRUE(problem.initial_guess().isApprox(
       0.5 * (problem.lower_bounds() + problem.upper_bounds())));
   const EstimateResult result = RunEstimator(LmEstimator(), problem);
@@ -106,7 +54,8 @@ TEST(LmEstimator, ConvergesFromBoxCentreWhenNoiseFree) {
 }
 
 TEST(LmEstimator, ReachesLinearOptimumWhenNoisy) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   const EstimateResult linear = RunEstimator(LinearEstimator(), problem);
   const EstimateResult lm = RunEstimator(LmEstimator(), problem);
   ASSERT_EQ(linear.termination, Termination::kConverged) << linear.message;
@@ -116,7 +65,8 @@ TEST(LmEstimator, ReachesLinearOptimumWhenNoisy) {
 }
 
 TEST(LmEstimator, ResidualJacobianMatchesCentralDifferences) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 9));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 9));
   const int n = problem.num_residuals();
   const int p = problem.num_parameters();
   const std::vector<Eigen::Vector4d> points = {
@@ -149,7 +99,8 @@ TEST(LmEstimator, ResidualJacobianMatchesCentralDifferences) {
 }
 
 TEST(LmEstimator, TraceBestCostNeverIncreases) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   const EstimateResult result = RunEstimator(LmEstimator(), problem);
   ASSERT_FALSE(result.trace.empty());
   for (std::size_t i = 0; i < result.trace.size(); ++i) {
@@ -163,7 +114,8 @@ TEST(LmEstimator, TraceBestCostNeverIncreases) {
 }
 
 TEST(LmEstimator, StopsAtIterationLimit) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   EstimatorOptions options;
   options.lm.max_iterations = 1;
   const EstimateResult result = RunEstimator(LmEstimator(), problem, options);
@@ -174,7 +126,8 @@ TEST(LmEstimator, StopsAtIterationLimit) {
 }
 
 TEST(LmEstimator, StopsAtEvaluationBudget) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   EstimatorOptions options;
   options.max_evaluations = 2;
   const EstimateResult result = RunEstimator(LmEstimator(), problem, options);
@@ -185,7 +138,7 @@ TEST(LmEstimator, StopsAtEvaluationBudget) {
 }
 
 TEST(LmEstimator, StaysWithinCustomBounds) {
-  auto problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  auto problem = MakePaperProblem(MakeSyntheticPaperData(kTruth, 0.0, 1));
   Eigen::VectorXd lower = problem.lower_bounds();
   Eigen::VectorXd upper = problem.upper_bounds();
   upper[kR] = 0.15;  // below the true 0.19 m
@@ -197,7 +150,7 @@ TEST(LmEstimator, StaysWithinCustomBounds) {
 }
 
 TEST(LmEstimator, WrapsBetaOnlyWhenWrappedValueIsInBounds) {
-  auto problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  auto problem = MakePaperProblem(MakeSyntheticPaperData(kTruth, 0.0, 1));
   Eigen::VectorXd lower = problem.lower_bounds();
   Eigen::VectorXd upper = problem.upper_bounds();
   // β ∈ [−400°, 400°]; starting at −300° LM finds −303.701° ≡ 56.299°, which
@@ -224,7 +177,8 @@ TEST(LmEstimator, WrapsBetaOnlyWhenWrappedValueIsInBounds) {
 }
 
 TEST(LmEstimator, RunLmRejectsStartOfWrongSize) {
-  const Problem problem = MakeProblem(MakeData(kTruth, 0.0, 1));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, 0.0, 1));
   StatusOr<LmRun> run =
       RunLm(problem, Eigen::VectorXd::Zero(3), LmOptions{}, -1, 1.0);
   ASSERT_FALSE(run.ok());
@@ -234,7 +188,8 @@ TEST(LmEstimator, RunLmRejectsStartOfWrongSize) {
 }
 
 TEST(LmEstimator, RunLmHonoursIterationOverride) {
-  const Problem problem = MakeProblem(MakeData(kTruth, kSigma, 7));
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
   StatusOr<LmRun> run =
       RunLm(problem, problem.initial_guess(), LmOptions{}, 2, 10.0);
   ASSERT_TRUE(run.ok()) << run.status().ToString();

@@ -5,12 +5,17 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "glog/logging.h"
+#include "gtest/gtest.h"
+#include "src/imu_model.h"
+#include "src/paper_model.h"
 
 namespace imusysid {
 namespace testing {
@@ -21,6 +26,31 @@ std::string ReadAll(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// Pitch of the consistent-dynamics flight (see SimulateConsistent).
+constexpr double kA1 = 0.35;  // rad
+constexpr double kW1 = 2.0 * kPi * 0.25;
+constexpr double kA2 = 0.12;  // rad
+constexpr double kW2 = 2.0 * kPi * 0.9;
+constexpr double kPhi = 0.7;
+
+double Theta(double tau, double c0_rad) {
+  return c0_rad + kA1 * std::sin(kW1 * tau) +
+         kA2 * (std::sin(kW2 * tau + kPhi) - std::sin(kPhi));
+}
+double Omega(double tau) {
+  return kA1 * kW1 * std::cos(kW1 * tau) +
+         kA2 * kW2 * std::cos(kW2 * tau + kPhi);
+}
+double OmegaDot(double tau) {
+  return -kA1 * kW1 * kW1 * std::sin(kW1 * tau) -
+         kA2 * kW2 * kW2 * std::sin(kW2 * tau + kPhi);
+}
+// The measured z specific force of the f_z variant: hover thrust plus a
+// vertical wobble, so it differs from g / cos θ.
+double MeasuredFz(double tau, double c0_rad) {
+  return kGravity / std::cos(Theta(tau, c0_rad)) + 0.8 * std::sin(1.3 * tau);
 }
 
 }  // namespace
@@ -40,8 +70,8 @@ bool RealDataAvailable() {
 
 std::string MakeTempDir() {
   const char* tmp = std::getenv("TMPDIR");
-  std::string pattern = std::string(tmp != nullptr ? tmp : "/tmp") +
-                        "/imusysid_test_XXXXXX";
+  std::string pattern =
+      std::string(tmp != nullptr ? tmp : "/tmp") + "/imusysid_test_XXXXXX";
   char* dir = mkdtemp(pattern.data());
   CHECK(dir != nullptr) << "mkdtemp failed";
   return dir;
@@ -62,12 +92,154 @@ CommandResult RunCli(const std::string& args) {
   return result;
 }
 
-std::string WriteTempFile(const std::string& name, const std::string& contents) {
+std::string WriteTempFile(const std::string& name,
+                          const std::string& contents) {
   const std::string path = MakeTempDir() + "/" + name;
   std::ofstream out(path, std::ios::binary);
   out << contents;
   CHECK(out.good()) << "cannot write " << path;
   return path;
+}
+
+std::shared_ptr<ProblemData> MakeSyntheticPaperData(
+    const Eigen::Vector4d& truth,
+    double sigma,
+    std::uint64_t seed,
+    const PaperFlightOptions& options) {
+  struct Sinusoid {
+    double amplitude, frequency_hz, phase;
+  };
+  const Sinusoid waves[] = {
+      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
+  const double dt = options.dt_s;
+  const double scale = options.omega_scale;
+  auto data = std::make_shared<ProblemData>();
+  data->source = "synthetic";
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  double v = 0.0;
+  double previous_accel = 0.0;
+  for (int k = 0; k < options.samples; ++k) {
+    const double t = k * dt;
+    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
+    for (const Sinusoid& w : waves) {
+      const double rate = 2.0 * kPi * w.frequency_hz;
+      omega += scale * w.amplitude * std::sin(rate * t + w.phase);
+      omega_dot += scale * w.amplitude * rate * std::cos(rate * t + w.phase);
+      theta += scale * w.amplitude / rate *
+               (std::cos(w.phase) - std::cos(rate * t + w.phase));
+    }
+    const double accel = data->gravity * std::sin(theta);
+    if (k > 0) v += 0.5 * dt * (accel + previous_accel);
+    previous_accel = accel;
+    data->t_s.push_back(t);
+    data->omega.push_back(omega);
+    data->omega_dot.push_back(omega_dot);
+    data->theta.push_back(theta);
+    data->v.push_back(v);
+    data->f_x.push_back(
+        PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
+        options.fx_offset + sigma * noise(rng));
+  }
+  return data;
+}
+
+Problem MakePaperProblem(std::shared_ptr<ProblemData> data) {
+  return Problem(std::make_shared<PaperModel>(std::move(data)));
+}
+
+EstimateResult RunEstimator(const Estimator& estimator,
+                            const Problem& problem,
+                            const EstimatorOptions& options) {
+  StatusOr<EstimateResult> result = estimator.Estimate(problem, options);
+  EXPECT_TRUE(result.ok()) << result.status().ToString();
+  return result.ok() ? *result : EstimateResult{};
+}
+
+std::string Detail(const EstimateResult& result, const std::string& key) {
+  for (const auto& [k, v] : result.details) {
+    if (k == key) return v;
+  }
+  return "";
+}
+
+EstimatorOptions SmallGaOptions() {
+  EstimatorOptions options;
+  options.ga.population_size = 60;
+  options.ga.max_generations = 60;
+  return options;
+}
+
+Eigen::VectorXd ConsistentTruth::Vector() const {
+  Eigen::VectorXd x(6);
+  x << r, beta, alpha, mu, c0, c1;
+  return x;
+}
+
+std::shared_ptr<ProblemData> SimulateConsistent(
+    const ConsistentTruth& truth, const ConsistentSimOptions& options) {
+  const double g = kGravity;
+  const double c0 = truth.c0 * kDegToRad;
+  const double c1 = truth.c1 * kDegToRad;
+  auto vdot = [&](double tau, double v) {
+    const double th = Theta(tau, c0);
+    if (options.measured_fz) {
+      return MeasuredFz(tau, c0) * std::sin(th) -
+             truth.mu * v * std::abs(v) * std::cos(th) * std::cos(th);
+    }
+    return g * std::tan(th) - truth.mu * v * std::abs(v);
+  };
+  const int n = static_cast<int>(options.duration_s * options.rate_hz) + 1;
+  const double h = 1.0 / options.rate_hz;
+  constexpr int kSubsteps = 10;
+  const double hs = h / kSubsteps;
+  std::mt19937 rng(options.seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+
+  auto d = std::make_shared<ProblemData>();
+  d->source = "consistent-dynamics simulation";
+  double v = 0.0;
+  double v_eq7 = 0.0;
+  const double a = truth.alpha * kDegToRad;
+  const double bma = (truth.beta - truth.alpha) * kDegToRad;
+  for (int k = 0; k < n; ++k) {
+    const double tau = k * h;
+    if (k > 0) {
+      double tt = (k - 1) * h;
+      for (int s = 0; s < kSubsteps; ++s) {
+        const double k1 = vdot(tt, v);
+        const double k2 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k1);
+        const double k3 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k2);
+        const double k4 = vdot(tt + hs, v + hs * k3);
+        v += hs / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        tt += hs;
+      }
+    }
+    const double th = Theta(tau, c0);
+    const double q = v * std::abs(v);
+    const double fz = options.measured_fz
+                          ? MeasuredFz(tau, c0)
+                          : g / std::cos(th) - truth.mu * q * std::sin(th);
+    const double w = Omega(tau);
+    const double wd = OmegaDot(tau);
+    const double fx = fz * std::sin(a) - truth.r * w * w * std::cos(bma) +
+                      truth.r * wd * std::sin(bma) -
+                      truth.mu * q * std::cos(th);
+    const double theta_gyro = th - c0 - c1 * tau;
+    if (k > 0) {
+      // Equation 7 (for the paper model's v column), trapezoid.
+      const double th_prev = d->theta.back();
+      v_eq7 += 0.5 * h * g * (std::sin(th_prev) + std::sin(theta_gyro));
+    }
+    d->t_s.push_back(options.t_start_s + tau);
+    d->f_x.push_back(fx + options.noise_sigma * noise(rng));
+    if (options.measured_fz) d->f_z.push_back(fz);
+    d->omega.push_back(w);
+    d->omega_dot.push_back(wd);
+    d->theta.push_back(theta_gyro);
+    d->v.push_back(v_eq7);
+  }
+  return d;
 }
 
 }  // namespace testing

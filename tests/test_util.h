@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "Eigen/Core"
+#include "estimators/estimator.h"
 #include "src/problem.h"
 
 namespace imusysid {
@@ -32,6 +34,76 @@ CommandResult RunCli(const std::string& args);
 
 // Writes `contents` to a new file in a temporary directory; returns the path.
 std::string WriteTempFile(const std::string& name, const std::string& contents);
+
+// --- synthetic flight for the paper model ----------------------------------
+
+// Shape of the synthetic flight; the defaults are the standard one the
+// estimator tests share.
+struct PaperFlightOptions {
+  int samples = 2000;
+  double dt_s = 0.01;
+  // Multiplies ω (and so ω̇ and θ): small values give hover-like data.
+  double omega_scale = 1.0;
+  // Constant added to every f_x sample, m/s².
+  double fx_offset = 0.0;
+};
+
+// ω(t) = s·Σ Aᵢ sin(2π fᵢ t + φᵢ): a slow component that tilts the vehicle
+// (θ up to ~0.3 rad, v in [0, 4] m/s) and faster ones that excite ω² and ω̇
+// independently. Every phase is ±π/2 so that θ has no constant part: a
+// constant tilt would make v drift without bound. ω̇ and θ = ∫ω are analytic; v
+// is the trapezoidal integral of g sin θ (equation 7); f_x is equation 9 at
+// `truth` (r m, β deg, α deg, μ 1/m) plus the offset and N(0, sigma²) noise
+// drawn from mt19937_64(seed).
+std::shared_ptr<ProblemData> MakeSyntheticPaperData(
+    const Eigen::Vector4d& truth,
+    double sigma,
+    std::uint64_t seed,
+    const PaperFlightOptions& options = {});
+
+// A problem over the paper model with its default bounds and initial guess.
+Problem MakePaperProblem(std::shared_ptr<ProblemData> data);
+
+// Runs `estimator`, expecting success; an empty result on failure.
+EstimateResult RunEstimator(const Estimator& estimator,
+                            const Problem& problem,
+                            const EstimatorOptions& options = {});
+
+// The value of `key` in result.details, or "" when absent.
+std::string Detail(const EstimateResult& result, const std::string& key);
+
+// Small GA settings that keep each run to a few milliseconds: 60 individuals
+// and 60 generations are plenty for 4 parameters once LM does the last digits.
+EstimatorOptions SmallGaOptions();
+
+// --- synthetic flight for the consistent model -----------------------------
+
+// Pitch is analytic, θ(τ) = c0 + A1 sin(w1 τ) + A2 (sin(w2 τ + φ) − sin φ)
+// (so the integrated gyro θ − c0 − c1 τ starts at 0), velocity is integrated
+// by classical RK4 at ten times the sample rate, and f_x is the prediction
+// formula of docs (header of src/consistent_model.h) written out
+// independently of the library.
+struct ConsistentTruth {
+  double r = 0.19;        // m
+  double beta = 56.299;   // deg
+  double alpha = -2.812;  // deg
+  double mu = 0.0716;     // 1/m
+  double c0 = 1.2;        // deg
+  double c1 = 0.04;       // deg/s
+  Eigen::VectorXd Vector() const;
+};
+
+struct ConsistentSimOptions {
+  double rate_hz = 1000.0;
+  double duration_s = 20.0;
+  double t_start_s = 5.0;  // t_0 ≠ 0 checks that drift is measured from t_0
+  bool measured_fz = false;
+  double noise_sigma = 0.0;  // on f_x, m/s²
+  unsigned seed = 7;
+};
+
+std::shared_ptr<ProblemData> SimulateConsistent(
+    const ConsistentTruth& truth, const ConsistentSimOptions& options);
 
 }  // namespace testing
 }  // namespace imusysid

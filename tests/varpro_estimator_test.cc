@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <random>
 #include <vector>
 
 #include "Eigen/Dense"
@@ -14,129 +13,15 @@
 #include "src/consistent_model.h"
 #include "src/imu_model.h"
 #include "src/problem.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
 
-// --- an independent simulation of the consistent dynamics ------------------
-//
-// Pitch is analytic, θ(τ) = c0 + A1 sin(w1 τ) + A2 (sin(w2 τ + φ) − sin φ)
-// (so the integrated gyro θ − c0 − c1 τ starts at 0), velocity is integrated
-// by classical RK4 at ten times the sample rate, and f_x is the prediction
-// formula of docs (header of src/consistent_model.h) written out here.
-
-struct Truth {
-  double r = 0.19;        // m
-  double beta = 56.299;   // deg
-  double alpha = -2.812;  // deg
-  double mu = 0.0716;     // 1/m
-  double c0 = 1.2;        // deg
-  double c1 = 0.04;       // deg/s
-  Eigen::VectorXd Vector() const {
-    Eigen::VectorXd x(6);
-    x << r, beta, alpha, mu, c0, c1;
-    return x;
-  }
-};
-
-struct SimOptions {
-  double rate_hz = 1000.0;
-  double duration_s = 20.0;
-  double t_start_s = 5.0;  // t_0 ≠ 0 checks that drift is measured from t_0
-  bool measured_fz = false;
-  double noise_sigma = 0.0;  // on f_x, m/s²
-  unsigned seed = 7;
-};
-
-constexpr double kA1 = 0.35;  // rad
-constexpr double kW1 = 2.0 * kPi * 0.25;
-constexpr double kA2 = 0.12;  // rad
-constexpr double kW2 = 2.0 * kPi * 0.9;
-constexpr double kPhi = 0.7;
-
-double Theta(double tau, double c0_rad) {
-  return c0_rad + kA1 * std::sin(kW1 * tau) +
-         kA2 * (std::sin(kW2 * tau + kPhi) - std::sin(kPhi));
-}
-double Omega(double tau) {
-  return kA1 * kW1 * std::cos(kW1 * tau) +
-         kA2 * kW2 * std::cos(kW2 * tau + kPhi);
-}
-double OmegaDot(double tau) {
-  return -kA1 * kW1 * kW1 * std::sin(kW1 * tau) -
-         kA2 * kW2 * kW2 * std::sin(kW2 * tau + kPhi);
-}
-// The measured z specific force of the f_z variant: hover thrust plus a
-// vertical wobble, so it differs from g / cos θ.
-double MeasuredFz(double tau, double c0_rad) {
-  return kGravity / std::cos(Theta(tau, c0_rad)) + 0.8 * std::sin(1.3 * tau);
-}
-
-std::shared_ptr<ProblemData> Simulate(const Truth& truth,
-                                      const SimOptions& opt) {
-  const double g = kGravity;
-  const double c0 = truth.c0 * kDegToRad;
-  const double c1 = truth.c1 * kDegToRad;
-  auto vdot = [&](double tau, double v) {
-    const double th = Theta(tau, c0);
-    if (opt.measured_fz) {
-      return MeasuredFz(tau, c0) * std::sin(th) -
-             truth.mu * v * std::abs(v) * std::cos(th) * std::cos(th);
-    }
-    return g * std::tan(th) - truth.mu * v * std::abs(v);
-  };
-  const int n = static_cast<int>(opt.duration_s * opt.rate_hz) + 1;
-  const double h = 1.0 / opt.rate_hz;
-  constexpr int kSubsteps = 10;
-  const double hs = h / kSubsteps;
-  std::mt19937 rng(opt.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-
-  auto d = std::make_shared<ProblemData>();
-  d->source = "varpro_estimator_test simulation";
-  double v = 0.0;
-  double v_eq7 = 0.0;
-  const double a = truth.alpha * kDegToRad;
-  const double bma = (truth.beta - truth.alpha) * kDegToRad;
-  for (int k = 0; k < n; ++k) {
-    const double tau = k * h;
-    if (k > 0) {
-      double tt = (k - 1) * h;
-      for (int s = 0; s < kSubsteps; ++s) {
-        const double k1 = vdot(tt, v);
-        const double k2 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k1);
-        const double k3 = vdot(tt + 0.5 * hs, v + 0.5 * hs * k2);
-        const double k4 = vdot(tt + hs, v + hs * k3);
-        v += hs / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-        tt += hs;
-      }
-    }
-    const double th = Theta(tau, c0);
-    const double q = v * std::abs(v);
-    const double fz = opt.measured_fz
-                          ? MeasuredFz(tau, c0)
-                          : g / std::cos(th) - truth.mu * q * std::sin(th);
-    const double w = Omega(tau);
-    const double wd = OmegaDot(tau);
-    const double fx = fz * std::sin(a) - truth.r * w * w * std::cos(bma) +
-                      truth.r * wd * std::sin(bma) -
-                      truth.mu * q * std::cos(th);
-    const double theta_gyro = th - c0 - c1 * tau;
-    if (k > 0) {
-      // Equation 7 (for the paper model's v column), trapezoid.
-      const double th_prev = d->theta.back();
-      v_eq7 += 0.5 * h * g * (std::sin(th_prev) + std::sin(theta_gyro));
-    }
-    d->t_s.push_back(opt.t_start_s + tau);
-    d->f_x.push_back(fx + opt.noise_sigma * noise(rng));
-    if (opt.measured_fz) d->f_z.push_back(fz);
-    d->omega.push_back(w);
-    d->omega_dot.push_back(wd);
-    d->theta.push_back(theta_gyro);
-    d->v.push_back(v_eq7);
-  }
-  return d;
-}
+// The independent simulation of the consistent dynamics (tests/test_util.h).
+using Truth = testing::ConsistentTruth;
+using SimOptions = testing::ConsistentSimOptions;
+using testing::SimulateConsistent;
 
 Problem MakeProblem(std::shared_ptr<ProblemData> data,
                     const char* model_name,
@@ -199,7 +84,7 @@ TEST(VarproEstimator, IsRegisteredForPaperAndConsistent) {
 TEST(VarproEstimator, RecoversTruthFromNoiseFreeDataWhenAltitudeHeld) {
   const Truth truth;
   const Problem problem =
-      MakeProblem(Simulate(truth, SimOptions()), "consistent");
+      MakeProblem(SimulateConsistent(truth, SimOptions()), "consistent");
   const EstimateResult result = RunVarpro(problem);
   ExpectNoiseFreeRecovery(result, truth);
   EXPECT_LT(result.rmse, 1e-5);
@@ -209,8 +94,8 @@ TEST(VarproEstimator, RecoversTruthFromNoiseFreeDataWithMeasuredFz) {
   const Truth truth;
   SimOptions opt;
   opt.measured_fz = true;
-  const Problem problem =
-      MakeProblem(Simulate(truth, opt), "consistent", /*measured_fz=*/true);
+  const Problem problem = MakeProblem(
+      SimulateConsistent(truth, opt), "consistent", /*measured_fz=*/true);
   ExpectNoiseFreeRecovery(RunVarpro(problem), truth);
 }
 
@@ -224,7 +109,8 @@ TEST(VarproEstimator, NoisyEstimateIsWithinFourStandardErrors) {
   opt.noise_sigma = 0.3;  // m/s², about the paper's OF scale
   opt.rate_hz = 250.0;
   opt.duration_s = 40.0;
-  const Problem problem = MakeProblem(Simulate(truth, opt), "consistent");
+  const Problem problem =
+      MakeProblem(SimulateConsistent(truth, opt), "consistent");
   const EstimateResult result = RunVarpro(problem);
   ASSERT_TRUE(result.IsUsable()) << result.message;
   EXPECT_EQ(result.termination, Termination::kConverged);
@@ -243,7 +129,8 @@ TEST(VarproEstimator, NoisyEstimateIsWithinFourStandardErrors) {
 TEST(VarproEstimator, CountsEvaluationsThroughTheProblem) {
   SimOptions opt;
   opt.duration_s = 10.0;
-  const Problem problem = MakeProblem(Simulate(Truth(), opt), "consistent");
+  const Problem problem =
+      MakeProblem(SimulateConsistent(Truth(), opt), "consistent");
   const std::int64_t before = problem.cost_evaluations();
   const EstimateResult result = RunVarpro(problem);
   ASSERT_TRUE(result.IsUsable());
@@ -260,7 +147,8 @@ TEST(VarproEstimator, CountsEvaluationsThroughTheProblem) {
 TEST(VarproEstimator, StopsAtTheEvaluationLimit) {
   SimOptions opt;
   opt.duration_s = 10.0;
-  const Problem problem = MakeProblem(Simulate(Truth(), opt), "consistent");
+  const Problem problem =
+      MakeProblem(SimulateConsistent(Truth(), opt), "consistent");
   EstimatorOptions options;
   options.max_evaluations = 7;
   const EstimateResult result = RunVarpro(problem, options);
@@ -273,7 +161,7 @@ TEST(VarproEstimator, KeepsMuInsideItsBounds) {
   const Truth truth;  // μ = 0.0716
   SimOptions opt;
   opt.duration_s = 10.0;
-  Problem problem = MakeProblem(Simulate(truth, opt), "consistent");
+  Problem problem = MakeProblem(SimulateConsistent(truth, opt), "consistent");
   Eigen::VectorXd lower = problem.lower_bounds();
   Eigen::VectorXd upper = problem.upper_bounds();
   upper[kMu] = 0.05;
@@ -289,7 +177,7 @@ TEST(VarproEstimator, FailsWithA1ExceedsGOnALargeOffset) {
   SimOptions opt;
   opt.duration_s = 5.0;
   for (const char* model : {"consistent", "paper"}) {
-    auto data = Simulate(Truth(), opt);
+    auto data = SimulateConsistent(Truth(), opt);
     for (double& f : data->f_x) f += 15.0;  // no tilt explains 15 m/s²
     const Problem problem = MakeProblem(data, model);
     const EstimateResult result = RunVarpro(problem);
@@ -332,7 +220,7 @@ TEST(VarproEstimator, PaperModelEqualsClosedFormLeastSquares) {
   SimOptions opt;
   opt.noise_sigma = 0.2;
   opt.duration_s = 15.0;
-  auto data = Simulate(Truth(), opt);
+  auto data = SimulateConsistent(Truth(), opt);
   const Problem problem = MakeProblem(data, "paper");
   const EstimateResult result = RunVarpro(problem);
   ASSERT_TRUE(result.IsUsable()) << result.message;
@@ -355,7 +243,7 @@ TEST(VarproEstimator, PaperModelConstrainsNegativeMuToZero) {
   SimOptions opt;
   opt.noise_sigma = 0.2;
   opt.duration_s = 15.0;
-  auto data = Simulate(Truth(), opt);
+  auto data = SimulateConsistent(Truth(), opt);
   // Reverse the drag's sign in the data so the free fit wants μ < 0.
   for (std::size_t k = 0; k < data->size(); ++k) {
     data->f_x[k] += 2.0 * 0.0716 * data->v[k] * std::abs(data->v[k]);
