@@ -25,13 +25,16 @@ echo "== Release build and all tests"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON >/dev/null
 cmake --build build -j"$jobs"
 (cd build && ctest -j"$jobs" -LE peers --output-on-failure --timeout 600)
+echo "== release build and tests took ${SECONDS} s"
 
 if [ "$sanitizers" = 1 ]; then
   echo "== Unit tests under address;undefined sanitizers"
   # -O1: sanitizer reports stay readable and the build stays cheap on 2 cores.
+  # Warnings are enforced by the Release build above; at -O1 with
+  # instrumentation GCC 12 reports false maybe-uninitialized in std::regex.
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
     -DIMUSYSID_SANITIZERS="address;undefined" -DIMUSYSID_BUILD_BENCHMARKS=OFF \
-    -DIMUSYSID_WERROR=ON >/dev/null
+    -DIMUSYSID_WERROR=OFF >/dev/null
   cmake --build build-asan -j"$jobs"
   (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest -j"$jobs" -L unit --output-on-failure --timeout 600)
