@@ -22,9 +22,9 @@ Status OptionError(const char* field, T value, const char* rule) {
   return InvalidArgumentError(msg.str());
 }
 
-#define IMUSYSID_OPTION_CHECK(type, field, cond, rule)                   \
-  do {                                                                    \
-    if (!(cond)) return OptionError(#type "::" #field, field, rule);     \
+#define IMUSYSID_OPTION_CHECK(type, field, cond, rule)               \
+  do {                                                               \
+    if (!(cond)) return OptionError(#type "::" #field, field, rule); \
   } while (false)
 
 // Relative distance from a bound under which a parameter is "at" the bound.
@@ -72,29 +72,35 @@ StatusOr<GaMode> GaModeFromString(std::string_view text) {
 }
 
 Status GaOptions::Validate() const {
-  IMUSYSID_OPTION_CHECK(GaOptions, population_size, population_size >= 2,
-                        ">= 2");
-  IMUSYSID_OPTION_CHECK(GaOptions, elite_count,
-                        elite_count == -1 ||
-                            (elite_count >= 0 && elite_count < population_size),
-                        "-1 or in [0, population_size)");
-  IMUSYSID_OPTION_CHECK(GaOptions, crossover_fraction,
+  IMUSYSID_OPTION_CHECK(
+      GaOptions, population_size, population_size >= 2, ">= 2");
+  IMUSYSID_OPTION_CHECK(
+      GaOptions,
+      elite_count,
+      elite_count == -1 || (elite_count >= 0 && elite_count < population_size),
+      "-1 or in [0, population_size)");
+  IMUSYSID_OPTION_CHECK(GaOptions,
+                        crossover_fraction,
                         crossover_fraction >= 0.0 && crossover_fraction <= 1.0,
                         "in [0, 1]");
-  IMUSYSID_OPTION_CHECK(GaOptions, max_generations,
+  IMUSYSID_OPTION_CHECK(GaOptions,
+                        max_generations,
                         max_generations == -1 || max_generations >= 1,
                         "-1 or >= 1");
-  IMUSYSID_OPTION_CHECK(GaOptions, max_stall_generations,
-                        max_stall_generations >= 1, ">= 1");
-  IMUSYSID_OPTION_CHECK(GaOptions, function_tolerance,
-                        function_tolerance >= 0.0, ">= 0");
-  IMUSYSID_OPTION_CHECK(GaOptions, mutation_scale, mutation_scale >= 0.0,
-                        ">= 0");
-  IMUSYSID_OPTION_CHECK(GaOptions, mutation_shrink,
+  IMUSYSID_OPTION_CHECK(
+      GaOptions, max_stall_generations, max_stall_generations >= 1, ">= 1");
+  IMUSYSID_OPTION_CHECK(
+      GaOptions, function_tolerance, function_tolerance >= 0.0, ">= 0");
+  IMUSYSID_OPTION_CHECK(
+      GaOptions, mutation_scale, mutation_scale >= 0.0, ">= 0");
+  IMUSYSID_OPTION_CHECK(GaOptions,
+                        mutation_shrink,
                         mutation_shrink >= 0.0 && mutation_shrink <= 1.0,
                         "in [0, 1]");
-  IMUSYSID_OPTION_CHECK(GaOptions, num_threads,
-                        num_threads >= 1 && num_threads <= 256, "in [1, 256]");
+  IMUSYSID_OPTION_CHECK(GaOptions,
+                        num_threads,
+                        num_threads >= 1 && num_threads <= 256,
+                        "in [1, 256]");
   if (init_range_lower.size() != init_range_upper.size()) {
     return InvalidArgumentError(
         "`GaOptions::init_range_lower` and `init_range_upper` differ in size");
@@ -104,35 +110,38 @@ Status GaOptions::Validate() const {
 
 Status LmOptions::Validate() const {
   IMUSYSID_OPTION_CHECK(LmOptions, max_iterations, max_iterations >= 0, ">= 0");
-  IMUSYSID_OPTION_CHECK(LmOptions, function_tolerance,
-                        function_tolerance >= 0.0, ">= 0");
-  IMUSYSID_OPTION_CHECK(LmOptions, gradient_tolerance,
-                        gradient_tolerance >= 0.0, ">= 0");
-  IMUSYSID_OPTION_CHECK(LmOptions, parameter_tolerance,
-                        parameter_tolerance >= 0.0, ">= 0");
+  IMUSYSID_OPTION_CHECK(
+      LmOptions, function_tolerance, function_tolerance >= 0.0, ">= 0");
+  IMUSYSID_OPTION_CHECK(
+      LmOptions, gradient_tolerance, gradient_tolerance >= 0.0, ">= 0");
+  IMUSYSID_OPTION_CHECK(
+      LmOptions, parameter_tolerance, parameter_tolerance >= 0.0, ">= 0");
   return Status::Ok();
 }
 
 Status HybridOptions::Validate() const {
-  IMUSYSID_OPTION_CHECK(HybridOptions, period_generations,
-                        period_generations >= 1, ">= 1");
-  IMUSYSID_OPTION_CHECK(HybridOptions, lm_iterations, lm_iterations >= 1,
-                        ">= 1");
-  IMUSYSID_OPTION_CHECK(HybridOptions, num_refined, num_refined >= -1,
-                        "-1 or >= 0");
+  IMUSYSID_OPTION_CHECK(
+      HybridOptions, period_generations, period_generations >= 1, ">= 1");
+  IMUSYSID_OPTION_CHECK(
+      HybridOptions, lm_iterations, lm_iterations >= 1, ">= 1");
+  IMUSYSID_OPTION_CHECK(
+      HybridOptions, num_refined, num_refined >= -1, "-1 or >= 0");
   return Status::Ok();
 }
 
 Status LinearOptions::Validate() const { return Status::Ok(); }
 
 Status EstimatorOptions::Validate() const {
-  IMUSYSID_OPTION_CHECK(EstimatorOptions, max_wall_time_s,
-                        max_wall_time_s > 0.0, "> 0");
-  IMUSYSID_OPTION_CHECK(EstimatorOptions, max_evaluations,
+  IMUSYSID_OPTION_CHECK(
+      EstimatorOptions, max_wall_time_s, max_wall_time_s > 0.0, "> 0");
+  IMUSYSID_OPTION_CHECK(EstimatorOptions,
+                        max_evaluations,
                         max_evaluations == -1 || max_evaluations >= 1,
                         "-1 or >= 1");
-  IMUSYSID_OPTION_CHECK(EstimatorOptions, verbosity,
-                        verbosity >= 0 && verbosity <= 2, "in [0, 2]");
+  IMUSYSID_OPTION_CHECK(EstimatorOptions,
+                        verbosity,
+                        verbosity >= 0 && verbosity <= 2,
+                        "in [0, 2]");
   IMUSYSID_RETURN_IF_ERROR(ga.Validate());
   IMUSYSID_RETURN_IF_ERROR(lm.Validate());
   IMUSYSID_RETURN_IF_ERROR(hybrid.Validate());
@@ -143,13 +152,15 @@ Status EstimatorOptions::Validate() const {
 #undef IMUSYSID_OPTION_CHECK
 
 bool EstimateResult::HasWarning(std::string_view code) const {
-  return std::any_of(warnings.begin(), warnings.end(),
-                     [&](const Warning& w) { return w.code == code; });
+  return std::any_of(warnings.begin(), warnings.end(), [&](const Warning& w) {
+    return w.code == code;
+  });
 }
 
 std::string EstimateResult::BriefReport() const {
   std::ostringstream out;
-  out << estimator << " on " << model << ": " << TerminationToString(termination);
+  out << estimator << " on " << model << ": "
+      << TerminationToString(termination);
   if (IsUsable() && parameters.size() >= kNumPhysicalParameters) {
     out << std::setprecision(6) << ", OF " << rmse << " m/s^2, r "
         << parameters[kR] << " m, beta " << parameters[kBeta] << " deg, alpha "
@@ -206,7 +217,7 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
 
   Eigen::VectorXd residuals(n);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(n,
-                                                                              p);
+                                                                             p);
   result->standard_errors =
       Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
   // Evaluated on the model directly: bookkeeping, not search, so not counted.
@@ -224,9 +235,8 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
   const bool has_zero_column = (col_norm.array() <= 0.0).any();
   Eigen::MatrixXd jtj = jac.transpose() * jac;
   if (!has_zero_column) {
-    const Eigen::MatrixXd scaled =
-        col_norm.cwiseInverse().asDiagonal() * jtj *
-        col_norm.cwiseInverse().asDiagonal();
+    const Eigen::MatrixXd scaled = col_norm.cwiseInverse().asDiagonal() * jtj *
+                                   col_norm.cwiseInverse().asDiagonal();
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
     const double lmin = eig.eigenvalues().minCoeff();
     const double lmax = eig.eigenvalues().maxCoeff();
@@ -262,8 +272,8 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
       std::ostringstream msg;
       msg << info[static_cast<std::size_t>(i)].name << " = " << x[i] << " "
           << info[static_cast<std::size_t>(i)].unit
-          << (outside ? " is outside its bounds [" : " is at its bound [")
-          << lo << ", " << hi << "]"
+          << (outside ? " is outside its bounds [" : " is at its bound [") << lo
+          << ", " << hi << "]"
           << (outside ? " (this estimator does not impose them)"
                       : ": the optimum may lie outside");
       result->warnings.push_back({"at_bound", msg.str()});
@@ -294,11 +304,10 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
     result->warnings.push_back({"not_identifiable", msg.str()});
   }
   if (result->termination != Termination::kConverged) {
-    result->warnings.push_back(
-        {"no_convergence",
-         std::string("stopped by a limit (") +
-             TerminationToString(result->termination) +
-             "), not by a convergence test"});
+    result->warnings.push_back({"no_convergence",
+                                std::string("stopped by a limit (") +
+                                    TerminationToString(result->termination) +
+                                    "), not by a convergence test"});
   }
 }
 

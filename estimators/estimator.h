@@ -99,9 +99,9 @@ struct GaOptions {
   GaMode mode = GaMode::kBounded;
   int population_size = 250;  // PopulationSize; paper: 250 (MATLAB: 50)
   int elite_count = -1;       // EliteCount; -1 = ceil(0.05·population_size)
-  double crossover_fraction = 0.8;  // CrossoverFraction, [0, 1]
-  int max_generations = -1;         // MaxGenerations; -1 = 100·nvars
-  int max_stall_generations = 50;   // MaxStallGenerations
+  double crossover_fraction = 0.8;   // CrossoverFraction, [0, 1]
+  int max_generations = -1;          // MaxGenerations; -1 = 100·nvars
+  int max_stall_generations = 50;    // MaxStallGenerations
   double function_tolerance = 1e-6;  // FunctionTolerance (averageChange)
   // Objective the GA minimises: the paper's OF (RMSE, m/s²), as MATLAB did.
   // The tolerance above is therefore absolute in m/s².
@@ -118,7 +118,7 @@ struct GaOptions {
 
 struct LmOptions {
   int max_iterations = 200;
-  double function_tolerance = 1e-12;   // Ceres relative cost change
+  double function_tolerance = 1e-12;  // Ceres relative cost change
   double gradient_tolerance = 1e-12;
   double parameter_tolerance = 1e-12;
   Status Validate() const;

@@ -11,7 +11,8 @@ namespace imusysid {
 
 Status ProblemData::Validate() const {
   const std::size_t n = t_s.size();
-  auto check_size = [&](const std::vector<double>& column, const char* name,
+  auto check_size = [&](const std::vector<double>& column,
+                        const char* name,
                         bool optional) -> Status {
     if (optional && column.empty()) return Status::Ok();
     if (column.size() != n) {

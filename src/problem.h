@@ -23,8 +23,8 @@ namespace imusysid {
 // Every vector has size() entries. Sample 0 is the reference instant t_a (in
 // hover, just before the maneuver) where θ and v start at zero.
 struct ProblemData {
-  std::string source;           // log path or description, for messages
-  double gravity = kGravity;    // m/s²
+  std::string source;             // log path or description, for messages
+  double gravity = kGravity;      // m/s²
   std::vector<double> t_s;        // time, s, strictly increasing
   std::vector<double> f_x;        // x specific force (filtered), m/s²
   std::vector<double> f_z;        // z specific force (filtered), m/s²; may be

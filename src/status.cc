@@ -67,7 +67,8 @@ Status InternalError(std::string message) {
 
 namespace internal {
 void DieOnBadStatusAccess(const Status& status) {
-  LOG(FATAL) << "StatusOr value accessed without a value: " << status.ToString();
+  LOG(FATAL) << "StatusOr value accessed without a value: "
+             << status.ToString();
   std::abort();
 }
 }  // namespace internal

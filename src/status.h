@@ -105,7 +105,7 @@ class [[nodiscard]] StatusOr {
 }  // namespace imusysid
 
 // Returns early with the status of `expr` if it is not OK.
-#define IMUSYSID_RETURN_IF_ERROR(expr)                  \
+#define IMUSYSID_RETURN_IF_ERROR(expr)                   \
   do {                                                   \
     ::imusysid::Status imusysid_status_ = (expr);        \
     if (!imusysid_status_.ok()) return imusysid_status_; \

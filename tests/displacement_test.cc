@@ -11,7 +11,7 @@ namespace {
 // The paper reports l to 0.1 mm, δ to 0.01°, Δx and Δz to 0.1 mm (cm with two
 // decimals), so those are the tolerances: half a unit of the last digit.
 constexpr double kPaperLengthTol = 0.5e-4;  // m
-constexpr double kPaperAngleTol = 0.005;     // deg
+constexpr double kPaperAngleTol = 0.005;    // deg
 constexpr double kExact = 1e-12;
 
 TEST(Displacement, ReproducesThePapersNumbers) {

@@ -359,7 +359,8 @@ TEST(FlightLogError, InfinitySpellingsAreNotFinite) {
 }
 
 TEST(FlightLogError, EmptyFile) {
-  EXPECT_THAT(ParseError(""), StartsWith("log.csv:1:1: line 1: the file is empty"));
+  EXPECT_THAT(ParseError(""),
+              StartsWith("log.csv:1:1: line 1: the file is empty"));
 }
 
 TEST(FlightLogError, OnlyCommentsAndBlankLines) {
@@ -386,15 +387,17 @@ TEST(FlightLogError, MissingRequiredColumnsAreListed) {
 TEST(FlightLogError, DuplicateColumnName) {
   std::vector<std::string> lines = StandardLines(12);
   lines[0] = "t,ax,ay,az,gx,gy,gz,ay";
-  EXPECT_EQ(ParseError(Join(lines)),
-            "log.csv:1:21: line 1: duplicate column name 'ay' (first at column 6)");
+  EXPECT_EQ(
+      ParseError(Join(lines)),
+      "log.csv:1:21: line 1: duplicate column name 'ay' (first at column 6)");
 }
 
 TEST(FlightLogError, EmptyColumnName) {
   std::vector<std::string> lines = StandardLines(12);
   lines[0] = "t,ax,ay,az,,gx,gy,gz";
-  EXPECT_THAT(ParseError(Join(lines)),
-              StartsWith("log.csv:1:12: line 1: header column 5 has an empty name"));
+  EXPECT_THAT(
+      ParseError(Join(lines)),
+      StartsWith("log.csv:1:12: line 1: header column 5 has an empty name"));
 }
 
 TEST(FlightLogError, NonNumericCell) {
@@ -407,29 +410,33 @@ TEST(FlightLogError, NonNumericCell) {
 TEST(FlightLogError, NumberOutsideTheDoubleRange) {
   std::vector<std::string> lines = StandardLines(12);
   lines[2] = "0.01,1e999,-0.2,9.8,0.01,-0.02,0.03";
-  EXPECT_EQ(ParseError(Join(lines)),
-            "log.csv:3:6: line 3: column 'ax': '1e999' is outside the range of a "
-            "double");
+  EXPECT_EQ(
+      ParseError(Join(lines)),
+      "log.csv:3:6: line 3: column 'ax': '1e999' is outside the range of a "
+      "double");
 }
 
 TEST(FlightLogError, EmptyCell) {
   std::vector<std::string> lines = StandardLines(12);
   lines[6] = "0.05,0.1,,9.8,0.01,-0.02,0.03";  // line 7
-  EXPECT_EQ(ParseError(Join(lines)), "log.csv:7:10: line 7: column 'ay': empty cell");
+  EXPECT_EQ(ParseError(Join(lines)),
+            "log.csv:7:10: line 7: column 'ay': empty cell");
 }
 
 TEST(FlightLogError, EmptyLastCellIsAnEmptyCellNotARaggedRow) {
   std::vector<std::string> lines = StandardLines(12);
   lines[6] = "0.05,0.1,-0.2,9.8,0.01,-0.02,";  // line 7
-  EXPECT_EQ(ParseError(Join(lines)), "log.csv:7:30: line 7: column 'gz': empty cell");
+  EXPECT_EQ(ParseError(Join(lines)),
+            "log.csv:7:30: line 7: column 'gz': empty cell");
 }
 
 TEST(FlightLogError, RowWithTooFewFields) {
   std::vector<std::string> lines = StandardLines(12);
   lines[9] = "0.08,0.1,-0.2,9.8,0.01";  // line 10
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message,
-              StartsWith("log.csv:10:23: line 10: row has 5 fields, expected 7"));
+  EXPECT_THAT(
+      message,
+      StartsWith("log.csv:10:23: line 10: row has 5 fields, expected 7"));
   EXPECT_THAT(message, HasSubstr("column 'gy' is missing"));
 }
 
@@ -437,8 +444,9 @@ TEST(FlightLogError, RowWithTooManyFields) {
   std::vector<std::string> lines = StandardLines(12);
   lines[9] = "0.08,0.1,-0.2,9.8,0.01,-0.02,0.03,7,8";  // line 10
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message,
-              StartsWith("log.csv:10:35: line 10: row has 9 fields, expected 7"));
+  EXPECT_THAT(
+      message,
+      StartsWith("log.csv:10:35: line 10: row has 9 fields, expected 7"));
   EXPECT_THAT(message, HasSubstr("'7'"));
 }
 
@@ -446,7 +454,8 @@ TEST(FlightLogError, TimeGoingBackwardsNamesBothValues) {
   std::vector<std::string> lines = StandardLines(12);
   lines[6] = "0.02,0.1,-0.2,9.8,0.01,-0.02,0.03";  // line 7, after 0.04
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:7:1: line 7: column 't': time '0.02'"));
+  EXPECT_THAT(message,
+              StartsWith("log.csv:7:1: line 7: column 't': time '0.02'"));
   EXPECT_THAT(message, HasSubstr("previous time '0.04' (line 6)"));
 }
 
@@ -456,7 +465,8 @@ TEST(FlightLogError, RepeatedTimeNamesBothValues) {
     lines.push_back("0,0,9.8,0,0,0," + std::to_string(i == 4 ? 3 : i));
   }
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:6:15: line 6: column 't': time '3'"));
+  EXPECT_THAT(message,
+              StartsWith("log.csv:6:15: line 6: column 't': time '3'"));
   EXPECT_THAT(message, HasSubstr("repeats the previous time '3' (line 5)"));
 }
 
@@ -469,9 +479,10 @@ TEST(FlightLogError, FewerSamplesThanNeeded) {
 }
 
 TEST(FlightLogError, HeaderWithoutRows) {
-  EXPECT_THAT(ParseError(std::string(kHeader) + "\n"),
-              StartsWith("log.csv:1:1: line 1: the log has 0 samples, fewer than the "
-                         "10"));
+  EXPECT_THAT(
+      ParseError(std::string(kHeader) + "\n"),
+      StartsWith("log.csv:1:1: line 1: the log has 0 samples, fewer than the "
+                 "10"));
 }
 
 TEST(FlightLogError, GapLongerThanTheFactorTimesTheMedian) {
@@ -483,7 +494,8 @@ TEST(FlightLogError, GapLongerThanTheFactorTimesTheMedian) {
         "1" + Row(i).substr(1);  // "0.08" -> "1.08"
   }
   const std::string message = ParseError(Join(lines));
-  EXPECT_THAT(message, StartsWith("log.csv:10:1: line 10: column 't': gap of 1.01 s"));
+  EXPECT_THAT(message,
+              StartsWith("log.csv:10:1: line 10: column 't': gap of 1.01 s"));
   EXPECT_THAT(message, HasSubstr("median interval 0.01 s"));
 
   CsvReadOptions tolerant;
@@ -499,8 +511,9 @@ TEST(FlightLogError, UnknownFrameInMetadata) {
 
 TEST(FlightLogError, ContradictoryFrameLines) {
   const std::string text = "# frame: frd\n" + LevelFrdLog("# frame: flu");
-  EXPECT_THAT(ParseError(text),
-              StartsWith("log.csv:2:10: line 2: metadata 'frame': 'flu' contradicts"));
+  EXPECT_THAT(
+      ParseError(text),
+      StartsWith("log.csv:2:10: line 2: metadata 'frame': 'flu' contradicts"));
 }
 
 // --- Small accessors

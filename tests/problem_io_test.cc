@@ -167,21 +167,25 @@ TEST(ProblemIo, BadInputsNameLineColumnAndValue) {
        "p.csv:4:9: line 4: column 'v': empty cell"},
       {"out of range",
        header + "0,1e999,2,3,4\n" + rows(1, 10),
-       "p.csv:2:3: line 2: column 'f': '1e999' is outside the range of a double"},
+       "p.csv:2:3: line 2: column 'f': '1e999' is outside the range of a "
+       "double"},
       {"repeated time",
        header + rows(0, 4) + "3,1,2,3,4\n" + rows(4, 8),
        "p.csv:6:1: line 6: column 't': time '3' repeats the previous time '3' "
        "(line 5); t must increase strictly"},
       {"time going back",
        header + rows(0, 4) + "1.5,1,2,3,4\n" + rows(4, 8),
-       "p.csv:6:1: line 6: column 't': time '1.5' is before the previous time '3'"},
+       "p.csv:6:1: line 6: column 't': time '1.5' is before the previous time "
+       "'3'"},
       {"too few fields",
        header + rows(0, 2) + "2,1,2\n" + rows(3, 9),
-       "p.csv:4:6: line 4: row has 3 fields, expected 5 (the header's count); column "
+       "p.csv:4:6: line 4: row has 3 fields, expected 5 (the header's count); "
+       "column "
        "'omega_dot' is missing"},
       {"too many fields",
        header + rows(0, 2) + "2,1,2,3,4,5\n" + rows(3, 9),
-       "p.csv:4:11: line 4: row has 6 fields, expected 5 (the header's count); extra "
+       "p.csv:4:11: line 4: row has 6 fields, expected 5 (the header's count); "
+       "extra "
        "field '5'"},
       {"missing columns",
        "# x\nt,f,omega\n" + rows(0, 10),
@@ -189,13 +193,15 @@ TEST(ProblemIo, BadInputsNameLineColumnAndValue) {
        "'omega_dot', 'v'"},
       {"too few samples",
        header + rows(0, 9),
-       "p.csv:10:1: line 10: the problem has 9 samples, fewer than the 10 the fit "
+       "p.csv:10:1: line 10: the problem has 9 samples, fewer than the 10 the "
+       "fit "
        "needs"},
       {"empty file", "", "p.csv:1:1: line 1: the file is empty"},
       {"only comments", "# a\n# b\n", "p.csv:2:1: line 2: no header line"},
       {"numbers instead of header",
        rows(0, 11),
-       "p.csv:1:1: line 1: no header: the first non-comment line holds the number "
+       "p.csv:1:1: line 1: no header: the first non-comment line holds the "
+       "number "
        "'0'"},
       {"duplicate column",
        "t,f,omega,f,omega_dot,v\n",
