@@ -14,29 +14,24 @@
 #include <system_error>
 
 #include "glog/logging.h"
+#include "src/csv_text.h"
 
 namespace imusysid {
 namespace {
 
+using internal::CharColumn;
+using internal::ErrorAt;
+using internal::IsBlank;
+using internal::ParseMetadata;
+using internal::Quote;
+using internal::TrimBlanks;
+
 constexpr int kNumRequired = 7;
 constexpr const char* kRequiredNames[kNumRequired] = {
     "t", "ax", "ay", "az", "gx", "gy", "gz"};
-// Offending text longer than this is cut in messages so a binary file or a
-// runaway line cannot produce a megabyte-long error.
-constexpr std::size_t kMaxQuotedText = 40;
 // Digits for the time column: 1 kHz stamps over more than a day
 // (86400.001 s) need 9, so 12 leaves margin for sub-millisecond clocks.
 constexpr int kMinTimePrecision = 12;
-
-bool IsBlank(char c) { return c == ' ' || c == '\t'; }
-
-std::string_view TrimBlanks(std::string_view s) {
-  while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && (IsBlank(s.back()) || s.back() == '\r')) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
 
 // Walks a buffer line by line without copying. Lines come back without their
 // terminator and without trailing blanks or '\r', so CRLF files and trailing
@@ -76,45 +71,12 @@ LineKind Classify(std::string_view line) {
   return trimmed.front() == '#' ? LineKind::kComment : LineKind::kContent;
 }
 
-// 1-based character (not byte) column of `at` within `line`, counting UTF-8
-// code points so editors jump to the right place.
-int CharColumn(std::string_view line, const char* at) {
-  int column = 1;
-  for (const char* p = line.data(); p < at; ++p) {
-    if ((static_cast<unsigned char>(*p) & 0xC0) != 0x80) ++column;
-  }
-  return column;
-}
-
-std::string Quote(std::string_view text) {
-  std::string out = "'";
-  if (text.size() > kMaxQuotedText) {
-    out.append(text.substr(0, kMaxQuotedText));
-    out += "...";
-  } else {
-    out.append(text);
-  }
-  out += "'";
-  return out;
-}
-
 // Numbers in messages: `digits` significant digits, so a median of
 // 0.010000000000000002 reads as 0.01.
 std::string FormatForMessage(double value, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
   return buf;
-}
-
-Status ErrorAt(const std::string& name,
-               int line,
-               int column,
-               const std::string& message) {
-  // Compiler-style "file:line:col:" for tools, then the line in words for
-  // people.
-  return InvalidArgumentError(name + ":" + std::to_string(line) + ":" +
-                              std::to_string(column) + ": line " +
-                              std::to_string(line) + ": " + message);
 }
 
 // The text of the field that starts at `start`: up to the next comma or the
@@ -135,23 +97,6 @@ const char* FieldStart(std::string_view line, std::size_t column) {
   }
   while (p < end && IsBlank(*p)) ++p;
   return p;
-}
-
-// Parses a '# key: value' comment. The key is everything before the first
-// colon that is followed by a blank or ends the line, so '# see http://x' is a
-// plain comment. Returns false for plain comments.
-bool ParseMetadata(std::string_view comment,
-                   std::string_view* key,
-                   std::string_view* value) {
-  std::string_view body = comment.substr(comment.find('#') + 1);
-  for (std::size_t i = 0; i < body.size(); ++i) {
-    if (body[i] != ':') continue;
-    if (i + 1 < body.size() && !IsBlank(body[i + 1])) continue;
-    *key = TrimBlanks(body.substr(0, i));
-    *value = TrimBlanks(body.substr(i + 1));
-    return !key->empty();
-  }
-  return false;
 }
 
 bool EqualsIgnoreCase(std::string_view a, std::string_view b) {

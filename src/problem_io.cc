@@ -8,17 +8,22 @@
 #include <system_error>
 
 #include "glog/logging.h"
+#include "src/csv_text.h"
 #include "src/flight_log.h"
 
 namespace imusysid {
 namespace {
 
+using internal::CharColumn;
+using internal::ErrorAt;
+using internal::IsBlank;
+using internal::ParseMetadata;
+using internal::Quote;
+using internal::TrimBlanks;
+
 // 17 significant digits identify every double, so a written file reads back
 // bit for bit (up to the sign of zero).
 constexpr int kDigits = 17;
-// Offending text longer than this is cut in messages (a binary file must not
-// produce a megabyte-long error).
-constexpr std::size_t kMaxQuotedText = 40;
 
 constexpr const char* kTitle =
     "# imusysid problem file: the preprocessed samples of the paper's "
@@ -29,46 +34,6 @@ enum Role { kT, kF, kOmega, kOmegaDot, kV, kTheta, kFz, kNumRoles, kIgnored };
 constexpr int kNumRequired = 5;
 constexpr const char* kRoleNames[kNumRoles] = {
     "t", "f", "omega", "omega_dot", "v", "theta", "f_z"};
-
-bool IsBlank(char c) { return c == ' ' || c == '\t'; }
-
-std::string_view TrimBlanks(std::string_view s) {
-  while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
-  while (!s.empty() && (IsBlank(s.back()) || s.back() == '\r')) {
-    s.remove_suffix(1);
-  }
-  return s;
-}
-
-// 1-based character column of `at` in `line`, counting UTF-8 code points.
-int CharColumn(std::string_view line, const char* at) {
-  int column = 1;
-  for (const char* p = line.data(); p < at; ++p) {
-    if ((static_cast<unsigned char>(*p) & 0xC0) != 0x80) ++column;
-  }
-  return column;
-}
-
-std::string Quote(std::string_view text) {
-  std::string out = "'";
-  if (text.size() > kMaxQuotedText) {
-    out.append(text.substr(0, kMaxQuotedText));
-    out += "...";
-  } else {
-    out.append(text);
-  }
-  return out + "'";
-}
-
-Status ErrorAt(const std::string& name,
-               int line,
-               int column,
-               const std::string& message) {
-  // The log CSV's form: "file:line:col:" for tools, the line in words too.
-  return InvalidArgumentError(name + ":" + std::to_string(line) + ":" +
-                              std::to_string(column) + ": line " +
-                              std::to_string(line) + ": " + message);
-}
 
 // One comma-separated field: its text without surrounding blanks and where
 // that text starts (the line's end for an empty last field).
@@ -93,22 +58,6 @@ std::vector<Field> SplitFields(std::string_view line) {
     p = stop + 1;
   }
   return fields;
-}
-
-// A '# key: value' comment: the key ends at the first colon followed by a
-// blank or the line's end, so '# see http://x' stays a plain comment.
-bool ParseMetadata(std::string_view comment,
-                   std::string_view* key,
-                   std::string_view* value) {
-  const std::string_view body = comment.substr(comment.find('#') + 1);
-  for (std::size_t i = 0; i < body.size(); ++i) {
-    if (body[i] != ':') continue;
-    if (i + 1 < body.size() && !IsBlank(body[i + 1])) continue;
-    *key = TrimBlanks(body.substr(0, i));
-    *value = TrimBlanks(body.substr(i + 1));
-    return !key->empty();
-  }
-  return false;
 }
 
 enum class NumberError { kNone, kEmpty, kNotANumber, kOutOfRange, kNotFinite };
