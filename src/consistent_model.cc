@@ -25,6 +25,33 @@ struct SampleState {
   double theta_p[3] = {0.0, 0.0, 0.0};
 };
 
+// F_z, the body-z specific force the prediction scales by sin α: the measured
+// one, or g/cos θ − μ v|v| sin θ with altitude held. With `fz_p`, also its
+// derivatives with respect to p = (μ, c0, c1) (zero when measured). One
+// definition for the residuals, the Jacobian and varpro's linear system.
+template <bool kMeasuredFz>
+inline double SpecificForceZ(const SampleState& st,
+                             double g,
+                             double mu,
+                             const double* f_z,
+                             double* fz_p) {
+  if (kMeasuredFz) {
+    if (fz_p != nullptr) fz_p[0] = fz_p[1] = fz_p[2] = 0.0;
+    return f_z[st.k];
+  }
+  const double s = st.sin_theta;
+  const double inv_c = st.inv_cos_theta;
+  if (fz_p != nullptr) {
+    const double dfz_dtheta = g * s * inv_c * inv_c - mu * st.q * st.cos_theta;
+    const double dfz_dv = -mu * st.dq_dv * s;
+    for (int j = 0; j < 3; ++j) {
+      fz_p[j] = dfz_dtheta * st.theta_p[j] + dfz_dv * st.v_p[j];
+    }
+    fz_p[0] -= st.q * s;
+  }
+  return g * inv_c - mu * st.q * s;
+}
+
 }  // namespace
 
 std::vector<ParameterInfo> ConsistentParameterInfo() {
@@ -283,8 +310,7 @@ bool ConsistentModel::Evaluate(const double* x,
         [&](const SampleState& st) {
           const std::size_t k = st.k;
           const double fz =
-              kMeasuredFz ? f_z[k]
-                          : g * st.inv_cos_theta - mu * st.q * st.sin_theta;
+              SpecificForceZ<kMeasuredFz>(st, g, mu, f_z, nullptr);
           const double pred = sa * fz - rc * omega_sq[k] + rs * omega_dot[k] -
                               mu * st.q * st.cos_theta;
           const double res = f_x[k] - pred;
@@ -307,20 +333,8 @@ bool ConsistentModel::Evaluate(const double* x,
           const double s = st.sin_theta;
           const double c = st.cos_theta;
           const double q = st.q;
-          double fz;
-          double fz_p[3] = {0.0, 0.0, 0.0};
-          if (kMeasuredFz) {
-            fz = f_z[k];
-          } else {
-            const double inv_c = st.inv_cos_theta;
-            fz = g * inv_c - mu * q * s;
-            const double dfz_dtheta = g * s * inv_c * inv_c - mu * q * c;
-            const double dfz_dv = -mu * st.dq_dv * s;
-            for (int j = 0; j < 3; ++j) {
-              fz_p[j] = dfz_dtheta * st.theta_p[j] + dfz_dv * st.v_p[j];
-            }
-            fz_p[0] -= q * s;
-          }
+          double fz_p[3];
+          const double fz = SpecificForceZ<kMeasuredFz>(st, g, mu, f_z, fz_p);
           const double w2 = omega_sq[k];
           const double wd = omega_dot[k];
           const double pred = sa * fz - rc * w2 + rs * wd - mu * q * c;
@@ -387,8 +401,7 @@ bool ConsistentModel::EvaluateLinear(double mu,
         [&](const SampleState& st) {
           const std::size_t k = st.k;
           const double fz =
-              kMeasuredFz ? f_z[k]
-                          : g * st.inv_cos_theta - mu * st.q * st.sin_theta;
+              SpecificForceZ<kMeasuredFz>(st, g, mu, f_z, nullptr);
           fz_out[k] = fz;
           y_minus_offset[k] = f_x[k] + mu * st.q * st.cos_theta;
           guard += 0.0 * (fz + y_minus_offset[k]);
@@ -409,20 +422,8 @@ bool ConsistentModel::EvaluateLinear(double mu,
           const double s = st.sin_theta;
           const double c = st.cos_theta;
           const double q = st.q;
-          double fz;
-          double fz_p[3] = {0.0, 0.0, 0.0};
-          if (kMeasuredFz) {
-            fz = f_z[k];
-          } else {
-            const double inv_c = st.inv_cos_theta;
-            fz = g * inv_c - mu * q * s;
-            const double dfz_dtheta = g * s * inv_c * inv_c - mu * q * c;
-            const double dfz_dv = -mu * st.dq_dv * s;
-            for (int j = 0; j < 3; ++j) {
-              fz_p[j] = dfz_dtheta * st.theta_p[j] + dfz_dv * st.v_p[j];
-            }
-            fz_p[0] -= q * s;
-          }
+          double fz_p[3];
+          const double fz = SpecificForceZ<kMeasuredFz>(st, g, mu, f_z, fz_p);
           fz_out[k] = fz;
           y_minus_offset[k] = f_x[k] + mu * q * c;
           const double mq = mu * st.dq_dv * c;
