@@ -174,7 +174,7 @@ void BM_Varpro(benchmark::State& state, const char* model_name) {
   state.counters["final_cost"] = result.final_cost;
   state.counters["rmse"] = result.rmse;
   state.counters["evaluations"] = static_cast<double>(result.cost_evaluations);
-  state.counters["iterations"] = result.iterations;
+  state.counters["solver_iterations"] = result.iterations;
   state.counters["solve_ms"] = 1e3 * result.wall_time_s;
   if (result.parameters.size() > kMu) {
     state.counters["mu"] = result.parameters[kMu];

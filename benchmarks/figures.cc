@@ -119,6 +119,131 @@ std::string Label(const EstimateResult& r) {
   return r.model + " / " + r.estimator;
 }
 
+// Google Benchmark's wall time of one Estimate versus n, one line per
+// estimator (paper model, synthetic flight).
+Status DrawGbenchScaling(const std::string& gnuplot,
+                         const std::string& dir,
+                         const GbenchScaling& gbench,
+                         std::vector<Figure>* drawn) {
+  std::vector<std::string> order;
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>
+      series;
+  for (const auto& p : gbench.points) {
+    if (series.count(p.estimator) == 0) order.push_back(p.estimator);
+    series[p.estimator].first.push_back(static_cast<double>(p.samples));
+    series[p.estimator].second.push_back(p.real_time_ms);
+  }
+  std::string plot;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::string file = "gbench_runtime_" + std::to_string(i) + ".dat";
+    auto& xy = series[order[i]];
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteText(dir, file, Table({&xy.first, &xy.second})));
+    plot += std::string(plot.empty() ? "plot " : ", ") + Quote(file) +
+            " using 1:2 with linespoints lw 2 pt " + std::to_string(i % 6 + 5) +
+            " lc " + std::to_string(i % 8 + 1) + " title " + Quote(order[i]);
+  }
+  // A guide of slope 1 (time ∝ n) through the largest measured point of
+  // `linear` (or of the first estimator): lines parallel to it scale
+  // linearly, steeper ones worse.
+  const auto guide_it = series.count("linear") != 0 ? series.find("linear")
+                                                    : series.find(order[0]);
+  const std::vector<double>& gx = guide_it->second.first;
+  const std::vector<double>& gy = guide_it->second.second;
+  double n_min = gx.front(), n_max = gx.front();
+  for (const auto& p : gbench.points) {
+    n_min = std::min(n_min, static_cast<double>(p.samples));
+    n_max = std::max(n_max, static_cast<double>(p.samples));
+  }
+  if (n_max > n_min && gy.back() > 0.0) {
+    const std::vector<double> guide_x = {n_min, n_max};
+    const std::vector<double> guide_y = {gy.back() * n_min / gx.back(),
+                                         gy.back() * n_max / gx.back()};
+    IMUSYSID_RETURN_IF_ERROR(WriteText(
+        dir, "gbench_runtime_guide.dat", Table({&guide_x, &guide_y})));
+    plot += ", " + Quote("gbench_runtime_guide.dat") +
+            " using 1:2 with lines dt 3 lw 1.5 lc rgb '#888888' title "
+            "'time ∝ n (through " +
+            guide_it->first + ")'";
+  }
+  IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+      gnuplot,
+      dir,
+      "runtime_vs_samples",
+      "set title 'runtime versus samples (Google Benchmark, paper model)'\n"
+      "set logscale xy\nset format x '1e%T'\nset autoscale xfix\n"
+      "set xlabel 'samples n'\nset ylabel 'wall time of one fit (ms)'\n"
+      "set key outside right top vertical\n" +
+          plot + "\n"));
+  std::ostringstream caption;
+  caption << "Runtime versus samples for every estimator (log-log), measured "
+             "by Google Benchmark (estimators_benchmark BM_Scaling and "
+             "BM_ScalingLarge: the paper model on a synthetic 1 kHz flight, "
+             "wall time of one Estimate including standard errors; dotted: "
+             "time proportional to n through linear's largest point). "
+             "Measured on "
+          << DescribeMeasurement(gbench);
+  caption << ". Re-measure with scripts/scaling.sh.";
+  drawn->push_back({"runtime_vs_samples.svg", caption.str()});
+  return Status::Ok();
+}
+
+// The runner's own sweep: one fit on the first n samples of a log's fit
+// segment, for every model / estimator of the run.
+Status DrawRunnerScaling(const std::string& gnuplot,
+                         const std::string& dir,
+                         const std::vector<ScalingPoint>& scaling,
+                         const std::string& name,
+                         bool gbench_drawn,
+                         std::vector<Figure>* drawn) {
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>
+      series;
+  std::vector<std::string> order;
+  for (const auto& pt : scaling) {
+    const std::string key = pt.model + " / " + pt.estimator;
+    if (series.count(key) == 0) order.push_back(key);
+    series[key].first.push_back(static_cast<double>(pt.samples));
+    series[key].second.push_back(pt.wall_ms);
+  }
+  std::string plot;
+  int i = 0;
+  for (const auto& key : order) {
+    const std::string file = "runtime_" + std::to_string(i) + ".dat";
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteText(dir, file, Table({&series[key].first, &series[key].second})));
+    const bool consistent = key.rfind("consistent", 0) == 0;
+    plot += std::string(plot.empty() ? "plot " : ", ") + Quote(file) +
+            " using 1:2 with linespoints lw 1.5 pt " +
+            std::to_string(consistent ? 7 : 5) + " dt " +
+            (consistent ? "1" : "2") + " lc " + std::to_string(i % 8 + 1) +
+            " title " + Quote(key);
+    ++i;
+  }
+  IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+      gnuplot,
+      dir,
+      name,
+      "set title 'runtime versus samples on the log (this run)'\n"
+      "set logscale xy\n"
+      "set xlabel 'samples n'\nset ylabel 'wall time of one fit (ms)'\n"
+      "set key outside right top vertical\n" +
+          plot + "\n"));
+  drawn->push_back(
+      {name + ".svg",
+       std::string(
+           "Runtime versus samples for every model / estimator of this run "
+           "(log-log): one fit on the first n samples of the log's fit "
+           "segment (beyond its length, the segment repeated with time "
+           "continued), plus the full-log run. A size is skipped when its "
+           "predicted time exceeds the preset's budget, so the slow GA "
+           "family on the consistent model has few points.") +
+           (gbench_drawn ? ""
+                         : " Google Benchmark's 1e3 … 1e7 results replace "
+                           "this figure when given with --scaling (see "
+                           "scripts/scaling.sh).")});
+  return Status::Ok();
+}
+
 }  // namespace
 
 std::string FindGnuplot() {
@@ -475,47 +600,21 @@ Status WriteBenchFigures(const BenchReport& report,
         WriteFitFigures(dir, pl->data, results, options, &drawn));
   }
 
-  // Runtime versus samples.
+  // Runtime versus samples: Google Benchmark's 1e3 … 1e7 when given, and the
+  // runner's own sweep on the log.
+  const bool has_gbench = !report.gbench.points.empty();
+  if (has_gbench) {
+    IMUSYSID_RETURN_IF_ERROR(
+        DrawGbenchScaling(gnuplot, dir, report.gbench, &drawn));
+  }
   if (!report.scaling.empty()) {
-    std::map<std::string, std::pair<std::vector<double>, std::vector<double>>>
-        series;
-    std::vector<std::string> order;
-    for (const auto& pt : report.scaling) {
-      const std::string key = pt.model + " / " + pt.estimator;
-      if (series.count(key) == 0) order.push_back(key);
-      series[key].first.push_back(static_cast<double>(pt.samples));
-      series[key].second.push_back(pt.wall_ms);
-    }
-    std::string plot;
-    int i = 0;
-    for (const auto& key : order) {
-      const std::string file = "runtime_" + std::to_string(i) + ".dat";
-      IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
-          dir + "/" + file, Table({&series[key].first, &series[key].second})));
-      const bool consistent = key.rfind("consistent", 0) == 0;
-      plot += std::string(plot.empty() ? "plot " : ", ") + Quote(file) +
-              " using 1:2 with linespoints lw 1.5 pt " +
-              std::to_string(consistent ? 7 : 5) + " dt " +
-              (consistent ? "1" : "2") + " lc " + std::to_string(i % 8 + 1) +
-              " title " + Quote(key);
-      ++i;
-    }
-    IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
+    IMUSYSID_RETURN_IF_ERROR(DrawRunnerScaling(
         gnuplot,
         dir,
-        "runtime_vs_samples",
-        "set title 'runtime versus samples'\nset logscale xy\n"
-        "set xlabel 'samples n'\nset ylabel 'wall time of one fit (ms)'\n"
-        "set key outside right top vertical\n" +
-            plot + "\n"));
-    drawn.push_back(
-        {"runtime_vs_samples.svg",
-         "Runtime versus samples for every model / estimator (log-log): one "
-         "fit on the first n samples of the fit segment (beyond its length, "
-         "the segment repeated with time continued), plus the full-log run. "
-         "A size is skipped when its predicted time exceeds the preset's "
-         "budget, so the slow GA family on the consistent model has few "
-         "points."});
+        report.scaling,
+        has_gbench ? "runtime_vs_samples_logs" : "runtime_vs_samples",
+        has_gbench,
+        &drawn));
   }
   IMUSYSID_RETURN_IF_ERROR(WriteIndexHtml(
       dir, "imusysid bench (" + report.context.preset + ")", drawn));

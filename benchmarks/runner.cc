@@ -1238,6 +1238,32 @@ std::string ReportJson(const BenchReport& report) {
                        {"source", p.source}});
   }
   j["scaling"] = scaling;
+  if (!report.gbench.points.empty()) {
+    Json points = Json::array();
+    for (const auto& p : report.gbench.points) {
+      points.push_back({{"estimator", p.estimator},
+                        {"model", "paper"},
+                        {"samples", p.samples},
+                        {"real_time_ms", Num(p.real_time_ms)},
+                        {"cpu_time_ms", Num(p.cpu_time_ms)},
+                        {"iterations", p.iterations},
+                        {"rmse", Num(p.rmse)},
+                        {"peak_rss_mb", Num(p.peak_rss_mb)},
+                        {"raw_log_mb", Num(p.raw_log_mb)},
+                        {"file", p.file}});
+    }
+    Json contexts = Json::array();
+    for (const auto& c : report.gbench.contexts) {
+      contexts.push_back({{"file", c.file},
+                          {"date", c.date},
+                          {"host_name", c.host_name},
+                          {"num_cpus", c.num_cpus},
+                          {"mhz_per_cpu", c.mhz_per_cpu}});
+    }
+    j["google_benchmark_scaling"] = {{"points", points},
+                                     {"contexts", contexts},
+                                     {"errors", report.gbench.errors}};
+  }
   return j.dump(2) + "\n";
 }
 
@@ -1253,12 +1279,90 @@ Status WriteOutputs(const BenchReport& report, const std::string& dir) {
       WriteFileAtomically(dir + "/traces.json", TracesJson(report)));
   IMUSYSID_RETURN_IF_ERROR(
       WriteFileAtomically(dir + "/context.json", ContextJson(report)));
-  if (!report.monte_carlo.empty() || !report.displacements.empty()) {
+  if (!report.monte_carlo.empty() || !report.displacements.empty() ||
+      !report.gbench.points.empty()) {
     IMUSYSID_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/report.json", ReportJson(report)));
   }
   return Status::Ok();
 }
+
+namespace {
+
+// 1000 → "1e3"; other sizes as they are.
+std::string SizeLabel(std::int64_t n) {
+  int exponent = 0;
+  std::int64_t m = n;
+  while (m >= 10 && m % 10 == 0) {
+    m /= 10;
+    ++exponent;
+  }
+  if (m == 1 && exponent >= 3) return "1e" + std::to_string(exponent);
+  return std::to_string(n);
+}
+
+// Google Benchmark's scaling results: one row per estimator, one column per
+// size, and the peak memory at the largest size against the raw log.
+std::string FormatGbenchScaling(const GbenchScaling& gbench) {
+  std::vector<std::int64_t> sizes;
+  std::vector<std::string> estimators;
+  for (const auto& p : gbench.points) {
+    if (std::find(sizes.begin(), sizes.end(), p.samples) == sizes.end()) {
+      sizes.push_back(p.samples);
+    }
+    if (std::find(estimators.begin(), estimators.end(), p.estimator) ==
+        estimators.end()) {
+      estimators.push_back(p.estimator);
+    }
+  }
+  std::sort(sizes.begin(), sizes.end());
+  std::ostringstream out;
+  out << "## Scaling: runtime and memory versus samples (Google Benchmark)\n\n"
+      << "estimators_benchmark BM_Scaling / BM_ScalingLarge: the paper model "
+         "on a synthetic 1 kHz flight, wall time of one Estimate (ms); peak "
+         "RSS measured with one benchmark per process; raw log = n × 7 IMU "
+         "channels × 8 bytes. Measured on "
+      << DescribeMeasurement(gbench);
+  out << ".\n\n";
+  std::vector<std::string> header = {"estimator"};
+  for (std::int64_t n : sizes) header.push_back("n = " + SizeLabel(n) + " ms");
+  header.push_back("peak RSS MB (n)");
+  header.push_back("× raw log");
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& name : estimators) {
+    std::vector<std::string> row = {name};
+    const GbenchScalingPoint* largest_rss = nullptr;
+    for (std::int64_t n : sizes) {
+      std::string cell = "–";
+      for (const auto& p : gbench.points) {
+        if (p.estimator != name || p.samples != n) continue;
+        cell = FmtFixed(p.real_time_ms, p.real_time_ms < 10 ? 3 : 1);
+        if (std::isfinite(p.peak_rss_mb)) largest_rss = &p;
+      }
+      row.push_back(cell);
+    }
+    if (largest_rss != nullptr) {
+      row.push_back(FmtFixed(largest_rss->peak_rss_mb, 0) + " (" +
+                    SizeLabel(largest_rss->samples) + ")");
+      row.push_back(
+          std::isfinite(largest_rss->raw_log_mb) && largest_rss->raw_log_mb > 0
+              ? FmtFixed(largest_rss->peak_rss_mb / largest_rss->raw_log_mb, 2)
+              : "–");
+    } else {
+      row.push_back("–");
+      row.push_back("–");
+    }
+    rows.push_back(row);
+  }
+  out << MarkdownTable(header, rows) << "\n";
+  for (const auto& e : gbench.errors) {
+    out << "benchmark error (not plotted): " << e << "\n";
+  }
+  if (!gbench.errors.empty()) out << "\n";
+  return out.str();
+}
+
+}  // namespace
 
 std::string FormatMarkdown(const BenchReport& report) {
   std::ostringstream out;
@@ -1494,6 +1598,8 @@ std::string FormatMarkdown(const BenchReport& report) {
                         "termination"},
                        rows)
       << "\n";
+
+  if (!report.gbench.points.empty()) out << FormatGbenchScaling(report.gbench);
 
   // Monte Carlo.
   if (!report.monte_carlo.empty()) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "benchmarks/gbench_scaling.h"
 #include "estimators/estimator.h"
 #include "src/displacement.h"
 #include "src/preprocess.h"
@@ -252,6 +253,10 @@ struct BenchReport {
   std::string pair_after;
   std::vector<MonteCarloRecord> monte_carlo;
   std::vector<ScalingPoint> scaling;
+  // Google Benchmark's scaling results (1e3 … 1e7 samples), when the caller
+  // read them (`imusysid bench --scaling=...`); they feed the
+  // runtime-versus-samples figure and the Markdown scaling table.
+  GbenchScaling gbench;
 };
 
 // Runs everything the configuration asks for. Errors only for a bad

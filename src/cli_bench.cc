@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "benchmarks/figures.h"
@@ -34,6 +35,13 @@ DEFINE_int32(seeds,
              "Monte Carlo noise seeds per simulator scenario (0: none; "
              "-1: the preset's).");
 DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
+DEFINE_string(scaling,
+              "",
+              "Comma-separated Google Benchmark JSON files or folders of them "
+              "(estimators_benchmark --benchmark_out=FILE "
+              "--benchmark_out_format=json; scripts/scaling.sh writes "
+              "out/scaling): runtime and memory versus samples, 1e3 ... 1e7, "
+              "drawn as runtime_vs_samples.svg and tabled on stdout.");
 
 DECLARE_int32(threads);
 DECLARE_int32(ga_population);
@@ -84,6 +92,20 @@ int Run(const std::vector<std::string>& positional) {
   config.progress = [](const std::string& line) {
     std::cerr << line << std::endl;
   };
+  // Read before the runs, so that a bad file fails in a second, not after
+  // the whole experiment.
+  bench::GbenchScaling gbench;
+  if (!FLAGS_scaling.empty()) {
+    StatusOr<bench::GbenchScaling> read =
+        bench::ReadGbenchScaling(bench::SplitList(FLAGS_scaling));
+    if (!read.ok()) return ReportError(cmd, read.status());
+    gbench = std::move(read).value();
+    for (const auto& e : gbench.errors) {
+      std::cerr << "warning: --scaling: benchmark reported an error, not "
+                   "plotted: "
+                << e << "\n";
+    }
+  }
 
   std::cerr << "bench: preset " << config.preset << ", " << config.logs.size()
             << " log(s), " << config.threads << " worker(s)"
@@ -93,6 +115,7 @@ int Run(const std::vector<std::string>& positional) {
             << "\n";
   StatusOr<bench::BenchReport> report = bench::RunBench(config);
   if (!report.ok()) return ReportError(cmd, report.status());
+  report->gbench = std::move(gbench);
 
   const std::string text = JsonOutput() ? bench::ReportJson(*report)
                                         : bench::FormatMarkdown(*report);
@@ -137,7 +160,8 @@ const Command& BenchCommand() {
       "accuracy and runtime.",
       "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
       "[--models=paper,consistent] [--estimators=NAMES] [--repeats=N] "
-      "[--seeds=K] [--threads=N] [--out=DIR] [--format=table|json]",
+      "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
+      "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
       "API and prints\nMarkdown tables: per-run accuracy against the truth "
       "sidecar, the paper's Table I,\nthe CoM displacement paper_test1 -> "
@@ -147,7 +171,9 @@ const Command& BenchCommand() {
       "executed at once\n(default: all cores; each GA then uses one thread). "
       "--out=DIR is a folder: it receives\nresults.json, results.csv, "
       "traces.json, context.json, report.json, the SVG figures\nand index.html "
-      "(docs/benchmarks.md).",
+      "(docs/benchmarks.md).\n--scaling reads Google Benchmark's "
+      "scaling results (scripts/scaling.sh) for the\nruntime-versus-samples "
+      "figure and the scaling table.",
       {"preset",
        "logs",
        "models",
@@ -160,6 +186,7 @@ const Command& BenchCommand() {
        "ga_max_generations",
        "lm_max_iterations",
        "figures",
+       "scaling",
        "out",
        "format"},
       &Run};
