@@ -73,7 +73,11 @@ Status PolishWithLm(const Problem& problem,
   }
   const bool usable = run->termination != Termination::kFailure;
   // MATLAB keeps the hybrid function's answer only when it is strictly better.
-  const bool accepted = usable && run->final_cost < ga_cost;
+  // LM's own start cost is the reference too: its cost may come from another
+  // exact form (compressed residuals) that differs from Cost() in the last
+  // digits, and a rounding difference is no improvement.
+  const bool accepted = usable && run->final_cost < run->initial_cost &&
+                        run->final_cost < ga_cost;
   if (accepted) result->parameters = run->x;
   result->iterations = ga_generations + run->iterations;
   if (usable) result->termination = run->termination;

@@ -22,10 +22,14 @@ constexpr double kMaxCeresTimeS = 1e9;
 // block. Everything goes through Problem::Residuals so the problem counts the
 // evaluations; the model's Jacobian is row-major n × p, which is exactly the
 // layout Ceres expects in jacobians[0].
+// With `compressed`, the model's compressed residuals stand in for the n
+// residuals: same cost, gradient and JᵀJ, so the same LM iterations.
 class ProblemCostFunction : public ceres::CostFunction {
  public:
-  explicit ProblemCostFunction(const Problem& problem) : problem_(problem) {
-    set_num_residuals(problem.num_residuals());
+  ProblemCostFunction(const Problem& problem, bool compressed)
+      : problem_(problem), compressed_(compressed) {
+    set_num_residuals(compressed ? problem.model().num_compressed_residuals()
+                                 : problem.num_residuals());
     mutable_parameter_block_sizes()->push_back(problem.num_parameters());
   }
 
@@ -33,11 +37,14 @@ class ProblemCostFunction : public ceres::CostFunction {
                 double* residuals,
                 double** jacobians) const override {
     double* jacobian = jacobians != nullptr ? jacobians[0] : nullptr;
-    return problem_.Residuals(parameters[0], residuals, jacobian);
+    return compressed_ ? problem_.CompressedResiduals(
+                             parameters[0], residuals, jacobian)
+                       : problem_.Residuals(parameters[0], residuals, jacobian);
   }
 
  private:
   const Problem& problem_;
+  const bool compressed_;
 };
 
 // Records the trace and enforces the evaluation budget, which Ceres has no
@@ -128,7 +135,12 @@ StatusOr<LmRun> RunLm(const Problem& problem,
   ceres::Problem::Options problem_options;
   ceres::Problem ceres_problem(problem_options);
   double* x = run.x.data();
-  ceres_problem.AddResidualBlock(new ProblemCostFunction(problem), nullptr, x);
+  const bool compressed = options.use_compressed_residuals &&
+                          problem.model().num_compressed_residuals() > 0;
+  ceres_problem.AddResidualBlock(
+      new ProblemCostFunction(problem, compressed), nullptr, x);
+  run.residuals = compressed ? problem.model().num_compressed_residuals()
+                             : problem.num_residuals();
   for (int i = 0; i < p; ++i) {
     ceres_problem.SetParameterLowerBound(x, i, lower[i]);
     ceres_problem.SetParameterUpperBound(x, i, upper[i]);
@@ -219,6 +231,7 @@ Status LmEstimator::Solve(const Problem& problem,
   result->iterations = run->iterations;
   result->termination = run->termination;
   result->message = run->message;
+  result->details.emplace_back("lm_residuals", std::to_string(run->residuals));
   if (options.record_trace) result->trace = std::move(run->trace);
   return Status::Ok();
 }

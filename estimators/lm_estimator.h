@@ -26,6 +26,7 @@ struct LmRun {
   int iterations = 0;  // LM iterations (accepted + rejected steps)
   Termination termination = Termination::kFailure;
   std::string message;  // Ceres' termination message
+  int residuals = 0;    // per evaluation: n, or the compressed form's count
   // One point per iteration, phase "lm"; evaluations counted from the start
   // of this run and elapsed_s from its start.
   std::vector<TracePoint> trace;
@@ -35,7 +36,10 @@ struct LmRun {
 // (dense normal-equations Cholesky, Jacobi-scaled), the problem's bounds as
 // parameter bounds (`start` is clamped into them first). Residuals and
 // Jacobians come from Problem::Residuals, so the problem's counters see every
-// evaluation.
+// evaluation; when the model has compressed residuals (the paper model's
+// five, Model::CompressedResiduals) and options.use_compressed_residuals is
+// set, from Problem::CompressedResiduals instead: the same cost, gradient and
+// JᵀJ, hence the same steps, at O(1) instead of O(n) per iteration.
 //
 //   repeat: solve (JᵀJ + λD)δ = −Jᵀr, project onto the box, accept if the
 //           cost decreases (λ shrinks) else reject (λ grows)

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <utility>
 
+#include "Eigen/Cholesky"
 #include "ceres/jet.h"
 #include "src/imu_model.h"
 
@@ -33,6 +34,46 @@ PaperModel::PaperModel(std::shared_ptr<const ProblemData> data)
     gram_.selfadjointView<Eigen::Lower>().rankUpdate(row);
   }
   gram_.triangularView<Eigen::StrictlyUpper>() = gram_.transpose();
+  Eigen::LLT<Eigen::Matrix<double, 5, 5>> llt(gram_);
+  if (llt.info() == Eigen::Success) {
+    sqrt_gram_ = llt.matrixU();
+    has_sqrt_gram_ = sqrt_gram_.allFinite();
+  }
+}
+
+bool PaperModel::CompressedResiduals(const double* x,
+                                     double* residuals,
+                                     double* jacobian) const {
+  if (!has_sqrt_gram_) return false;
+  // ‖[Φ f] [a; −1]‖² = ‖Φa − f‖² = Σ r², and RᵀR = [Φ f]ᵀ[Φ f], so
+  // ρ = R [a; −1] has the residuals' norm, gradient and Gauss–Newton matrix.
+  using Jet = ceres::Jet<double, kNumPhysicalParameters>;
+  Jet xj[kNumPhysicalParameters];
+  for (int i = 0; i < kNumPhysicalParameters; ++i) xj[i] = Jet(x[i], i);
+  Jet aj[kNumPhysicalParameters];
+  CoefficientsOf(xj, data().gravity, aj);
+  Eigen::Matrix<double, 5, 1> v;
+  Eigen::Matrix<double, 5, kNumPhysicalParameters> dv =
+      Eigen::Matrix<double, 5, kNumPhysicalParameters>::Zero();
+  for (int j = 0; j < kNumPhysicalParameters; ++j) {
+    v[j] = aj[j].a;
+    dv.row(j) = aj[j].v.transpose();
+  }
+  v[4] = -1.0;
+  const Eigen::Matrix<double, 5, 1> rho = sqrt_gram_ * v;
+  if (!rho.allFinite()) return false;
+  Eigen::Map<Eigen::Matrix<double, 5, 1>> rho_out(residuals);
+  rho_out = rho;
+  if (jacobian != nullptr) {
+    const Eigen::Matrix<double, 5, kNumPhysicalParameters> jac =
+        sqrt_gram_ * dv;
+    if (!jac.allFinite()) return false;
+    Eigen::Map<
+        Eigen::Matrix<double, 5, kNumPhysicalParameters, Eigen::RowMajor>>
+        jac_out(jacobian);
+    jac_out = jac;
+  }
+  return true;
 }
 
 bool PaperModel::Residuals(const double* x,

@@ -32,6 +32,16 @@ class PaperModel : public Model {
   bool Cost(const double* x, double* cost) const override;
   // The same cost by the direct O(n) sum (the cross-check of the Gram path).
   bool DirectCost(const double* x, double* cost) const;
+  // Five residuals R·[a(x); −1], RᵀR = gram() (Cholesky), and their exact
+  // Jacobian: O(1) per evaluation. 0 when the Gram matrix is not positive
+  // definite (regressors without excitation), so LM falls back to the full
+  // residuals.
+  int num_compressed_residuals() const override {
+    return has_sqrt_gram_ ? 5 : 0;
+  }
+  bool CompressedResiduals(const double* x,
+                           double* residuals,
+                           double* jacobian) const override;
 
   // The n × 4 regressor matrix Φ (columns 1, −ω², ω̇, −sign(v)v²) and the 5×5
   // Gram matrix of [Φ f_x].
@@ -41,6 +51,8 @@ class PaperModel : public Model {
  private:
   std::vector<ParameterInfo> info_;
   Eigen::Matrix<double, 5, 5> gram_;
+  Eigen::Matrix<double, 5, 5> sqrt_gram_;  // upper triangular R
+  bool has_sqrt_gram_ = false;
 };
 
 // The paper model's default parameter box (also the GA's): r ∈ [0, 0.5] m,

@@ -62,6 +62,12 @@ bool Model::Cost(const double* x, double* cost) const {
   return std::isfinite(*cost);
 }
 
+bool Model::CompressedResiduals(const double* /*x*/,
+                                double* /*residuals*/,
+                                double* /*jacobian*/) const {
+  return false;  // num_compressed_residuals() is 0: callers never get here
+}
+
 Problem::Problem(std::shared_ptr<const Model> model)
     : model_(std::move(model)), counters_(std::make_shared<Counters>()) {
   CHECK(model_ != nullptr);
@@ -138,6 +144,16 @@ bool Problem::Residuals(const double* x,
     counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
   }
   return model_->Residuals(x, residuals, jacobian);
+}
+
+bool Problem::CompressedResiduals(const double* x,
+                                  double* residuals,
+                                  double* jacobian) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  if (jacobian != nullptr) {
+    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
+  }
+  return model_->CompressedResiduals(x, residuals, jacobian);
 }
 
 double Problem::CostToRmse(double cost) const {

@@ -80,6 +80,16 @@ class Model {
   // path (the paper model's O(1) Gram form) overrides it.
   virtual bool Cost(const double* x, double* cost) const;
 
+  // An equivalent least-squares problem with few residuals ρ(x): ‖ρ‖² = ‖r‖²,
+  // ρ_Jᵀρ = Jᵀr and ρ_Jᵀρ_J = JᵀJ at every x, so a Gauss–Newton or LM step
+  // on ρ is the step on r at a cost independent of n. 0 (the default) when
+  // the model has none; the paper model's is R·[a(x); −1] with RᵀR its Gram
+  // matrix. Same layout as Residuals (row-major Jacobian).
+  virtual int num_compressed_residuals() const { return 0; }
+  virtual bool CompressedResiduals(const double* x,
+                                   double* residuals,
+                                   double* jacobian) const;
+
   const ProblemData& data() const { return *data_; }
   const std::shared_ptr<const ProblemData>& shared_data() const {
     return data_;
@@ -140,6 +150,11 @@ class Problem {
   // Residuals (and Jacobian when not null). Counts one cost evaluation and,
   // with a Jacobian, one Jacobian evaluation.
   bool Residuals(const double* x, double* residuals, double* jacobian) const;
+  // Model::CompressedResiduals, counted like Residuals (it evaluates the same
+  // objective).
+  bool CompressedResiduals(const double* x,
+                           double* residuals,
+                           double* jacobian) const;
 
   // The paper's OF (RMSE, m/s²) for a cost: sqrt(2·cost / n).
   double CostToRmse(double cost) const;

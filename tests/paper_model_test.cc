@@ -3,7 +3,9 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <vector>
 
+#include "Eigen/Core"
 #include "ceres/jet.h"
 #include "gtest/gtest.h"
 #include "src/imu_model.h"
@@ -54,6 +56,71 @@ TEST(PaperModel, GramCostEqualsDirectCost) {
     ASSERT_TRUE(model.DirectCost(x, &direct));
     EXPECT_NEAR(gram, direct, kGramRelTol * direct) << "trial " << trial;
   }
+}
+
+// The compressed residuals ρ = R[a; −1] against the full ones at random
+// points: ‖ρ‖² = Σr², ρ_Jᵀρ = Jᵀr and ρ_Jᵀρ_J = JᵀJ. Both sides are sums of
+// the same n products in a different order (Cholesky adds a backward error of
+// a few eps·‖G‖), so they agree to the Gram tolerance, measured against the
+// largest term of each quantity.
+TEST(PaperModel, CompressedResidualsHaveTheFullNormGradientAndGaussNewton) {
+  PaperModel model(MakeData(17500, 0.3));
+  ASSERT_EQ(model.num_compressed_residuals(), 5);
+  const int n = model.num_residuals();
+  std::vector<double> r(static_cast<std::size_t>(n));
+  std::vector<double> jr(static_cast<std::size_t>(n) * 4);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> ur(0, 0.5), beta(-180, 180),
+      alpha(-15, 15), mu(0, 1);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>;
+  for (int trial = 0; trial < 50; ++trial) {
+    SCOPED_TRACE(trial);
+    const double x[4] = {ur(rng), beta(rng), alpha(rng), mu(rng)};
+    ASSERT_TRUE(model.Residuals(x, r.data(), jr.data()));
+    double rho[5], jrho[20];
+    ASSERT_TRUE(model.CompressedResiduals(x, rho, jrho));
+    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), n);
+    const Eigen::Map<const RowMajor> jv(jr.data(), n, 4);
+    const Eigen::Map<const Eigen::Matrix<double, 5, 1>> rhov(rho);
+    const Eigen::Map<const Eigen::Matrix<double, 5, 4, Eigen::RowMajor>> jrhov(
+        jrho);
+    const double sum_sq = rv.squaredNorm();
+    EXPECT_NEAR(rhov.squaredNorm(), sum_sq, kGramRelTol * sum_sq);
+    const Eigen::Vector4d g_full = jv.transpose() * rv;
+    const Eigen::Vector4d g_comp = jrhov.transpose() * rhov;
+    // Scale: Σ|J_ki r_k| bounds the terms of each gradient entry.
+    const Eigen::Vector4d g_scale = jv.cwiseAbs().transpose() * rv.cwiseAbs();
+    for (int i = 0; i < 4; ++i) {
+      EXPECT_NEAR(g_comp[i], g_full[i], kGramRelTol * g_scale[i]) << i;
+    }
+    const Eigen::Matrix4d h_full = jv.transpose() * jv;
+    const Eigen::Matrix4d h_comp = jrhov.transpose() * jrhov;
+    for (int i = 0; i < 4; ++i) {
+      for (int j = 0; j < 4; ++j) {
+        const double scale = std::sqrt(h_full(i, i) * h_full(j, j));
+        EXPECT_NEAR(h_comp(i, j), h_full(i, j), kGramRelTol * scale);
+      }
+    }
+  }
+}
+
+// Without excitation the Gram matrix is singular (ω = ω̇ = v = 0 make three
+// regressors zero): no compressed form, so LM keeps the full residuals.
+TEST(PaperModel, NoCompressedResidualsWithoutExcitation) {
+  auto d = std::make_shared<ProblemData>();
+  for (int k = 0; k < 100; ++k) {
+    d->t_s.push_back(0.01 * k);
+    d->omega.push_back(0.0);
+    d->omega_dot.push_back(0.0);
+    d->theta.push_back(0.0);
+    d->v.push_back(0.0);
+    d->f_x.push_back(0.1 + 0.01 * std::sin(0.3 * k));
+  }
+  PaperModel model(d);
+  EXPECT_EQ(model.num_compressed_residuals(), 0);
+  double rho[5];
+  const double x[4] = {0.1, 10.0, 1.0, 0.1};
+  EXPECT_FALSE(model.CompressedResiduals(x, rho, nullptr));
 }
 
 TEST(PaperModel, JacobianMatchesJetsOfEquation9AndFiniteDifferences) {
