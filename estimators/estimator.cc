@@ -202,12 +202,18 @@ StatusOr<EstimateResult> Estimator::Estimate(
   result.wall_time_s = std::chrono::duration<double>(stop - start).count();
   result.cost_evaluations = problem.cost_evaluations() - cost_before;
   result.jacobian_evaluations = problem.jacobian_evaluations() - jac_before;
-  if (result.IsUsable()) FinalizeResult(problem, &result);
+  if (result.IsUsable()) FinalizeResult(problem, options.covariance, &result);
   VLOG(1) << result.BriefReport();
   return result;
 }
 
 void FinalizeResult(const Problem& problem, EstimateResult* result) {
+  FinalizeResult(problem, EstimatorOptions().covariance, result);
+}
+
+void FinalizeResult(const Problem& problem,
+                    CovarianceType covariance,
+                    EstimateResult* result) {
   CHECK(result != nullptr);
   const Model& model = problem.model();
   const int p = model.num_parameters();
@@ -247,18 +253,23 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
     result->condition_number = std::numeric_limits<double>::infinity();
   }
 
-  // Standard errors σ̂²(JᵀJ)⁻¹, σ̂² = Σr²/(n − p).
+  // Standard errors from the chosen covariance (src/covariance.h).
+  result->details.emplace_back("covariance",
+                               CovarianceTypeToString(covariance));
   if (n > p && std::isfinite(result->condition_number)) {
-    const double sigma2 = sum_sq / (n - p);
-    Eigen::LDLT<Eigen::MatrixXd> ldlt(jtj);
-    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-      const Eigen::MatrixXd cov =
-          sigma2 * ldlt.solve(Eigen::MatrixXd::Identity(p, p));
-      for (int i = 0; i < p; ++i) {
-        result->standard_errors[i] =
-            cov(i, i) >= 0.0 ? std::sqrt(cov(i, i))
-                             : std::numeric_limits<double>::quiet_NaN();
+    CovarianceOptions cov_options;
+    cov_options.type = covariance;
+    StatusOr<ParameterCovariance> cov =
+        EstimateCovariance(jac, residuals, cov_options);
+    if (cov.ok()) {
+      result->standard_errors = cov->standard_errors;
+      result->covariance = cov->matrix;
+      if (covariance == CovarianceType::kHac) {
+        result->details.emplace_back("covariance_bandwidth",
+                                     std::to_string(cov->bandwidth));
       }
+    } else {
+      VLOG(1) << "no standard errors: " << cov.status().message();
     }
   }
 
@@ -299,8 +310,10 @@ void FinalizeResult(const Problem& problem, EstimateResult* result) {
       se_beta > kMaxStderrBetaDeg) {
     std::ostringstream msg;
     msg << "r and beta are not identifiable from this log (1-sigma: r +/- "
-        << se_r << " m, beta +/- " << se_beta
-        << " deg): the segment lacks pitch-rate excitation";
+        << se_r << " m, beta +/- " << se_beta << " deg, "
+        << CovarianceTypeToString(covariance)
+        << "): the segment does not excite the lever-arm terms enough for "
+           "the noise and model error in the residuals";
     result->warnings.push_back({"not_identifiable", msg.str()});
   }
   if (result->termination != Termination::kConverged) {

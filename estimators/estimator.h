@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "src/covariance.h"
 #include "src/problem.h"
 #include "src/status.h"
 
@@ -57,9 +58,16 @@ struct EstimateResult {
 
   // The model's full parameter vector (r m, β deg, α deg, μ 1/m, nuisance...).
   Eigen::VectorXd parameters;
-  // 1σ standard errors from σ̂²(JᵀJ)⁻¹ at the solution, σ̂² = Σr²/(n − p);
-  // NaN where JᵀJ is singular.
+  // 1σ standard errors at the solution from the covariance chosen by
+  // EstimatorOptions::covariance: by default the Newey–West (HAC) sandwich,
+  // which allows for residuals correlated in time; with kWhite σ̂²(JᵀJ)⁻¹,
+  // σ̂² = Σr²/(n − p). NaN where JᵀJ is singular. `details` records the kind
+  // ("covariance": "hac"|"white") and, for hac, the Bartlett bandwidth in
+  // samples ("covariance_bandwidth").
   Eigen::VectorXd standard_errors;
+  // The full p × p covariance the standard errors come from (empty when there
+  // are none), for quantities that combine parameters (the PX4 position).
+  Eigen::MatrixXd covariance;
   std::vector<std::string> parameter_names;
 
   double initial_cost = -1.0;  // ½Σr² at the start (-1: not applicable)
@@ -149,6 +157,11 @@ struct EstimatorOptions {
   std::int64_t max_evaluations = -1;  // -1: no limit
   bool record_trace = true;
   int verbosity = 0;  // 0 silent, 1 per-run VLOG, 2 per-iteration VLOG
+  // How standard errors are computed (src/covariance.h). kHac by default: the
+  // residuals are low-pass filtered and carry model error correlated over
+  // seconds, which σ̂²(JᵀJ)⁻¹ (kWhite) ignores and so understates the
+  // uncertainty several times over.
+  CovarianceType covariance = CovarianceType::kHac;
   GaOptions ga;
   LmOptions lm;
   HybridOptions hybrid;
@@ -192,10 +205,14 @@ class Estimator {
                        EstimateResult* result) const = 0;
 };
 
-// Computes final_cost, rmse, standard_errors, condition_number and the common
-// warnings for result->parameters. Called by Estimator::Estimate; exposed for
-// tests and for callers that build results by hand. Does not count
-// evaluations.
+// Computes final_cost, rmse, standard_errors (of the given covariance type),
+// condition_number and the common warnings for result->parameters. Called by
+// Estimator::Estimate with EstimatorOptions::covariance; exposed for tests and
+// for callers that build results by hand. Does not count evaluations.
+void FinalizeResult(const Problem& problem,
+                    CovarianceType covariance,
+                    EstimateResult* result);
+// The same with the default covariance type (kHac).
 void FinalizeResult(const Problem& problem, EstimateResult* result);
 
 }  // namespace imusysid

@@ -47,6 +47,7 @@ DECLARE_int32(threads);
 DECLARE_int32(ga_population);
 DECLARE_int32(ga_max_generations);
 DECLARE_int32(lm_max_iterations);
+DECLARE_string(covariance);
 
 namespace imusysid {
 namespace cli {
@@ -88,6 +89,12 @@ int Run(const std::vector<std::string>& positional) {
   config.options.ga.population_size = FLAGS_ga_population;
   config.options.ga.max_generations = FLAGS_ga_max_generations;
   config.options.lm.max_iterations = FLAGS_lm_max_iterations;
+  StatusOr<CovarianceType> covariance =
+      CovarianceTypeFromString(FLAGS_covariance);
+  if (!covariance.ok()) {
+    return ReportError(cmd, covariance.status().WithPrefix("--covariance"));
+  }
+  config.options.covariance = *covariance;
   if (FLAGS_out.empty() || !FLAGS_figures) config.scaling_sizes.clear();
   config.progress = [](const std::string& line) {
     std::cerr << line << std::endl;
@@ -185,6 +192,7 @@ const Command& BenchCommand() {
        "ga_population",
        "ga_max_generations",
        "lm_max_iterations",
+       "covariance",
        "figures",
        "scaling",
        "out",

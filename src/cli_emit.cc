@@ -37,28 +37,15 @@ std::string General(double value, int digits) {
   return buffer;
 }
 
-// The (r, β) block of σ̂²(JᵀJ)⁻¹ at the solution, β in degrees. Falls back
-// to the result's own standard errors (no correlation) if J cannot be had.
-Eigen::Matrix2d PositionCovariance(const Problem& problem,
-                                   const EstimateResult& result) {
+// The (r, β) block of the fit's covariance (the kind its standard errors
+// use), β in degrees. Falls back to the standard errors without correlation
+// when the result carries no covariance matrix.
+Eigen::Matrix2d PositionCovariance(const EstimateResult& result) {
   Eigen::Matrix2d diagonal = Eigen::Matrix2d::Zero();
   diagonal(0, 0) = std::pow(result.standard_errors[kR], 2);
   diagonal(1, 1) = std::pow(result.standard_errors[kBeta], 2);
-  const Model& model = problem.model();
-  const int p = model.num_parameters();
-  const int n = model.num_residuals();
-  if (n <= p || result.parameters.size() != p) return diagonal;
-  Eigen::VectorXd residuals(n);
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(n,
-                                                                             p);
-  if (!model.Residuals(result.parameters.data(), residuals.data(), jac.data()))
-    return diagonal;
-  const Eigen::MatrixXd jtj = jac.transpose() * jac;
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(jtj);
-  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return diagonal;
-  const double sigma2 = residuals.squaredNorm() / (n - p);
-  const Eigen::MatrixXd cov =
-      sigma2 * ldlt.solve(Eigen::MatrixXd::Identity(p, p));
+  const Eigen::MatrixXd& cov = result.covariance;
+  if (cov.rows() <= kBeta || cov.cols() <= kBeta) return diagonal;
   Eigen::Matrix2d block;
   block << cov(kR, kR), cov(kR, kBeta), cov(kBeta, kR), cov(kBeta, kBeta);
   if (!block.allFinite()) return diagonal;
@@ -88,7 +75,6 @@ const char* EmitFormatToString(EmitFormat format) {
 }
 
 StatusOr<AutopilotParameters> ToAutopilotParameters(
-    const Problem& problem,
     const EstimateResult& result,
     EmitFormat format,
     const std::string& plane,
@@ -135,7 +121,7 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
     const double h = r * std::cos(b);
     const double z = -r * std::sin(b);
     // First-order propagation with the (r, β[deg]) covariance.
-    const Eigen::Matrix2d cov = PositionCovariance(problem, result);
+    const Eigen::Matrix2d cov = PositionCovariance(result);
     const Eigen::Vector2d dh(std::cos(b), -r * std::sin(b) * kDegToRad);
     const Eigen::Vector2d dz(-std::sin(b), -r * std::cos(b) * kDegToRad);
     const double var_h = dh.dot(cov * dh);

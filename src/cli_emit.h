@@ -51,13 +51,13 @@ struct AutopilotParameters {
   std::string snippet;
 };
 
-// Restates `result` (a fit of `problem` in plane "pitch" or "roll") for
-// `format`. The position's standard errors come from the (r, β) block of
-// σ̂²(JᵀJ)⁻¹ recomputed at the solution, so their correlation is kept.
+// Restates `result` (a fit in plane "pitch" or "roll") for `format`. The
+// position's standard errors come from the (r, β) block of the fit's
+// covariance (result.covariance, the kind its standard errors use), so their
+// correlation is kept.
 // FailedPrecondition for kNone or an unusable result. `imu_instance` picks
 // ArduPilot's INS_POS1/2/3; `source` names the log in the file's comments.
 StatusOr<AutopilotParameters> ToAutopilotParameters(
-    const Problem& problem,
     const EstimateResult& result,
     EmitFormat format,
     const std::string& plane,

@@ -52,6 +52,12 @@ DEFINE_int32(lm_max_iterations, 200, "Levenberg-Marquardt iteration limit.");
 DEFINE_int32(hybrid_period, 10, "hybrid: LM refinement every N generations.");
 DEFINE_int32(hybrid_lm_iterations, 5, "hybrid: LM iterations per refinement.");
 DEFINE_double(max_time_s, 0, "Wall-time limit per estimator, s; 0: none.");
+DEFINE_string(covariance,
+              "hac",
+              "Standard errors: hac (Newey-West sandwich with a Bartlett "
+              "kernel and automatic bandwidth; allows for the correlated, "
+              "filtered residuals) or white (s^2 (J^T J)^-1, assumes white "
+              "residuals and understates the uncertainty on real data).");
 DEFINE_bool(use_measured_fz,
             false,
             "consistent model: integrate velocity with the measured z "
@@ -144,6 +150,10 @@ StatusOr<EstimatorOptions> OptionsFromFlags() {
   o.lm.max_iterations = FLAGS_lm_max_iterations;
   o.hybrid.period_generations = FLAGS_hybrid_period;
   o.hybrid.lm_iterations = FLAGS_hybrid_lm_iterations;
+  StatusOr<CovarianceType> covariance =
+      CovarianceTypeFromString(FLAGS_covariance);
+  if (!covariance.ok()) return covariance.status().WithPrefix("--covariance");
+  o.covariance = *covariance;
   IMUSYSID_RETURN_IF_ERROR(o.Validate());
   return o;
 }
@@ -200,8 +210,7 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
 // --emit: the autopilot's terms for every result, in the JSON (an "emit"
 // object per fit) or after the table; --emit_out gets the file of the
 // lowest-OF usable result.
-Status AddEmit(const Problem& problem,
-               const std::vector<EstimateResult>& results,
+Status AddEmit(const std::vector<EstimateResult>& results,
                EmitFormat format,
                const FitContext& context,
                std::string* text) {
@@ -210,7 +219,7 @@ Status AddEmit(const Problem& problem,
   int best = -1;
   for (std::size_t i = 0; i < results.size(); ++i) {
     StatusOr<AutopilotParameters> p = ToAutopilotParameters(
-        problem, results[i], format, context.plane, FLAGS_imu, context.log);
+        results[i], format, context.plane, FLAGS_imu, context.log);
     if (!p.ok()) continue;  // an unusable fit: nothing to restate
     emitted[i] = std::move(p).value();
     have[i] = true;
@@ -374,7 +383,7 @@ int Run(const std::vector<std::string>& positional) {
     text = ResultsToTable(results, context);
   }
   if (emit_format != EmitFormat::kNone) {
-    s = AddEmit(problem, results, emit_format, context, &text);
+    s = AddEmit(results, emit_format, context, &text);
     if (!s.ok()) return ReportError(cmd, s);
   }
   s = EmitOutput(text, FLAGS_out);
@@ -416,10 +425,12 @@ const Command& FitCommand() {
       "p = r(cos beta, sin beta)\nin the FLU body x-z plane; alpha (deg) tilts "
       "the sensor x axis toward +z; mu (1/m) is the\nquadratic drag per unit "
       "mass. OF is the paper's RMSE of the x specific force (m/s^2).\nStandard "
-      "errors are 1-sigma from s^2 (J^T J)^-1. r and beta are withheld (null) "
-      "when the\nlog cannot determine them. --problem fits a problem CSV "
-      "(export-problem, docs/problem-files.md)\nas it is, with the paper "
-      "model (the default there); consistent needs the raw log.",
+      "errors are 1-sigma, by default from a Newey-West (HAC) sandwich that\n"
+      "allows for correlated residuals (--covariance=white: s^2 (J^T J)^-1).\n"
+      "r and beta are withheld (null) when the log cannot determine them. "
+      "--problem fits a\nproblem CSV (export-problem, docs/problem-files.md) "
+      "as it is, with the paper model (the\ndefault there); consistent needs "
+      "the raw log.",
       {"log",
        "problem",
        "model",
@@ -446,6 +457,7 @@ const Command& FitCommand() {
        "hybrid_period",
        "hybrid_lm_iterations",
        "max_time_s",
+       "covariance",
        "use_measured_fz",
        "plot",
        "trace",

@@ -1,6 +1,7 @@
 #include "src/cli_results.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 
@@ -22,6 +23,13 @@ std::string ParamKey(const std::string& name, const std::string& unit) {
   if (unit == "deg") return name + "_deg";
   if (unit == "deg/s") return name + "_deg_s";
   return name;
+}
+
+std::string DetailValue(const EstimateResult& result, const std::string& key) {
+  for (const auto& d : result.details) {
+    if (d.first == key) return d.second;
+  }
+  return "";
 }
 
 }  // namespace
@@ -66,6 +74,16 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
     }
   }
   j["stderr"] = se;
+  // Which covariance the standard errors come from ("hac" or "white"), and
+  // for hac the Bartlett bandwidth in samples; null when not recorded.
+  const std::string kind = DetailValue(result, "covariance");
+  const long bandwidth = std::strtol(
+      DetailValue(result, "covariance_bandwidth").c_str(), nullptr, 10);
+  j["stderr_kind"] =
+      kind.empty() ? nlohmann::ordered_json() : nlohmann::ordered_json(kind);
+  j["stderr_bandwidth_samples"] = bandwidth > 0
+                                      ? nlohmann::ordered_json(bandwidth)
+                                      : nlohmann::ordered_json();
   j["raw_parameters"] = raw;
   if (usable) {
     const ImuPositionFrd pos =
@@ -155,6 +173,19 @@ std::string ResultsToTable(const std::vector<EstimateResult>& results,
                       "evals",
                       "termination"},
                      rows);
+  if (!results.empty()) {
+    const std::string kind = DetailValue(results.front(), "covariance");
+    const std::string bandwidth =
+        DetailValue(results.front(), "covariance_bandwidth");
+    if (kind == "hac") {
+      out << "+/- is 1 sigma, Newey-West (HAC)"
+          << (bandwidth.empty() ? std::string()
+                                : ", bandwidth " + bandwidth + " samples")
+          << "\n";
+    } else if (!kind.empty()) {
+      out << "+/- is 1 sigma, " << kind << " (assumes white residuals)\n";
+    }
+  }
   for (const auto& r : results) {
     for (const auto& w : r.warnings) {
       out << "warning [" << r.estimator << "] " << w.code << ": " << w.message
