@@ -1609,7 +1609,10 @@ std::string FormatMarkdown(const BenchReport& report) {
            "parameters), σ the simulator's white accelerometer noise; it "
            "ignores vibration, bias and model error, so on the paper "
            "scenarios the ratio measures those too. coverage: fraction of "
-           "seeds with |error| ≤ 2σ̂ (expected 0.95 when σ̂ is right).\n\n";
+           "seeds with |error| ≤ 2σ̂ (expected 0.95 when σ̂ is right), σ̂ the "
+           "reported standard error ("
+        << CovarianceTypeToString(report.config.options.covariance)
+        << "; a bias the same on every seed is beyond any σ̂).\n\n";
     rows.clear();
     for (const auto& m : report.monte_carlo) {
       for (int i = 0; i < 4; ++i) {
