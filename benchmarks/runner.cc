@@ -708,13 +708,30 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
       return;
     }
     pl.truth = *truth;
-    StatusOr<FlightLog> log = ReadFlightLog(pl.path);
+    StatusOr<FlightLog> log = config.read_log && !pl.truth.known
+                                  ? config.read_log(pl.path)
+                                  : ReadFlightLog(pl.path);
     if (!log.ok()) {
       pl.status = log.status();
       return;
     }
     pl.log = std::make_shared<const FlightLog>(std::move(*log));
-    StatusOr<PreprocessResult> pre = PreprocessForBench(*pl.log, pl.truth);
+    StatusOr<PreprocessResult> pre = [&]() -> StatusOr<PreprocessResult> {
+      if (!config.preprocess_options || pl.truth.known) {
+        return PreprocessForBench(*pl.log, pl.truth);
+      }
+      std::vector<std::string> notes;
+      StatusOr<PreprocessOptions> po =
+          config.preprocess_options(*pl.log, &notes);
+      if (!po.ok()) return po.status();
+      pl.plane = PlaneToString(po->plane);
+      pl.velocity = VelocitySourceToString(po->velocity_source);
+      StatusOr<PreprocessResult> result = Preprocess(*pl.log, *po);
+      if (result.ok()) {
+        result->notes.insert(result->notes.begin(), notes.begin(), notes.end());
+      }
+      return result;
+    }();
     if (!pre.ok()) {
       pl.status = pre.status();
       return;
@@ -774,6 +791,8 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
     RunRecord& run = report.runs[j];
     run.log = pl.name;
     run.log_path = pl.path;
+    run.plane = pl.plane;
+    run.velocity = pl.velocity;
     run.model = job.model;
     run.estimator = job.estimator;
     run.seed = config.options.seed;
@@ -1021,6 +1040,8 @@ namespace {
 Json RunToJson(const RunRecord& run) {
   cli::FitContext fc;
   fc.log = run.log;
+  fc.plane = run.plane;
+  fc.velocity = run.velocity;
   fc.samples = run.samples;
   fc.seed = run.seed;
   Json j = cli::ResultToJson(run.result, fc);

@@ -104,6 +104,16 @@ struct BenchConfig {
   std::vector<std::size_t> scaling_sizes;
   double scaling_budget_s = 2.0;
   EstimatorOptions options;  // seed, GA/LM settings; GA threads set per run
+  // How a log without a truth sidecar is read and preprocessed; empty: the
+  // CSV/ULog/DataFlash reader with its defaults and Preprocess's defaults.
+  // `imusysid bench` passes fit's own --imu/--frame/--t_start/... handling,
+  // so a real log is fitted in bench as `fit` would fit it. Simulated logs
+  // (with a sidecar) always use the experiment's settings.
+  std::function<StatusOr<FlightLog>(const std::string& path)> read_log;
+  // Returns the options and appends notes (e.g. a fallback segment).
+  std::function<StatusOr<PreprocessOptions>(const FlightLog& log,
+                                            std::vector<std::string>* notes)>
+      preprocess_options;
   // Receives one progress line per finished run (may be called from worker
   // threads, serialised by the runner). May be empty.
   std::function<void(const std::string&)> progress;
@@ -122,6 +132,8 @@ struct PreparedLog {
   std::shared_ptr<const ProblemData> data;
   std::shared_ptr<const FlightLog> log;  // the raw log, for figures
   PreprocessResult preprocess;           // notes and segments (data moved)
+  std::string plane = "pitch";           // as preprocessed
+  std::string velocity = "gyro";
 };
 
 // One (log, model, estimator, seed) run, aggregated over repeats.
@@ -132,6 +144,8 @@ struct RunRecord {
   std::string estimator;
   std::uint64_t seed = 1;
   std::size_t samples = 0;
+  std::string plane = "pitch";  // of the log's preprocessing
+  std::string velocity = "gyro";
   Status status = Status::Ok();  // a run that could not start (no problem)
   EstimateResult result;         // of the first repeat
   std::vector<double> wall_ms;   // every repeat

@@ -2,6 +2,7 @@
 // paper_test2 logs, paper model, linear + lm): output files and their keys,
 // errors against the truth sidecars, the displacement table, the figures.
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "nlohmann/json.hpp"
 #include "src/displacement.h"
 #include "src/imu_model.h"
+#include "src/log_reader.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -271,6 +273,53 @@ TEST(BenchRunner, MissingSidecarMeansUnknownTruth) {
   EXPECT_TRUE(bundled->model_exact);
   EXPECT_EQ(bundled->reference_t_s,
             ReadTruth("model_exact")["instants_s"]["reference"].get<double>());
+}
+
+// A log without a sidecar goes through the caller's reader and
+// preprocessing (how `bench` fits real logs as `fit` does); a simulated log
+// keeps the experiment's. The hook's window must be the one fitted.
+TEST(BenchRunner, LogsWithoutSidecarUseTheCallersReaderAndPreprocessing) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string copy = dir + "/flight.csv";
+  {
+    std::ofstream out(copy);
+    out << ReadAll(testing::DataDir() + "/paper_test1.csv");
+  }
+  BenchConfig config = TinyConfig();
+  config.logs = {copy, testing::DataDir() + "/paper_test2.csv"};
+  config.scaling_sizes.clear();
+  std::atomic<int> reads{0};
+  std::atomic<int> preprocessed{0};
+  config.read_log = [&reads](const std::string& path) {
+    ++reads;
+    return ReadFlightLog(path);
+  };
+  config.preprocess_options =
+      [&preprocessed](
+          const FlightLog&,
+          std::vector<std::string>* notes) -> StatusOr<PreprocessOptions> {
+    ++preprocessed;
+    PreprocessOptions po;
+    po.t_start = 20.0;
+    po.t_end = 40.0;
+    notes->push_back("window from the caller");
+    return po;
+  };
+  StatusOr<BenchReport> report = RunBench(config);
+  ASSERT_TRUE(report.ok()) << report.status().message();
+  EXPECT_EQ(reads.load(), 1);  // only the copy: paper_test2 has a sidecar
+  EXPECT_EQ(preprocessed.load(), 1);
+  const RunRecord* hooked = FindRun(*report, "flight", "linear");
+  const RunRecord* simulated = FindRun(*report, "paper_test2", "linear");
+  ASSERT_NE(hooked, nullptr);
+  ASSERT_NE(simulated, nullptr);
+  ASSERT_TRUE(hooked->Usable()) << hooked->status.message();
+  // 20 s at 250 Hz (both ends included).
+  EXPECT_EQ(hooked->samples, 5001u);
+  EXPECT_GT(simulated->samples, 13000u);  // the detected maneuver, 53 s
+  const PreparedLog& pl = report->logs[0];
+  ASSERT_FALSE(pl.preprocess.notes.empty());
+  EXPECT_EQ(pl.preprocess.notes.front(), "window from the caller");
 }
 
 TEST(BenchFigures, IndexShowsEveryFigureAndEveryImageExists) {

@@ -301,6 +301,35 @@ TEST(Log171, ConvertedCsvFitsLikeTheBinaryLog) {
   }
 }
 
+// `bench --logs=` reads and preprocesses a binary log as `fit` does (the
+// whole-log gap check off, the log's velocity, the window flags): the same
+// samples and the same optimum. Both are one linear solve on the same
+// regressors, so they agree to rounding.
+TEST(Log171, BenchFitsTheBinaryLogAsFitDoes) {
+  SKIP_WITHOUT_REAL_DATA();
+  const std::string window = FlightWindow();
+  const CommandResult fit = RunCli("fit --log=" + RealLog(kLog171) + window +
+                                   " --estimator=linear --format=json");
+  const CommandResult bench =
+      RunCli("bench --logs=" + RealLog(kLog171) + window +
+             " --models=paper --estimators=linear --seeds=0 --format=json");
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  ASSERT_EQ(bench.exit_code, 0) << bench.err;
+  const nlohmann::json f = ParseJson(fit);
+  const nlohmann::json b = ParseJson(bench);
+  ASSERT_EQ(b["runs"].size(), 1u);
+  const nlohmann::json& run = b["runs"][0];
+  EXPECT_EQ(run["samples"], f["segment"]["samples"]);
+  EXPECT_EQ(run["velocity"], "log");
+  constexpr double kSamePathRelative = 1e-12;
+  for (const char* key : {"r_m", "beta_deg", "alpha_deg", "mu", "rmse"}) {
+    ASSERT_TRUE(run[key].is_number() && f[key].is_number()) << key;
+    const double x = f[key].get<double>();
+    EXPECT_NEAR(run[key].get<double>(), x, kSamePathRelative * std::abs(x))
+        << key;
+  }
+}
+
 // --- logs without flight ----------------------------------------------------
 
 struct BenchCase {
