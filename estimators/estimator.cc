@@ -239,7 +239,7 @@ void FinalizeResult(const Problem& problem,
   // Identifiability: condition number of J with unit-norm columns.
   Eigen::VectorXd col_norm = jac.colwise().norm().transpose();
   const bool has_zero_column = (col_norm.array() <= 0.0).any();
-  Eigen::MatrixXd jtj = jac.transpose() * jac;
+  Eigen::MatrixXd jtj = JacobianGram(jac);
   if (!has_zero_column) {
     const Eigen::MatrixXd scaled = col_norm.cwiseInverse().asDiagonal() * jtj *
                                    col_norm.cwiseInverse().asDiagonal();

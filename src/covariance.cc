@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "Eigen/Dense"
 
@@ -15,9 +17,6 @@ namespace {
 constexpr double kAndrewsBartlettConstant = 1.1447;
 // Automatic bandwidths are capped at n / kMaxBandwidthDivisor.
 constexpr Eigen::Index kMaxBandwidthDivisor = 4;
-// Rows of window sums gathered before one rank update of S: large enough for
-// the blocked product to run at full speed, small enough to stay in cache.
-constexpr Eigen::Index kBlockRows = 256;
 
 Status NotFiniteError(const char* what,
                       Eigen::Index row,
@@ -30,27 +29,64 @@ Status NotFiniteError(const char* what,
   return InvalidArgumentError(msg.str());
 }
 
+// Centred scores g_k = J_kᵀ r_k − ḡ, computed on the fly from the Jacobian
+// rows: storing them would be another n × p buffer, and on a virtual machine
+// faulting in a fresh buffer costs more than the arithmetic. The two passes
+// below are plain loops over a compile-time width P when p is 4 or 6 (the two
+// models), so that they unroll; P = 0 reads the width at run time.
+constexpr int kMaxWidth = 16;
+
+template <int P>
+class Scores {
+ public:
+  Scores(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+         const Eigen::Ref<const Eigen::VectorXd>& residuals,
+         const Eigen::VectorXd& mean)
+      : jacobian_(jacobian),
+        residuals_(residuals),
+        stride_(jacobian.outerStride()),
+        width_(P > 0 ? P : static_cast<int>(jacobian.cols())) {
+    for (int a = 0; a < width_; ++a) mean_[a] = mean[a];
+  }
+
+  Eigen::Index rows() const { return jacobian_.rows(); }
+  int width() const { return P > 0 ? P : width_; }
+  // out[a] = g_k[a] for a = 0..width()−1.
+  void Row(Eigen::Index k, double* out) const {
+    const double* j = jacobian_.data() + k * stride_;
+    const double r = residuals_[k];
+    for (int a = 0; a < width(); ++a) out[a] = j[a] * r - mean_[a];
+  }
+
+ private:
+  const Eigen::Ref<const RowMajorMatrixXd>& jacobian_;
+  const Eigen::Ref<const Eigen::VectorXd>& residuals_;
+  const Eigen::Index stride_;
+  const int width_;
+  double mean_[kMaxWidth] = {};
+};
+
 // Andrews' α̂(1) averaged over the score components (see the header), from
 // the lag-1 least-squares AR coefficient of each centred component.
-double AndrewsAlpha(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
-                    const Eigen::Ref<const Eigen::VectorXd>& residuals,
-                    const Eigen::VectorXd& mean_score) {
-  const Eigen::Index n = jacobian.rows();
-  const Eigen::Index p = jacobian.cols();
-  Eigen::VectorXd cross = Eigen::VectorXd::Zero(p);
-  Eigen::VectorXd lagged_sq = Eigen::VectorXd::Zero(p);
-  Eigen::VectorXd previous = jacobian.row(0).transpose() * residuals[0];
-  previous -= mean_score;
-  Eigen::VectorXd current(p);
+template <int P>
+double AndrewsAlpha(const Scores<P>& g) {
+  const Eigen::Index n = g.rows();
+  const int p = g.width();
+  if (n < 2) return 0.0;
+  double cross[kMaxWidth] = {}, lagged_sq[kMaxWidth] = {};
+  double previous[kMaxWidth], current[kMaxWidth];
+  g.Row(0, previous);
   for (Eigen::Index k = 1; k < n; ++k) {
-    current = jacobian.row(k).transpose() * residuals[k] - mean_score;
-    cross += current.cwiseProduct(previous);
-    lagged_sq += previous.cwiseAbs2();
-    previous = current;
+    g.Row(k, current);
+    for (int a = 0; a < p; ++a) {
+      cross[a] += current[a] * previous[a];
+      lagged_sq[a] += previous[a] * previous[a];
+      previous[a] = current[a];
+    }
   }
   double sum = 0.0;
   int used = 0;
-  for (Eigen::Index a = 0; a < p; ++a) {
+  for (int a = 0; a < p; ++a) {
     if (!(lagged_sq[a] > 0.0)) continue;  // a score that is identically zero
     const double rho = cross[a] / lagged_sq[a];
     const double one_minus_rho2 = 1.0 - rho * rho;
@@ -66,41 +102,116 @@ double AndrewsAlpha(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
 
 // S = Σ_{|j|<b} (1 − |j|/b) Σ_k g_k g_{k+j}ᵀ through zero-padded window sums
 // (the identity is explained in the header).
-Eigen::MatrixXd BartlettLongRunCovariance(
-    const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
-    const Eigen::Ref<const Eigen::VectorXd>& residuals,
-    const Eigen::VectorXd& mean_score,
-    Eigen::Index bandwidth) {
-  const Eigen::Index n = jacobian.rows();
-  const Eigen::Index p = jacobian.cols();
-  Eigen::MatrixXd lower = Eigen::MatrixXd::Zero(p, p);
-  RowMajorMatrixXd block(kBlockRows, p);
-  Eigen::VectorXd window = Eigen::VectorXd::Zero(p);
-  Eigen::Index filled = 0;
+template <int P>
+Eigen::MatrixXd BartlettLongRunCovariance(const Scores<P>& g,
+                                          Eigen::Index bandwidth) {
+  const Eigen::Index n = g.rows();
+  const int p = g.width();
+  // Σ_t W_t W_tᵀ accumulated directly: with p ≤ 6 the products per window
+  // are cheaper than any blocked update.
+  double sum[kMaxWidth][kMaxWidth] = {};
+  double window[kMaxWidth] = {};
+  double row[kMaxWidth];
   // Window t covers samples t .. t + b − 1, for t = −(b − 1) .. n − 1.
   for (Eigen::Index t = 1 - bandwidth; t < n; ++t) {
     const Eigen::Index entering = t + bandwidth - 1;
     if (entering < n) {
-      window +=
-          jacobian.row(entering).transpose() * residuals[entering] - mean_score;
+      g.Row(entering, row);
+      for (int a = 0; a < p; ++a) window[a] += row[a];
     }
     const Eigen::Index leaving = t - 1;
     if (leaving >= 0) {
-      window -=
-          jacobian.row(leaving).transpose() * residuals[leaving] - mean_score;
+      g.Row(leaving, row);
+      for (int a = 0; a < p; ++a) window[a] -= row[a];
     }
-    block.row(filled++) = window.transpose();
-    if (filled == kBlockRows) {
-      lower.selfadjointView<Eigen::Lower>().rankUpdate(block.transpose());
-      filled = 0;
+    for (int a = 0; a < p; ++a) {
+      for (int c = 0; c < p; ++c) sum[a][c] += window[a] * window[c];
     }
   }
-  if (filled > 0) {
-    lower.selfadjointView<Eigen::Lower>().rankUpdate(
-        block.topRows(filled).transpose());
+  Eigen::MatrixXd s(p, p);
+  for (int a = 0; a < p; ++a) {
+    for (int c = 0; c < p; ++c) s(a, c) = sum[a][c];
   }
-  Eigen::MatrixXd s = lower.selfadjointView<Eigen::Lower>();
   return s / static_cast<double>(bandwidth);
+}
+
+template <int P>
+double AlphaFor(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+                const Eigen::Ref<const Eigen::VectorXd>& residuals,
+                const Eigen::VectorXd& mean) {
+  return AndrewsAlpha(Scores<P>(jacobian, residuals, mean));
+}
+
+template <int P>
+Eigen::MatrixXd MeatFor(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+                        const Eigen::Ref<const Eigen::VectorXd>& residuals,
+                        const Eigen::VectorXd& mean,
+                        Eigen::Index bandwidth) {
+  return BartlettLongRunCovariance(Scores<P>(jacobian, residuals, mean),
+                                   bandwidth);
+}
+
+// JᵀJ by rows, with the same compile-time widths (Eigen's general product
+// packs and blocks, which costs more than it saves for p ≤ 6).
+template <int P>
+Eigen::MatrixXd GramFor(const Eigen::Ref<const RowMajorMatrixXd>& jacobian) {
+  const int p = P > 0 ? P : static_cast<int>(jacobian.cols());
+  const Eigen::Index stride = jacobian.outerStride();
+  double sum[kMaxWidth][kMaxWidth] = {};
+  for (Eigen::Index k = 0; k < jacobian.rows(); ++k) {
+    const double* j = jacobian.data() + k * stride;
+    for (int a = 0; a < p; ++a) {
+      for (int c = 0; c < p; ++c) sum[a][c] += j[a] * j[c];
+    }
+  }
+  Eigen::MatrixXd out(p, p);
+  for (int a = 0; a < p; ++a) {
+    for (int c = 0; c < p; ++c) out(a, c) = sum[a][c];
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::MatrixXd JacobianGram(
+    const Eigen::Ref<const RowMajorMatrixXd>& jacobian) {
+  switch (jacobian.cols()) {
+    case 4:
+      return GramFor<4>(jacobian);
+    case 6:
+      return GramFor<6>(jacobian);
+    default:
+      return jacobian.transpose() * jacobian;
+  }
+}
+
+namespace {
+
+double Alpha(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+             const Eigen::Ref<const Eigen::VectorXd>& residuals,
+             const Eigen::VectorXd& mean) {
+  switch (jacobian.cols()) {
+    case 4:
+      return AlphaFor<4>(jacobian, residuals, mean);
+    case 6:
+      return AlphaFor<6>(jacobian, residuals, mean);
+    default:
+      return AlphaFor<0>(jacobian, residuals, mean);
+  }
+}
+
+Eigen::MatrixXd Meat(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+                     const Eigen::Ref<const Eigen::VectorXd>& residuals,
+                     const Eigen::VectorXd& mean,
+                     Eigen::Index bandwidth) {
+  switch (jacobian.cols()) {
+    case 4:
+      return MeatFor<4>(jacobian, residuals, mean, bandwidth);
+    case 6:
+      return MeatFor<6>(jacobian, residuals, mean, bandwidth);
+    default:
+      return MeatFor<0>(jacobian, residuals, mean, bandwidth);
+  }
 }
 
 }  // namespace
@@ -132,6 +243,11 @@ StatusOr<ParameterCovariance> EstimateCovariance(
     return InvalidArgumentError(
         "EstimateCovariance: the Jacobian has no "
         "columns (no parameters)");
+  }
+  if (options.type == CovarianceType::kHac && p > kMaxWidth) {
+    return InvalidArgumentError("EstimateCovariance: hac supports at most " +
+                                std::to_string(kMaxWidth) +
+                                " parameters, not " + std::to_string(p));
   }
   if (residuals.size() != n) {
     std::ostringstream msg;
@@ -168,7 +284,7 @@ StatusOr<ParameterCovariance> EstimateCovariance(
     }
   }
 
-  const Eigen::MatrixXd jtj = jacobian.transpose() * jacobian;
+  const Eigen::MatrixXd jtj = JacobianGram(jacobian);
   Eigen::LDLT<Eigen::MatrixXd> ldlt(jtj);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
       !(ldlt.vectorD().minCoeff() > 0.0)) {
@@ -189,7 +305,7 @@ StatusOr<ParameterCovariance> EstimateCovariance(
         jacobian.transpose() * residuals / static_cast<double>(n);
     Eigen::Index bandwidth = options.bandwidth;
     if (bandwidth == 0) {
-      const double alpha = AndrewsAlpha(jacobian, residuals, mean_score);
+      const double alpha = Alpha(jacobian, residuals, mean_score);
       out.plug_in_bandwidth =
           kAndrewsBartlettConstant * std::cbrt(alpha * static_cast<double>(n));
       const Eigen::Index cap =
@@ -205,7 +321,7 @@ StatusOr<ParameterCovariance> EstimateCovariance(
     }
     out.bandwidth = static_cast<int>(bandwidth);
     const Eigen::MatrixXd meat =
-        BartlettLongRunCovariance(jacobian, residuals, mean_score, bandwidth);
+        Meat(jacobian, residuals, mean_score, bandwidth);
     out.matrix = (static_cast<double>(n) / dof) * bread * meat * bread;
   }
   // Exact symmetry, so that callers may take Cholesky factors of it.

@@ -51,6 +51,11 @@ struct ParameterCovariance {
 using RowMajorMatrixXd =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+// JᵀJ of a row-major n × p Jacobian; unrolled for the models' widths (4 and
+// 6), where it is about twice as fast as the general product.
+Eigen::MatrixXd JacobianGram(
+    const Eigen::Ref<const RowMajorMatrixXd>& jacobian);
+
 // Covariance of the least-squares estimate from the n × p Jacobian of the
 // residuals and the n residuals at the solution, rows in time order.
 //

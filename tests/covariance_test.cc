@@ -381,5 +381,25 @@ TEST(Covariance, FinalizeResultRecordsTheKindAndAgreesOnWhiteNoise) {
   EXPECT_FALSE(white.HasWarning("not_identifiable"));
 }
 
+// The unrolled widths (4, 6) and the general one (3) give JᵀJ: the same
+// products summed in another order, so equal to a few ulps of the diagonal.
+TEST(Covariance, JacobianGramEqualsTheProductForEveryWidth) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  for (int p : {3, 4, 6}) {
+    SCOPED_TRACE(p);
+    RowMajorMatrixXd j(1000, p);
+    for (Eigen::Index k = 0; k < j.rows(); ++k) {
+      for (int a = 0; a < p; ++a) j(k, a) = normal(rng) + a;
+    }
+    const Eigen::MatrixXd expected = j.transpose() * j;
+    const Eigen::MatrixXd gram = JacobianGram(j);
+    ASSERT_EQ(gram.rows(), p);
+    ASSERT_EQ(gram.cols(), p);
+    const double scale = expected.diagonal().maxCoeff();
+    EXPECT_LE((gram - expected).cwiseAbs().maxCoeff(), 1e-13 * scale);
+  }
+}
+
 }  // namespace
 }  // namespace imusysid
