@@ -136,23 +136,24 @@ double Problem::Cost(const double* x) const {
   return cost;
 }
 
+void Problem::CountEvaluation(bool with_jacobian) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  if (with_jacobian) {
+    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
 bool Problem::Residuals(const double* x,
                         double* residuals,
                         double* jacobian) const {
-  counters_->cost.fetch_add(1, std::memory_order_relaxed);
-  if (jacobian != nullptr) {
-    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
-  }
+  CountEvaluation(jacobian != nullptr);
   return model_->Residuals(x, residuals, jacobian);
 }
 
 bool Problem::CompressedResiduals(const double* x,
                                   double* residuals,
                                   double* jacobian) const {
-  counters_->cost.fetch_add(1, std::memory_order_relaxed);
-  if (jacobian != nullptr) {
-    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
-  }
+  CountEvaluation(jacobian != nullptr);
   return model_->CompressedResiduals(x, residuals, jacobian);
 }
 

@@ -170,6 +170,9 @@ class Problem {
     std::atomic<std::int64_t> jacobian{0};
   };
 
+  // One cost evaluation, and one Jacobian evaluation when asked.
+  void CountEvaluation(bool with_jacobian) const;
+
   std::shared_ptr<const Model> model_;
   Eigen::VectorXd lower_;
   Eigen::VectorXd upper_;
