@@ -14,38 +14,10 @@
 namespace imusysid {
 namespace {
 
-// Rows folded into the running triangular factor per Householder QR. Large
-// enough that the per-block overhead vanishes, small enough to stay in L2.
-constexpr Eigen::Index kBlockRows = 2048;
-
 std::string FormatNumber(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.6g", value);
   return buffer;
-}
-
-// The 5 × 5 upper-triangular factor R of [Φ y] (Φ n × 4), so that
-// ‖Φa − y‖² = ‖R₁₁a − z‖² + R₄₄², with z = R(0:4, 4). Householder QR in
-// blocks (TSQR): each block is stacked under the current R and refactored,
-// which is as stable as one QR of the whole matrix and needs O(block) memory.
-Eigen::Matrix<double, 5, 5> TriangularFactor(const Eigen::MatrixXd& phi,
-                                             const std::vector<double>& y) {
-  const Eigen::Index n = phi.rows();
-  Eigen::Matrix<double, 5, 5> r = Eigen::Matrix<double, 5, 5>::Zero();
-  Eigen::MatrixXd stack(std::min(n, kBlockRows) + 5, 5);
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr;
-  for (Eigen::Index start = 0; start < n; start += kBlockRows) {
-    const Eigen::Index m = std::min(kBlockRows, n - start);
-    if (stack.rows() != m + 5) stack.resize(m + 5, 5);
-    stack.topRows<5>() = r;
-    stack.block(5, 0, m, 4) = phi.middleRows(start, m);
-    for (Eigen::Index k = 0; k < m; ++k) {
-      stack(5 + k, 4) = y[static_cast<std::size_t>(start + k)];
-    }
-    qr.compute(stack);
-    r = qr.matrixQR().topRows<5>().triangularView<Eigen::Upper>();
-  }
-  return r;
 }
 
 }  // namespace
@@ -69,8 +41,7 @@ Status LinearEstimator::Solve(const Problem& problem,
   result->parameters = Eigen::VectorXd::Constant(problem.num_parameters(), nan);
   result->iterations = 1;
 
-  const Eigen::Matrix<double, 5, 5> r_aug =
-      TriangularFactor(model->Regressors(), data.f_x);
+  const Eigen::Matrix<double, 5, 5> r_aug = model->TriangularFactor();
   const Eigen::Matrix4d r = r_aug.topLeftCorner<4, 4>();
   const Eigen::Vector4d z = r_aug.block<4, 1>(0, 4);
 

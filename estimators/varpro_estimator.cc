@@ -332,14 +332,17 @@ Status SolvePaper(const Problem& problem,
         << kNumPhysicalParameters << " samples, got " << d.size();
     return FailedPreconditionError(msg.str());
   }
-  const Eigen::MatrixXd phi = model->Regressors();
-  const Eigen::VectorXd y = Eigen::Map<const Eigen::VectorXd>(
-      d.f_x.data(), static_cast<Eigen::Index>(d.size()));
-  Eigen::Vector4d a = ScaledLeastSquares(phi, y);
+  // Φ = Q R₁₁ with Q orthonormal, so min ‖Φa − y‖ is min ‖R₁₁a − z‖, and
+  // dropping a column of Φ drops the same column of R₁₁: the scaled solves
+  // run on 4 × 4 instead of n × 4 (column norms are those of Φ).
+  const Eigen::Matrix<double, 5, 5> r = model->TriangularFactor();
+  const Eigen::MatrixXd r11 = r.topLeftCorner<4, 4>();
+  const Eigen::VectorXd z = r.block<4, 1>(0, 4);
+  Eigen::Vector4d a = ScaledLeastSquares(r11, z);
   bool mu_constrained = false;
   if (options.linear.enforce_nonnegative_mu && a[3] < 0.0) {
     // One bound: when the free optimum violates it the KKT point lies on it.
-    a.head<3>() = ScaledLeastSquares(phi.leftCols(3), y);
+    a.head<3>() = ScaledLeastSquares(r11.leftCols(3), z);
     a[3] = 0.0;
     mu_constrained = true;
   }

@@ -47,7 +47,8 @@ namespace imusysid {
 //   kFailure with warning a1_exceeds_g.
 //
 // Model "paper": a = least squares of f_x on [1, −ω², ω̇, −sign(v)v²]
-// (PaperModel::Regressors(), column-scaled pivoted QR); if
+// (column-scaled pivoted QR of the 4 × 4 factor R₁₁ of
+// PaperModel::TriangularFactor(), which has Φ's least-squares solution); if
 // options.linear.enforce_nonnegative_mu and a4 < 0, a4 = 0 and the first
 // three columns are re-solved (the same rule as the "linear" estimator);
 // |a1| > g → kFailure with a1_exceeds_g. One counted cost evaluation.

@@ -1,9 +1,11 @@
 #include "src/paper_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
 #include "Eigen/Cholesky"
+#include "Eigen/QR"
 #include "ceres/jet.h"
 #include "src/imu_model.h"
 
@@ -123,6 +125,34 @@ bool PaperModel::Cost(const double* x, double* cost) const {
 
 bool PaperModel::DirectCost(const double* x, double* cost) const {
   return Model::Cost(x, cost);
+}
+
+Eigen::Matrix<double, 5, 5> PaperModel::TriangularFactor() const {
+  // Rows folded into the running factor per QR: large enough that the
+  // per-block overhead vanishes, small enough to stay in L2.
+  constexpr Eigen::Index kBlockRows = 2048;
+  const ProblemData& d = data();
+  const auto n = static_cast<Eigen::Index>(d.size());
+  Eigen::Matrix<double, 5, 5> r = Eigen::Matrix<double, 5, 5>::Zero();
+  Eigen::Matrix<double, Eigen::Dynamic, 5> stack(std::min(n, kBlockRows) + 5,
+                                                 5);
+  Eigen::HouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, 5>> qr;
+  for (Eigen::Index start = 0; start < n; start += kBlockRows) {
+    const Eigen::Index m = std::min(kBlockRows, n - start);
+    if (stack.rows() != m + 5) stack.resize(m + 5, 5);
+    stack.topRows<5>() = r;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const auto k = static_cast<std::size_t>(start + i);
+      stack(5 + i, 0) = 1.0;
+      stack(5 + i, 1) = -d.omega[k] * d.omega[k];
+      stack(5 + i, 2) = d.omega_dot[k];
+      stack(5 + i, 3) = -SignedSquare(d.v[k]);
+      stack(5 + i, 4) = d.f_x[k];
+    }
+    qr.compute(stack);
+    r = qr.matrixQR().topRows<5>().triangularView<Eigen::Upper>();
+  }
+  return r;
 }
 
 Eigen::MatrixXd PaperModel::Regressors() const {

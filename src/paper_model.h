@@ -46,6 +46,11 @@ class PaperModel : public Model {
   // The n × 4 regressor matrix Φ (columns 1, −ω², ω̇, −sign(v)v²) and the 5×5
   // Gram matrix of [Φ f_x].
   Eigen::MatrixXd Regressors() const;
+  // The 5 × 5 upper-triangular factor R of [Φ f_x], so that
+  // ‖Φa − f‖² = ‖R₁₁a − z‖² + R₄₄² with z = R(0:4, 4): Householder QR in
+  // blocks streamed from the samples (TSQR), as stable as one QR of the whole
+  // matrix, without forming Φ. O(n) time, O(1) memory in n.
+  Eigen::Matrix<double, 5, 5> TriangularFactor() const;
   const Eigen::Matrix<double, 5, 5>& gram() const { return gram_; }
 
  private:
