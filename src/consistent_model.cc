@@ -270,6 +270,23 @@ bool Integrate(const ProblemData& d,
 
 }  // namespace
 
+template <bool kMeasuredFz, bool kSensitivities, typename Sink>
+bool ConsistentModel::IntegrateOverGrid(double mu,
+                                        double c0_rad,
+                                        double c1_rad_s,
+                                        Sink&& sink) const {
+  return Integrate<kMeasuredFz, kSensitivities>(data(),
+                                                sin_gyro_,
+                                                cos_gyro_,
+                                                tau_,
+                                                h_,
+                                                max_h_,
+                                                mu,
+                                                c0_rad,
+                                                c1_rad_s,
+                                                std::forward<Sink>(sink));
+}
+
 template <bool kMeasuredFz>
 bool ConsistentModel::Evaluate(const double* x,
                                double* residuals,
@@ -297,17 +314,8 @@ bool ConsistentModel::Evaluate(const double* x,
   double guard = 0.0;
   bool ok;
   if (jacobian == nullptr) {
-    ok = Integrate<kMeasuredFz, false>(
-        d,
-        sin_gyro_,
-        cos_gyro_,
-        tau_,
-        h_,
-        max_h_,
-        mu,
-        x[kC0] * kDegToRad,
-        x[kC1] * kDegToRad,
-        [&](const SampleState& st) {
+    ok = IntegrateOverGrid<kMeasuredFz, false>(
+        mu, x[kC0] * kDegToRad, x[kC1] * kDegToRad, [&](const SampleState& st) {
           const std::size_t k = st.k;
           const double fz =
               SpecificForceZ<kMeasuredFz>(st, g, mu, f_z, nullptr);
@@ -318,17 +326,8 @@ bool ConsistentModel::Evaluate(const double* x,
           sum_sq += res * res;
         });
   } else {
-    ok = Integrate<kMeasuredFz, true>(
-        d,
-        sin_gyro_,
-        cos_gyro_,
-        tau_,
-        h_,
-        max_h_,
-        mu,
-        x[kC0] * kDegToRad,
-        x[kC1] * kDegToRad,
-        [&](const SampleState& st) {
+    ok = IntegrateOverGrid<kMeasuredFz, true>(
+        mu, x[kC0] * kDegToRad, x[kC1] * kDegToRad, [&](const SampleState& st) {
           const std::size_t k = st.k;
           const double s = st.sin_theta;
           const double c = st.cos_theta;
@@ -388,13 +387,7 @@ bool ConsistentModel::EvaluateLinear(double mu,
   double guard = 0.0;
   bool ok;
   if (d_fz == nullptr) {
-    ok = Integrate<kMeasuredFz, false>(
-        d,
-        sin_gyro_,
-        cos_gyro_,
-        tau_,
-        h_,
-        max_h_,
+    ok = IntegrateOverGrid<kMeasuredFz, false>(
         mu,
         c0_deg * kDegToRad,
         c1_deg_s * kDegToRad,
@@ -407,13 +400,7 @@ bool ConsistentModel::EvaluateLinear(double mu,
           guard += 0.0 * (fz + y_minus_offset[k]);
         });
   } else {
-    ok = Integrate<kMeasuredFz, true>(
-        d,
-        sin_gyro_,
-        cos_gyro_,
-        tau_,
-        h_,
-        max_h_,
+    ok = IntegrateOverGrid<kMeasuredFz, true>(
         mu,
         c0_deg * kDegToRad,
         c1_deg_s * kDegToRad,

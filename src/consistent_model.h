@@ -117,6 +117,13 @@ class ConsistentModel : public Model {
                 double* residuals,
                 double* jacobian,
                 double* cost) const;
+  // The velocity integration (consistent_model.cc) over this model's
+  // precomputed grid, calling sink once per sample.
+  template <bool kMeasuredFz, bool kSensitivities, typename Sink>
+  bool IntegrateOverGrid(double mu,
+                         double c0_rad,
+                         double c1_rad_s,
+                         Sink&& sink) const;
   template <bool kMeasuredFz>
   bool EvaluateLinear(double mu,
                       double c0_deg,
