@@ -10,9 +10,10 @@
 //                                      1e7), so the default set stays a smoke
 //                                      test: --benchmark_filter=Large/lm/
 //
-// The synthetic flight: ω = Σ sinusoids (0.25, 1.3 and 3.1 Hz), ω̇ and
-// θ = ∫ω analytic, v = trapezoid of g sin θ (equation 7), f_x = equation 9 at
-// the paper's test 1 parameters + N(0, 0.3²) m/s². Counters: final_cost
+// The synthetic flight (tests/synthetic_flight.h): ω = Σ sinusoids (0.25,
+// 1.3 and 3.1 Hz), ω̇ and θ = ∫ω analytic, v = trapezoid of g sin θ
+// (equation 7), f_x = equation 9 at the paper's test 1 parameters +
+// N(0, 0.3²) m/s². Counters: final_cost
 // (½Σr²), rmse (m/s²), evaluations and solver_iterations of the last run,
 // samples and raw_log_mb; the large sizes add peak_rss_mb (process peak).
 // scripts/scaling.sh runs them all and `imusysid bench --scaling=DIR` draws
@@ -25,7 +26,6 @@
 #include <cstring>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -36,6 +36,7 @@
 #include "src/imu_model.h"
 #include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/synthetic_flight.h"
 
 namespace imusysid {
 namespace {
@@ -45,51 +46,12 @@ constexpr double kNoiseSigma = 0.3;  // m/s², about half the paper's OF
 constexpr std::int64_t kPaperSamples = 70000;
 
 std::shared_ptr<const ProblemData> MakeData(std::int64_t num_samples) {
-  struct Sinusoid {
-    double amplitude, frequency_hz, phase;
-  };
-  // Phases ±π/2 keep θ free of a constant part, so v stays bounded.
-  const Sinusoid waves[] = {
-      {0.5, 0.25, kPi / 2}, {1.0, 1.3, kPi / 2}, {0.6, 3.1, -kPi / 2}};
-  const double truth[] = {0.19, 56.299, -2.812, 0.0716};
-  const double dt = 1.0 / kSampleRateHz;
-  auto data = std::make_shared<ProblemData>();
+  testing::PaperFlightOptions flight;
+  flight.samples = static_cast<int>(num_samples);
+  flight.dt_s = 1.0 / kSampleRateHz;
+  auto data = testing::MakeSyntheticPaperData(
+      Eigen::Vector4d(0.19, 56.299, -2.812, 0.0716), kNoiseSigma, 1, flight);
   data->source = "synthetic " + std::to_string(num_samples) + " samples";
-  const auto n = static_cast<std::size_t>(num_samples);
-  for (auto* column : {&data->t_s,
-                       &data->f_x,
-                       &data->omega,
-                       &data->omega_dot,
-                       &data->theta,
-                       &data->v}) {
-    column->reserve(n);
-  }
-  std::mt19937_64 rng(1);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  double v = 0.0;
-  double previous_accel = 0.0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const double t = static_cast<double>(k) * dt;
-    double omega = 0.0, omega_dot = 0.0, theta = 0.0;
-    for (const Sinusoid& w : waves) {
-      const double rate = 2.0 * kPi * w.frequency_hz;
-      omega += w.amplitude * std::sin(rate * t + w.phase);
-      omega_dot += w.amplitude * rate * std::cos(rate * t + w.phase);
-      theta += w.amplitude / rate *
-               (std::cos(w.phase) - std::cos(rate * t + w.phase));
-    }
-    const double accel = data->gravity * std::sin(theta);
-    if (k > 0) v += 0.5 * dt * (accel + previous_accel);
-    previous_accel = accel;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(
-        PaperPrediction(truth, omega, omega_dot, v, data->gravity) +
-        kNoiseSigma * noise(rng));
-  }
   return data;
 }
 

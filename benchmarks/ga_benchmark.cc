@@ -3,10 +3,8 @@
 // from equation 9 at the paper's test 1 parameters plus 0.3 m/s² noise), run
 // to its stopping rule with the paper's settings. Target: ≤ 200 ms per run.
 
-#include <cmath>
 #include <cstdint>
 #include <memory>
-#include <random>
 
 #include "benchmark/benchmark.h"
 #include "estimators/estimator.h"
@@ -14,6 +12,7 @@
 #include "src/imu_model.h"
 #include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/synthetic_flight.h"
 
 namespace imusysid {
 namespace {
@@ -22,38 +21,13 @@ std::shared_ptr<const ProblemData> MakePaperSizedData() {
   constexpr double kDurationS = 70.0;
   constexpr double kRateHz = 1000.0;
   constexpr double kNoiseSigma = 0.3;
-  const double truth[kNumPhysicalParameters] = {0.19, 56.299, -2.812, 0.0716};
-  const double amplitude[2] = {1.0, 2.0};  // rad/s
-  const double freq_hz[2] = {0.25, 1.3};
-  auto data = std::make_shared<ProblemData>();
+  auto data =
+      testing::MakeTwoToneFlight(Eigen::Vector4d(0.19, 56.299, -2.812, 0.0716),
+                                 kDurationS,
+                                 kRateHz,
+                                 kNoiseSigma,
+                                 3);
   data->source = "synthetic 70 s at 1 kHz";
-  std::mt19937 engine(3);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  const int n = static_cast<int>(kDurationS * kRateHz);
-  double v = 0.0;
-  double previous_sin_theta = 0.0;
-  for (int k = 0; k < n; ++k) {
-    const double t = k / kRateHz;
-    double omega = 0.0;
-    double omega_dot = 0.0;
-    double theta = 0.0;
-    for (int i = 0; i < 2; ++i) {
-      const double w = 2.0 * kPi * freq_hz[i];
-      omega += amplitude[i] * std::cos(w * t);
-      omega_dot -= amplitude[i] * w * std::sin(w * t);
-      theta += amplitude[i] / w * std::sin(w * t);
-    }
-    const double sin_theta = std::sin(theta);
-    if (k > 0) v += 0.5 * kGravity * (sin_theta + previous_sin_theta) / kRateHz;
-    previous_sin_theta = sin_theta;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(PaperPrediction(truth, omega, omega_dot, v) +
-                        kNoiseSigma * noise(engine));
-  }
   return data;
 }
 

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +24,7 @@
 #include "src/imu_model.h"
 #include "src/paper_model.h"
 #include "src/problem.h"
+#include "tests/synthetic_flight.h"
 
 namespace imusysid {
 namespace {
@@ -34,45 +34,14 @@ using ::testing::HasSubstr;
 // The paper's test 1 fit, used as ground truth.
 const double kTruth[kNumPhysicalParameters] = {0.19, 56.299, -2.812, 0.0716};
 
-// A synthetic log: ω = sum of two cosines (pitch manoeuvres at 0.25 and
-// 1.3 Hz), θ and ω̇ analytic, v = trapezoid of g·sin θ (the paper's equation
-// 7), f_x = equation 9 at kTruth plus white noise of σ `noise_sigma`.
+// A synthetic log (tests/synthetic_flight.h): two pitch manoeuvres, v from
+// equation 7, f_x = equation 9 at kTruth plus white noise of σ `noise_sigma`.
 std::shared_ptr<const ProblemData> MakeData(double duration_s,
                                             double rate_hz,
                                             double noise_sigma,
                                             unsigned seed) {
-  auto data = std::make_shared<ProblemData>();
-  data->source = "synthetic";
-  const int n = static_cast<int>(duration_s * rate_hz);
-  const double amplitude[2] = {1.0, 2.0};  // rad/s
-  const double freq_hz[2] = {0.25, 1.3};
-  std::mt19937 engine(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  double v = 0.0;
-  double previous_sin_theta = 0.0;
-  for (int k = 0; k < n; ++k) {
-    const double t = k / rate_hz;
-    double omega = 0.0;
-    double omega_dot = 0.0;
-    double theta = 0.0;
-    for (int i = 0; i < 2; ++i) {
-      const double w = 2.0 * kPi * freq_hz[i];
-      omega += amplitude[i] * std::cos(w * t);
-      omega_dot -= amplitude[i] * w * std::sin(w * t);
-      theta += amplitude[i] / w * std::sin(w * t);
-    }
-    const double sin_theta = std::sin(theta);
-    if (k > 0) v += 0.5 * kGravity * (sin_theta + previous_sin_theta) / rate_hz;
-    previous_sin_theta = sin_theta;
-    data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(PaperPrediction(kTruth, omega, omega_dot, v) +
-                        noise_sigma * noise(engine));
-  }
-  return data;
+  return testing::MakeTwoToneFlight(
+      Eigen::Vector4d(kTruth), duration_s, rate_hz, noise_sigma, seed);
 }
 
 Problem MakeProblem(double noise_sigma, double rate_hz = 100.0) {

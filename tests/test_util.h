@@ -11,6 +11,7 @@
 #include "Eigen/Core"
 #include "estimators/estimator.h"
 #include "src/problem.h"
+#include "tests/synthetic_flight.h"
 
 namespace imusysid {
 namespace testing {
@@ -36,30 +37,9 @@ CommandResult RunCli(const std::string& args);
 std::string WriteTempFile(const std::string& name, const std::string& contents);
 
 // --- synthetic flight for the paper model ----------------------------------
-
-// Shape of the synthetic flight; the defaults are the standard one the
-// estimator tests share.
-struct PaperFlightOptions {
-  int samples = 2000;
-  double dt_s = 0.01;
-  // Multiplies ω (and so ω̇ and θ): small values give hover-like data.
-  double omega_scale = 1.0;
-  // Constant added to every f_x sample, m/s².
-  double fx_offset = 0.0;
-};
-
-// ω(t) = s·Σ Aᵢ sin(2π fᵢ t + φᵢ): a slow component that tilts the vehicle
-// (θ up to ~0.3 rad, v in [0, 4] m/s) and faster ones that excite ω² and ω̇
-// independently. Every phase is ±π/2 so that θ has no constant part: a
-// constant tilt would make v drift without bound. ω̇ and θ = ∫ω are analytic; v
-// is the trapezoidal integral of g sin θ (equation 7); f_x is equation 9 at
-// `truth` (r m, β deg, α deg, μ 1/m) plus the offset and N(0, sigma²) noise
-// drawn from mt19937_64(seed).
-std::shared_ptr<ProblemData> MakeSyntheticPaperData(
-    const Eigen::Vector4d& truth,
-    double sigma,
-    std::uint64_t seed,
-    const PaperFlightOptions& options = {});
+// PaperFlightOptions, MakeSyntheticPaperData and MakeTwoToneFlight live in
+// tests/synthetic_flight.h (shared with the benchmarks, which do not link
+// GTest).
 
 // A problem over the paper model with its default bounds and initial guess.
 Problem MakePaperProblem(std::shared_ptr<ProblemData> data);
