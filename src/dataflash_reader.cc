@@ -2,8 +2,9 @@
 
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <utility>
+
+#include "src/flight_log.h"
 
 namespace imusysid {
 namespace {
@@ -433,14 +434,9 @@ StatusOr<DataFlashLog> ParseDataFlash(std::string_view bytes,
 }
 
 StatusOr<DataFlashLog> ReadDataFlash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return IoError(path + ": cannot open for reading");
-  const std::streamoff size = in.tellg();
-  if (size < 0) return IoError(path + ": cannot determine the file size");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), size)) return IoError(path + ": read failed");
-  return ParseDataFlash(bytes, path);
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return bytes.status();
+  return ParseDataFlash(*bytes, path);
 }
 
 }  // namespace imusysid

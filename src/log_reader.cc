@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 
 namespace imusysid {
@@ -45,17 +44,6 @@ double MedianInterval(const std::vector<double>& t) {
   dt.reserve(t.size() - 1);
   for (std::size_t i = 1; i < t.size(); ++i) dt.push_back(t[i] - t[i - 1]);
   return Median(std::move(dt));
-}
-
-Status ReadWholeFile(const std::string& path, std::string* bytes) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return NotFoundError(path + ": cannot open for reading");
-  const std::streamoff size = in.tellg();
-  if (size < 0) return IoError(path + ": cannot determine the file size");
-  bytes->assign(static_cast<std::size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes->data(), size)) return IoError(path + ": read failed");
-  return Status::Ok();
 }
 
 // IMU samples in the autopilot's FRD frame before the common checks.
@@ -1012,8 +1000,9 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
 
 StatusOr<FlightLog> ReadFlightLog(const std::string& path,
                                   const LogReadOptions& options) {
-  std::string bytes;
-  IMUSYSID_RETURN_IF_ERROR(ReadWholeFile(path, &bytes));
+  StatusOr<std::string> read = ReadFileToString(path);
+  if (!read.ok()) return read.status();
+  const std::string& bytes = *read;
   if (DetectLogFormat(bytes) == LogFormat::kCsv) {
     CsvReadOptions csv;
     csv.override_frame = options.override_frame;
@@ -1061,9 +1050,9 @@ StatusOr<LogSummary> SummarizeLogBytes(std::string_view bytes,
 }
 
 StatusOr<LogSummary> SummarizeLog(const std::string& path) {
-  std::string bytes;
-  IMUSYSID_RETURN_IF_ERROR(ReadWholeFile(path, &bytes));
-  return SummarizeLogBytes(bytes, path);
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return bytes.status();
+  return SummarizeLogBytes(*bytes, path);
 }
 
 }  // namespace imusysid

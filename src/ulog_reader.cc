@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iterator>
 #include <map>
 #include <memory>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
+
+#include "src/flight_log.h"
 
 namespace imusysid {
 namespace {
@@ -1033,14 +1034,9 @@ StatusOr<UlogData> ParseUlog(std::string_view bytes,
 
 StatusOr<UlogData> ReadUlog(const std::string& path,
                             const UlogReadOptions& options) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return IoError(path + ": cannot open for reading");
-  const std::streamoff size = in.tellg();
-  if (size < 0) return IoError(path + ": cannot determine the file size");
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(bytes.data(), size)) return IoError(path + ": read failed");
-  return ParseUlog(bytes, path, options);
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return bytes.status();
+  return ParseUlog(*bytes, path, options);
 }
 
 }  // namespace imusysid
