@@ -178,50 +178,44 @@ int Run(const std::vector<std::string>& positional) {
 }  // namespace
 
 const Command& BenchCommand() {
-  static const Command c = [] {
-    Command command{
-        "bench",
-        "Run models x estimators x logs (and Monte Carlo seeds) and compare "
-        "accuracy and runtime.",
-        "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
-        "[--models=paper,consistent] [--estimators=NAMES] [--repeats=N] "
-        "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
-        "[--format=table|json]",
-        "Fits every log with every model x estimator through the same Estimate "
-        "API and prints\nMarkdown tables: per-run accuracy against the truth "
-        "sidecar, the paper's Table I,\nthe CoM displacement paper_test1 -> "
-        "paper_test2 beside the paper's 1.90 cm / 3.66 cm\nand its CAD values, "
-        "the runtime table and, with --seeds=K, Monte Carlo bias, std and\n"
-        "RMSE against the Cramer-Rao bound. --threads is the number of runs "
-        "executed at once\n(default: all cores; each GA then uses one thread). "
-        "--out=DIR is a folder: it receives\nresults.json, results.csv, "
-        "traces.json, context.json, report.json, the SVG figures\nand "
-        "index.html "
-        "(docs/benchmarks.md).\n--scaling reads Google Benchmark's "
-        "scaling results (scripts/scaling.sh) for the\nruntime-versus-samples "
-        "figure and the scaling table.",
-        {"preset",
-         "logs",
-         "models",
-         "estimators",
-         "repeats",
-         "seeds",
-         "threads",
-         "seed",
-         "ga_population",
-         "ga_max_generations",
-         "lm_max_iterations",
-         "covariance",
-         "figures",
-         "scaling",
-         "out",
-         "format"},
-        &Run};
-    // Logs without a sidecar take fit's reading and preprocessing flags.
-    for (const auto& f : LogFlagNames()) command.flags.push_back(f);
-    for (const auto& f : PreprocessFlagNames()) command.flags.push_back(f);
-    return command;
-  }();
+  static const Command c{
+      "bench",
+      "Run models x estimators x logs (and Monte Carlo seeds) and compare "
+      "accuracy and runtime.",
+      "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
+      "[--models=paper,consistent] [--estimators=NAMES] [--repeats=N] "
+      "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
+      "[--format=table|json]",
+      "Fits every log with every model x estimator through the same Estimate "
+      "API and prints\nMarkdown tables: per-run accuracy against the truth "
+      "sidecar, the paper's Table I,\nthe CoM displacement paper_test1 -> "
+      "paper_test2 beside the paper's 1.90 cm / 3.66 cm\nand its CAD values, "
+      "the runtime table and, with --seeds=K, Monte Carlo bias, std and\n"
+      "RMSE against the Cramer-Rao bound. --threads is the number of runs "
+      "executed at once\n(default: all cores; each GA then uses one thread). "
+      "--out=DIR is a folder: it receives\nresults.json, results.csv, "
+      "traces.json, context.json, report.json, the SVG figures\nand "
+      "index.html "
+      "(docs/benchmarks.md).\n--scaling reads Google Benchmark's "
+      "scaling results (scripts/scaling.sh) for the\nruntime-versus-samples "
+      "figure and the scaling table.",
+      WithLogFlags({"preset",
+                    "logs",
+                    "models",
+                    "estimators",
+                    "repeats",
+                    "seeds",
+                    "threads",
+                    "seed",
+                    "ga_population",
+                    "ga_max_generations",
+                    "lm_max_iterations",
+                    "covariance",
+                    "figures",
+                    "scaling",
+                    "out",
+                    "format"}),
+      &Run};
   return c;
 }
 

@@ -63,13 +63,6 @@ int Run(const std::vector<std::string>& positional) {
   return kExitOk;
 }
 
-std::vector<std::string> Flags() {
-  std::vector<std::string> flags = {"log", "out"};
-  for (const auto& f : LogFlagNames()) flags.push_back(f);
-  for (const auto& f : PreprocessFlagNames()) flags.push_back(f);
-  return flags;
-}
-
 }  // namespace
 
 const Command& ExportProblemCommand() {
@@ -84,7 +77,7 @@ const Command& ExportProblemCommand() {
       "--problem=P.csv --model=paper'. The consistent model needs the raw "
       "log and\ncannot be fitted from a problem file. Without --out the CSV "
       "goes to stdout.",
-      Flags(),
+      WithLogFlags({"log", "out"}),
       &Run};
   return c;
 }

@@ -236,16 +236,7 @@ const Command& InspectCommand() {
       "log (.bin).\nSegments are detected from the IMU alone; the fit segment "
       "and its excitation are\nwhat `imusysid fit` would use with the same "
       "flags.",
-      {"log",
-       "frame",
-       "imu",
-       "t_start",
-       "t_end",
-       "cutoff_hz",
-       "plane",
-       "velocity",
-       "gyro_bias",
-       "format"},
+      WithLogFlags({"log"}, {"format"}),
       &Run};
   return c;
 }

@@ -55,6 +55,14 @@ std::vector<std::string> PreprocessFlagNames() {
   return {"t_start", "t_end", "cutoff_hz", "plane", "velocity", "gyro_bias"};
 }
 
+std::vector<std::string> WithLogFlags(std::vector<std::string> head,
+                                      const std::vector<std::string>& tail) {
+  for (const auto& f : LogFlagNames()) head.push_back(f);
+  for (const auto& f : PreprocessFlagNames()) head.push_back(f);
+  head.insert(head.end(), tail.begin(), tail.end());
+  return head;
+}
+
 StatusOr<FlightLog> ReadLogFromFlags(const std::string& path) {
   LogReadOptions options;
   options.imu_instance = FLAGS_imu;

@@ -33,6 +33,10 @@ namespace cli {
 // concern preprocessing, for Command::flags.
 std::vector<std::string> LogFlagNames();
 std::vector<std::string> PreprocessFlagNames();
+// The flag list of a command that reads and preprocesses a log: `head`, then
+// LogFlagNames() and PreprocessFlagNames(), then `tail` (--help order).
+std::vector<std::string> WithLogFlags(
+    std::vector<std::string> head, const std::vector<std::string>& tail = {});
 
 // Metadata key `convert` writes into a CSV made from a binary log; its value
 // is the source format ("ulog", "dataflash").
