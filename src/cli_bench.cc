@@ -198,7 +198,10 @@ const Command& BenchCommand() {
       "index.html "
       "(docs/benchmarks.md).\n--scaling reads Google Benchmark's "
       "scaling results (scripts/scaling.sh) for the\nruntime-versus-samples "
-      "figure and the scaling table.",
+      "figure and the scaling table. Logs without a truth sidecar\n(real "
+      "CSV, ULog, DataFlash) are read and preprocessed as fit does, with "
+      "--imu, --frame,\n--t_start, --t_end, --plane, --velocity, --cutoff_hz "
+      "and --gyro_bias applied to each.",
       WithLogFlags({"preset",
                     "logs",
                     "models",
