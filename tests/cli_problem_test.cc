@@ -17,6 +17,7 @@ namespace {
 
 using testing::CommandResult;
 using ::testing::HasSubstr;
+using testing::ParseJson;
 using testing::RunCli;
 
 // The same doubles go through the same code either way (the file holds 17
@@ -40,14 +41,6 @@ std::string ReadText(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
-}
-
-nlohmann::json ParseJson(const CommandResult& r) {
-  nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
-  EXPECT_FALSE(j.is_discarded()) << "stdout is not JSON:\n"
-                                 << r.out << "\nstderr:\n"
-                                 << r.err;
-  return j;
 }
 
 class CliProblemTest : public ::testing::Test {

@@ -19,6 +19,7 @@ namespace imusysid {
 namespace {
 
 using ::imusysid::testing::CommandResult;
+using ::imusysid::testing::ParseJson;
 using ::imusysid::testing::RunCli;
 
 #define SKIP_WITHOUT_REAL_DATA()                                         \
@@ -33,14 +34,6 @@ constexpr char kLog171[] = "dronekit-la-testdata__log171.bin";
 
 std::string RealLog(const std::string& name) {
   return "'" + ::imusysid::testing::RealDataDir() + "/" + name + "'";
-}
-
-nlohmann::json ParseJson(const CommandResult& r) {
-  nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
-  EXPECT_FALSE(j.is_discarded()) << "stdout is not JSON:\n"
-                                 << r.out << "\nstderr:\n"
-                                 << r.err;
-  return j;
 }
 
 // --- inspect: per-topic counts as SOURCES.md lists them --------------------

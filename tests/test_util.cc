@@ -14,6 +14,7 @@
 
 #include "glog/logging.h"
 #include "gtest/gtest.h"
+#include "nlohmann/json.hpp"
 #include "src/imu_model.h"
 #include "src/paper_model.h"
 
@@ -90,6 +91,14 @@ CommandResult RunCli(const std::string& args) {
   result.out = ReadAll(out_path);
   result.err = ReadAll(err_path);
   return result;
+}
+
+nlohmann::json ParseJson(const CommandResult& r) {
+  nlohmann::json j = nlohmann::json::parse(r.out, nullptr, false);
+  EXPECT_FALSE(j.is_discarded()) << "stdout is not JSON:\n"
+                                 << r.out << "\nstderr:\n"
+                                 << r.err;
+  return j;
 }
 
 std::string WriteTempFile(const std::string& name,

@@ -10,6 +10,7 @@
 
 #include "Eigen/Core"
 #include "estimators/estimator.h"
+#include "nlohmann/json.hpp"
 #include "src/problem.h"
 #include "tests/synthetic_flight.h"
 
@@ -32,6 +33,9 @@ struct CommandResult {
   std::string err;
 };
 CommandResult RunCli(const std::string& args);
+// The command's stdout as JSON; a test failure (showing stdout and stderr)
+// and a discarded value when it is not JSON.
+nlohmann::json ParseJson(const CommandResult& r);
 
 // Writes `contents` to a new file in a temporary directory; returns the path.
 std::string WriteTempFile(const std::string& name, const std::string& contents);
