@@ -237,9 +237,10 @@ void FinalizeResult(const Problem& problem,
   result->rmse = problem.CostToRmse(result->final_cost);
 
   // Identifiability: condition number of J with unit-norm columns.
-  Eigen::VectorXd col_norm = jac.colwise().norm().transpose();
+  // The column norms are the square roots of JᵀJ's diagonal.
+  const Eigen::MatrixXd jtj = JacobianGram(jac);
+  const Eigen::VectorXd col_norm = jtj.diagonal().cwiseSqrt();
   const bool has_zero_column = (col_norm.array() <= 0.0).any();
-  Eigen::MatrixXd jtj = JacobianGram(jac);
   if (!has_zero_column) {
     const Eigen::MatrixXd scaled = col_norm.cwiseInverse().asDiagonal() * jtj *
                                    col_norm.cwiseInverse().asDiagonal();
@@ -260,7 +261,7 @@ void FinalizeResult(const Problem& problem,
     CovarianceOptions cov_options;
     cov_options.type = covariance;
     StatusOr<ParameterCovariance> cov =
-        EstimateCovariance(jac, residuals, cov_options);
+        EstimateCovariance(jac, residuals, jtj, cov_options);
     if (cov.ok()) {
       result->standard_errors = cov->standard_errors;
       result->covariance = cov->matrix;

@@ -14,7 +14,7 @@ out=${1:-out/paper}
 
 bash scripts/setup.sh
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)" --target imusysid_cli estimators_benchmark
+cmake --build build -j"$(nproc)" --target imusysid_cli
 bash scripts/scaling.sh out/scaling
 ./build/imusysid bench --out="$out" --scaling=out/scaling
 echo "figures: $out/index.html"

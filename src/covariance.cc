@@ -237,8 +237,23 @@ StatusOr<ParameterCovariance> EstimateCovariance(
     const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
     const Eigen::Ref<const Eigen::VectorXd>& residuals,
     const CovarianceOptions& options) {
+  return EstimateCovariance(
+      jacobian, residuals, JacobianGram(jacobian), options);
+}
+
+StatusOr<ParameterCovariance> EstimateCovariance(
+    const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+    const Eigen::Ref<const Eigen::VectorXd>& residuals,
+    const Eigen::MatrixXd& normal_matrix,
+    const CovarianceOptions& options) {
   const Eigen::Index n = jacobian.rows();
   const Eigen::Index p = jacobian.cols();
+  if (normal_matrix.rows() != p || normal_matrix.cols() != p) {
+    std::ostringstream msg;
+    msg << "EstimateCovariance: the normal matrix is " << normal_matrix.rows()
+        << " x " << normal_matrix.cols() << " for " << p << " parameters";
+    return InvalidArgumentError(msg.str());
+  }
   if (p == 0) {
     return InvalidArgumentError(
         "EstimateCovariance: the Jacobian has no "
@@ -284,8 +299,7 @@ StatusOr<ParameterCovariance> EstimateCovariance(
     }
   }
 
-  const Eigen::MatrixXd jtj = JacobianGram(jacobian);
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(jtj);
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(normal_matrix);
   if (ldlt.info() != Eigen::Success || !ldlt.isPositive() ||
       !(ldlt.vectorD().minCoeff() > 0.0)) {
     return FailedPreconditionError(

@@ -104,6 +104,15 @@ StatusOr<ParameterCovariance> EstimateCovariance(
     const Eigen::Ref<const Eigen::VectorXd>& residuals,
     const CovarianceOptions& options = {});
 
+// The same with JᵀJ already formed by the caller (FinalizeResult needs it for
+// the condition number), which saves one O(n·p²) pass. `normal_matrix` must
+// be JacobianGram(jacobian); InvalidArgument when it is not p × p.
+StatusOr<ParameterCovariance> EstimateCovariance(
+    const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
+    const Eigen::Ref<const Eigen::VectorXd>& residuals,
+    const Eigen::MatrixXd& normal_matrix,
+    const CovarianceOptions& options = {});
+
 }  // namespace imusysid
 
 #endif  // IMUSYSID_SRC_COVARIANCE_H_

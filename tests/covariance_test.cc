@@ -305,6 +305,13 @@ TEST(Covariance, RejectsBadInputNamingTheProblem) {
   EXPECT_EQ(cov.status().code(), StatusCode::kInvalidArgument);
   EXPECT_NE(cov.status().message().find("9 residuals"), std::string::npos);
 
+  cov = EstimateCovariance(j, r, Eigen::MatrixXd::Identity(3, 3));
+  ASSERT_FALSE(cov.ok());
+  EXPECT_EQ(cov.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(cov.status().message().find("normal matrix is 3 x 3 for 2"),
+            std::string::npos)
+      << cov.status().message();
+
   Eigen::VectorXd bad = r;
   bad[3] = std::numeric_limits<double>::quiet_NaN();
   cov = EstimateCovariance(j, bad);
@@ -398,6 +405,31 @@ TEST(Covariance, JacobianGramEqualsTheProductForEveryWidth) {
     ASSERT_EQ(gram.cols(), p);
     const double scale = expected.diagonal().maxCoeff();
     EXPECT_LE((gram - expected).cwiseAbs().maxCoeff(), 1e-13 * scale);
+  }
+}
+
+// Handing over JᵀJ (what FinalizeResult does) changes nothing: the same
+// computation from the same numbers.
+TEST(Covariance, GivenNormalMatrixGivesTheSameCovariance) {
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> normal;
+  RowMajorMatrixXd j(500, 4);
+  Eigen::VectorXd r(500);
+  double e = 0.0;
+  for (Eigen::Index k = 0; k < j.rows(); ++k) {
+    for (int a = 0; a < 4; ++a) j(k, a) = normal(rng) + a;
+    e = 0.7 * e + normal(rng);
+    r[k] = e;
+  }
+  for (CovarianceType type : {CovarianceType::kHac, CovarianceType::kWhite}) {
+    CovarianceOptions options;
+    options.type = type;
+    StatusOr<ParameterCovariance> own = EstimateCovariance(j, r, options);
+    StatusOr<ParameterCovariance> given =
+        EstimateCovariance(j, r, JacobianGram(j), options);
+    ASSERT_TRUE(own.ok() && given.ok());
+    EXPECT_EQ(own->matrix, given->matrix);
+    EXPECT_EQ(own->bandwidth, given->bandwidth);
   }
 }
 
