@@ -11,10 +11,10 @@
 
 #include "Eigen/Core"
 #include "benchmark/benchmark.h"
-#include "estimators/registry.h"
-#include "src/consistent_model.h"
-#include "src/imu_model.h"
-#include "src/problem.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "src/models/consistent_model.h"
 
 namespace imusysid {
 namespace {

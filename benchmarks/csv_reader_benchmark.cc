@@ -8,7 +8,7 @@
 #include <string>
 
 #include "benchmark/benchmark.h"
-#include "src/flight_log.h"
+#include "imusysid/log.h"
 
 namespace imusysid {
 namespace {

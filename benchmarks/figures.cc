@@ -10,7 +10,7 @@
 #include <map>
 #include <sstream>
 
-#include "src/imu_model.h"
+#include "imusysid/parameters.h"
 
 namespace imusysid {
 namespace bench {

@@ -11,11 +11,11 @@
 #include <vector>
 
 #include "benchmarks/runner.h"
-#include "estimators/estimator.h"
-#include "src/flight_log.h"
-#include "src/problem.h"
-#include "src/simulator.h"
-#include "src/status.h"
+#include "imusysid/estimator.h"
+#include "imusysid/log.h"
+#include "imusysid/problem.h"
+#include "imusysid/simulate.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 namespace bench {

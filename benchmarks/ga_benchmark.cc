@@ -7,12 +7,12 @@
 #include <memory>
 
 #include "benchmark/benchmark.h"
-#include "estimators/estimator.h"
 #include "estimators/ga_estimator.h"
-#include "src/imu_model.h"
-#include "src/paper_model.h"
-#include "src/problem.h"
-#include "tests/synthetic_flight.h"
+#include "imusysid/estimator.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "src/models/paper_model.h"
+#include "src/sim/synthetic_flight.h"
 
 namespace imusysid {
 namespace {

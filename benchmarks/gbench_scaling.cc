@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "imusysid/log.h"
 #include "nlohmann/json.hpp"
-#include "src/flight_log.h"
 
 namespace imusysid {
 namespace bench {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "src/status.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 namespace bench {

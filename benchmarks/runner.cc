@@ -17,13 +17,12 @@
 
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
-#include "estimators/registry.h"
+#include "imusysid/log.h"
+#include "imusysid/log_reader.h"
+#include "imusysid/parameters.h"
+#include "imusysid/registry.h"
+#include "imusysid/report.h"
 #include "nlohmann/json.hpp"
-#include "src/cli_common.h"
-#include "src/cli_results.h"
-#include "src/flight_log.h"
-#include "src/imu_model.h"
-#include "src/log_reader.h"
 
 namespace imusysid {
 namespace bench {
@@ -83,9 +82,7 @@ std::string FormatSeconds(double s) {
   return buf;
 }
 
-std::string Fmt(double v, int digits = 4) {
-  return cli::FormatNumber(v, digits);
-}
+std::string Fmt(double v, int digits = 4) { return FormatNumber(v, digits); }
 
 std::string FmtFixed(double v, int decimals) {
   if (!std::isfinite(v)) return "n/a";
@@ -147,7 +144,7 @@ std::vector<std::string> EstimatorsFor(
 void ComputeErrors(const Truth& truth, RunRecord* run) {
   if (!truth.known || !run->Usable()) return;
   const Eigen::VectorXd& x = run->result.parameters;
-  if (cli::Identifiable(run->result)) {
+  if (Identifiable(run->result)) {
     run->r_error_m = x[kR] - truth.r_m;
     run->beta_error_deg = WrapDegrees(x[kBeta] - truth.beta_deg);
   }
@@ -512,8 +509,7 @@ StatusOr<std::vector<MonteCarloRecord>> RunMonteCarlo(
       Problem problem(models[model_name]);
       StatusOr<EstimateResult> r = (*est)->Estimate(problem, eo);
       if (!r.ok() || !r->IsUsable() ||
-          r->parameters.size() < kNumPhysicalParameters ||
-          !cli::Identifiable(*r)) {
+          r->parameters.size() < kNumPhysicalParameters || !Identifiable(*r)) {
         continue;
       }
       Sample& s = samples[sc][c][k];
@@ -885,13 +881,13 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
     }
     for (const auto& b : report.runs) {
       if (b.log_path != before->path || !b.Usable() ||
-          !cli::Identifiable(b.result)) {
+          !Identifiable(b.result)) {
         continue;
       }
       for (const auto& a : report.runs) {
         if (a.log_path != after->path || a.model != b.model ||
             a.estimator != b.estimator || !a.Usable() ||
-            !cli::Identifiable(a.result)) {
+            !Identifiable(a.result)) {
           continue;
         }
         const auto& xb = b.result.parameters;
@@ -1038,13 +1034,13 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
 namespace {
 
 Json RunToJson(const RunRecord& run) {
-  cli::FitContext fc;
+  FitContext fc;
   fc.log = run.log;
   fc.plane = run.plane;
   fc.velocity = run.velocity;
   fc.samples = run.samples;
   fc.seed = run.seed;
-  Json j = cli::ResultToJson(run.result, fc);
+  Json j = ResultToJson(run.result, fc);
   j.erase("segment");
   j["log_path"] = run.log_path;
   j["samples"] = run.samples;
@@ -1408,7 +1404,7 @@ std::string FormatMarkdown(const BenchReport& report) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& run : report.runs) {
     const bool usable = run.Usable();
-    const bool ident = usable && cli::Identifiable(run.result);
+    const bool ident = usable && Identifiable(run.result);
     const auto& x = run.result.parameters;
     rows.push_back(
         {run.log,
@@ -1495,7 +1491,7 @@ std::string FormatMarkdown(const BenchReport& report) {
         if (pl == nullptr || run.log_path != pl->path || !run.Usable()) {
           continue;
         }
-        const bool ident = cli::Identifiable(run.result);
+        const bool ident = Identifiable(run.result);
         const auto& x = run.result.parameters;
         rows.push_back({"",
                         run.model + " / " + run.estimator,

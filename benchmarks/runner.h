@@ -17,12 +17,12 @@
 
 #include "Eigen/Core"
 #include "benchmarks/gbench_scaling.h"
-#include "estimators/estimator.h"
-#include "src/displacement.h"
-#include "src/preprocess.h"
-#include "src/problem.h"
-#include "src/simulator.h"
-#include "src/status.h"
+#include "imusysid/displacement.h"
+#include "imusysid/estimator.h"
+#include "imusysid/preprocess.h"
+#include "imusysid/problem.h"
+#include "imusysid/simulate.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 namespace bench {

@@ -10,9 +10,9 @@
 #include <string>
 
 #include "benchmark/benchmark.h"
-#include "src/dataflash_reader.h"
-#include "src/log_reader.h"
-#include "src/ulog_reader.h"
+#include "imusysid/dataflash.h"
+#include "imusysid/log_reader.h"
+#include "imusysid/ulog.h"
 
 namespace imusysid {
 namespace {

@@ -1,4 +1,4 @@
-#include "estimators/estimator.h"
+#include "imusysid/estimator.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "Eigen/Dense"
-#include "estimators/registry.h"
 #include "glog/logging.h"
+#include "imusysid/registry.h"
 
 namespace imusysid {
 namespace {
@@ -254,7 +254,7 @@ void FinalizeResult(const Problem& problem,
     result->condition_number = std::numeric_limits<double>::infinity();
   }
 
-  // Standard errors from the chosen covariance (src/covariance.h).
+  // Standard errors from the chosen covariance (include/imusysid/covariance.h).
   result->details.emplace_back("covariance",
                                CovarianceTypeToString(covariance));
   if (n > p && std::isfinite(result->condition_number)) {

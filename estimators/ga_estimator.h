@@ -85,9 +85,9 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "estimators/estimator.h"
-#include "src/problem.h"
-#include "src/status.h"
+#include "imusysid/estimator.h"
+#include "imusysid/problem.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 

@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
-#include "estimators/estimator.h"
-#include "src/problem.h"
-#include "src/status.h"
+#include "imusysid/estimator.h"
+#include "imusysid/problem.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 

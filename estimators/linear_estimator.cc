@@ -8,8 +8,8 @@
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
-#include "src/imu_model.h"
-#include "src/paper_model.h"
+#include "imusysid/parameters.h"
+#include "src/models/paper_model.h"
 
 namespace imusysid {
 namespace {

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#include "estimators/estimator.h"
+#include "imusysid/estimator.h"
 
 namespace imusysid {
 

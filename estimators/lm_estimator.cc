@@ -9,7 +9,7 @@
 
 #include "ceres/ceres.h"
 #include "glog/logging.h"
-#include "src/imu_model.h"
+#include "imusysid/parameters.h"
 
 namespace imusysid {
 namespace {

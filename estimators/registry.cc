@@ -1,4 +1,4 @@
-#include "estimators/registry.h"
+#include "imusysid/registry.h"
 
 #include <algorithm>
 #include <sstream>

@@ -10,9 +10,9 @@
 #include "Eigen/Dense"
 #include "ceres/ceres.h"
 #include "glog/logging.h"
-#include "src/consistent_model.h"
-#include "src/imu_model.h"
-#include "src/paper_model.h"
+#include "imusysid/parameters.h"
+#include "src/models/consistent_model.h"
+#include "src/models/paper_model.h"
 
 namespace imusysid {
 namespace {

@@ -12,11 +12,11 @@
 #include <string_view>
 #include <vector>
 
-#include "estimators/estimator.h"
+#include "imusysid/estimator.h"
 
 namespace imusysid {
 
-// Model "consistent" (see src/consistent_model.h), p = (μ, c0, c1):
+// Model "consistent" (see src/models/consistent_model.h), p = (μ, c0, c1):
 //
 //   A(p), y'(p) = ConsistentModel::LinearSystem(p)  (A = [F_z, −ω², ω̇])
 //   b(p) = argmin ‖y' − A b‖   normal equations of the column-scaled A plus

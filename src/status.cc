@@ -1,4 +1,4 @@
-#include "src/status.h"
+#include "imusysid/status.h"
 
 #include <cstdlib>
 
@@ -27,21 +27,6 @@ const char* StatusCodeToString(StatusCode code) {
 std::string Status::ToString() const {
   if (ok()) return "OK";
   return std::string(StatusCodeToString(code_)) + ": " + message_;
-}
-
-int Status::ExitCode() const {
-  switch (code_) {
-    case StatusCode::kOk:
-      return 0;
-    case StatusCode::kInvalidArgument:
-    case StatusCode::kNotFound:
-    case StatusCode::kFailedPrecondition:
-      return 2;
-    case StatusCode::kIoError:
-    case StatusCode::kInternal:
-      return 1;
-  }
-  return 1;
 }
 
 Status Status::WithPrefix(const std::string& prefix) const {

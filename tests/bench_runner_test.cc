@@ -14,10 +14,10 @@
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
 #include "gtest/gtest.h"
+#include "imusysid/displacement.h"
+#include "imusysid/log_reader.h"
+#include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
-#include "src/displacement.h"
-#include "src/imu_model.h"
-#include "src/log_reader.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

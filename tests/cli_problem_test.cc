@@ -8,8 +8,8 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
-#include "src/imu_model.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

@@ -1,4 +1,4 @@
-#include "src/consistent_model.h"
+#include "src/models/consistent_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include "Eigen/Core"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
-#include "src/problem.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

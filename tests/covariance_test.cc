@@ -1,9 +1,10 @@
-// Tests of the parameter covariance (src/covariance.h) against known truth:
-// Monte Carlo linear regressions with AR(1) and white errors, whose exact
-// estimator covariance is computed here in closed form, a brute-force lag
-// sum for the Bartlett estimate, and FinalizeResult's use of both kinds.
+// Tests of the parameter covariance (include/imusysid/covariance.h) against
+// known truth: Monte Carlo linear regressions with AR(1) and white errors,
+// whose exact estimator covariance is computed here in closed form, a
+// brute-force lag sum for the Bartlett estimate, and FinalizeResult's use of
+// both kinds.
 
-#include "src/covariance.h"
+#include "imusysid/covariance.h"
 
 #include <cmath>
 #include <limits>
@@ -11,9 +12,9 @@
 #include <vector>
 
 #include "Eigen/Dense"
-#include "estimators/estimator.h"
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
+#include "imusysid/estimator.h"
+#include "imusysid/parameters.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

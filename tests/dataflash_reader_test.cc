@@ -1,5 +1,3 @@
-#include "src/dataflash_reader.h"
-
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -8,6 +6,7 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "imusysid/dataflash.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

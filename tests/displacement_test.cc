@@ -1,9 +1,9 @@
-#include "src/displacement.h"
+#include "imusysid/displacement.h"
 
 #include <cmath>
 
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
+#include "imusysid/parameters.h"
 
 namespace imusysid {
 namespace {

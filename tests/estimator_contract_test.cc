@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "Eigen/Dense"
-#include "estimators/estimator.h"
-#include "estimators/registry.h"
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
-#include "src/problem.h"
+#include "imusysid/estimator.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

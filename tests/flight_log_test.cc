@@ -1,5 +1,3 @@
-#include "src/flight_log.h"
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +8,7 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/log.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

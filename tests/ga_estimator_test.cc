@@ -17,14 +17,14 @@
 #include <vector>
 
 #include "Eigen/Dense"
-#include "estimators/estimator.h"
-#include "estimators/registry.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
-#include "src/paper_model.h"
-#include "src/problem.h"
-#include "tests/synthetic_flight.h"
+#include "imusysid/estimator.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "src/models/paper_model.h"
+#include "src/sim/synthetic_flight.h"
 
 namespace imusysid {
 namespace {

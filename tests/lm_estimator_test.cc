@@ -13,8 +13,8 @@
 #include "Eigen/Dense"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
-#include "src/problem.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

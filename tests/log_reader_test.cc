@@ -1,4 +1,4 @@
-#include "src/log_reader.h"
+#include "imusysid/log_reader.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,8 +9,8 @@
 #include "Eigen/LU"
 #include "benchmarks/runner.h"
 #include "gtest/gtest.h"
+#include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
-#include "src/imu_model.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

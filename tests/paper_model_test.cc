@@ -1,4 +1,4 @@
-#include "src/paper_model.h"
+#include "src/models/paper_model.h"
 
 #include <cmath>
 #include <memory>
@@ -8,7 +8,7 @@
 #include "Eigen/Core"
 #include "ceres/jet.h"
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
+#include "imusysid/parameters.h"
 
 namespace imusysid {
 namespace {

@@ -2,7 +2,7 @@
 // closed-form θ, v and ω̇, the plane and velocity mappings, the error cases,
 // and flight-phase detection on a synthetic flight with known phase times.
 
-#include "src/preprocess.h"
+#include "imusysid/preprocess.h"
 
 #include <cmath>
 #include <functional>
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
+#include "imusysid/parameters.h"
 
 namespace imusysid {
 namespace {

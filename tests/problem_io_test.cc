@@ -1,4 +1,4 @@
-#include "src/problem_io.h"
+#include "imusysid/problem_io.h"
 
 #include <cmath>
 #include <cstring>
@@ -7,7 +7,7 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "src/flight_log.h"
+#include "imusysid/log.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "imusysid/log.h"
+#include "imusysid/log_reader.h"
+#include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
-#include "src/flight_log.h"
-#include "src/imu_model.h"
-#include "src/log_reader.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

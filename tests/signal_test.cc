@@ -1,14 +1,14 @@
 // Tests of the numeric primitives in src/signal.h on analytic signals whose
 // filtered values, derivatives and integrals are known in closed form.
 
-#include "src/signal.h"
+#include "src/preprocess/signal.h"
 
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "src/imu_model.h"
+#include "imusysid/parameters.h"
 
 namespace imusysid {
 namespace {

@@ -9,13 +9,13 @@
 #include <memory>
 #include <string>
 
-#include "estimators/registry.h"
 #include "gtest/gtest.h"
-#include "src/displacement.h"
-#include "src/flight_log.h"
-#include "src/preprocess.h"
-#include "src/problem.h"
-#include "src/simulator.h"
+#include "imusysid/displacement.h"
+#include "imusysid/log.h"
+#include "imusysid/preprocess.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "imusysid/simulate.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

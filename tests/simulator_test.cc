@@ -1,5 +1,3 @@
-#include "src/simulator.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -9,8 +7,9 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/parameters.h"
+#include "imusysid/simulate.h"
 #include "nlohmann/json.hpp"
-#include "src/imu_model.h"
 
 namespace imusysid {
 namespace {

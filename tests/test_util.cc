@@ -14,9 +14,9 @@
 
 #include "glog/logging.h"
 #include "gtest/gtest.h"
+#include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
-#include "src/imu_model.h"
-#include "src/paper_model.h"
+#include "src/models/paper_model.h"
 
 namespace imusysid {
 namespace testing {

@@ -9,10 +9,10 @@
 #include <string>
 
 #include "Eigen/Core"
-#include "estimators/estimator.h"
+#include "imusysid/estimator.h"
+#include "imusysid/problem.h"
 #include "nlohmann/json.hpp"
-#include "src/problem.h"
-#include "tests/synthetic_flight.h"
+#include "src/sim/synthetic_flight.h"
 
 namespace imusysid {
 namespace testing {
@@ -65,7 +65,7 @@ EstimatorOptions SmallGaOptions();
 // Pitch is analytic, θ(τ) = c0 + A1 sin(w1 τ) + A2 (sin(w2 τ + φ) − sin φ)
 // (so the integrated gyro θ − c0 − c1 τ starts at 0), velocity is integrated
 // by classical RK4 at ten times the sample rate, and f_x is the prediction
-// formula of docs (header of src/consistent_model.h) written out
+// formula of docs (header of src/models/consistent_model.h) written out
 // independently of the library.
 struct ConsistentTruth {
   double r = 0.19;        // m

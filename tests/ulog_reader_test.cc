@@ -1,5 +1,3 @@
-#include "src/ulog_reader.h"
-
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -9,6 +7,7 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "imusysid/ulog.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

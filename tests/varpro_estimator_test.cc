@@ -7,12 +7,12 @@
 #include <vector>
 
 #include "Eigen/Dense"
-#include "estimators/registry.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "src/consistent_model.h"
-#include "src/imu_model.h"
-#include "src/problem.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "src/models/consistent_model.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

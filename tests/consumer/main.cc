@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "src/displacement.h"
+#include "imusysid/displacement.h"
 
 int main() {
   const auto d = imusysid::ComputeDisplacement(0.19, 56.299, 0.213, 66.066);

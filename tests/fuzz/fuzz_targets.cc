@@ -3,8 +3,8 @@
 #include <string>
 #include <string_view>
 
-#include "src/flight_log.h"
-#include "src/log_reader.h"
+#include "imusysid/log.h"
+#include "imusysid/log_reader.h"
 
 namespace imusysid {
 namespace fuzz {

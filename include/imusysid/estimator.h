@@ -1,0 +1,149 @@
+// The pluggable estimator interface: options (one aggregate with a nested
+// struct per estimator family) and the abstract Estimator; the result it
+// returns is in result.h. Every estimator fits the same Problem, counts its
+// evaluations through it and is timed the same way, so results compare.
+
+#ifndef IMUSYSID_ESTIMATOR_H_
+#define IMUSYSID_ESTIMATOR_H_
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "Eigen/Core"
+#include "imusysid/covariance.h"
+#include "imusysid/problem.h"
+#include "imusysid/result.h"
+#include "imusysid/status.h"
+
+namespace imusysid {
+
+// --- options ---------------------------------------------------------------
+
+enum class GaMode {
+  kBounded,    // MATLAB galincon: adaptive-feasible mutation within bounds
+  kUnbounded,  // MATLAB gaunc: Gaussian mutation with linear shrink
+};
+const char* GaModeToString(GaMode mode);
+StatusOr<GaMode> GaModeFromString(std::string_view text);
+
+// MATLAB `ga` options, snake_case of the MATLAB names, MATLAB defaults except
+// population_size (the paper's 250). See estimators/ga_estimator.h.
+struct GaOptions {
+  GaMode mode = GaMode::kBounded;
+  int population_size = 250;  // PopulationSize; paper: 250 (MATLAB: 50)
+  int elite_count = -1;       // EliteCount; -1 = ceil(0.05·population_size)
+  double crossover_fraction = 0.8;   // CrossoverFraction, [0, 1]
+  int max_generations = -1;          // MaxGenerations; -1 = 100·nvars
+  int max_stall_generations = 50;    // MaxStallGenerations
+  double function_tolerance = 1e-6;  // FunctionTolerance (averageChange)
+  // Objective the GA minimises: the paper's OF (RMSE, m/s²), as MATLAB did.
+  // The tolerance above is therefore absolute in m/s².
+  double mutation_scale = 1.0;   // mutationgaussian scale (unbounded mode)
+  double mutation_shrink = 1.0;  // mutationgaussian shrink (unbounded mode)
+  // Initial population range for the unbounded mode; empty = the bounds.
+  Eigen::VectorXd init_range_lower;
+  Eigen::VectorXd init_range_upper;
+  int num_threads = 1;  // threads evaluating the population; results do not
+                        // depend on it
+
+  Status Validate() const;
+};
+
+struct LmOptions {
+  int max_iterations = 200;
+  double function_tolerance = 1e-12;  // Ceres relative cost change
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-12;
+  // Iterate on the model's compressed residuals when it has them
+  // (Model::num_compressed_residuals: the paper model's five), which give the
+  // same steps at O(1) cost per iteration instead of O(n).
+  bool use_compressed_residuals = true;
+  Status Validate() const;
+};
+
+// The memetic GA: every `period_generations` generations the elite are
+// refined by `lm_iterations` LM iterations and written back.
+struct HybridOptions {
+  int period_generations = 10;
+  int lm_iterations = 5;
+  int num_refined = -1;  // how many elites to refine; -1 = elite count
+  Status Validate() const;
+};
+
+struct LinearOptions {
+  // Enforce μ ≥ 0 with a constrained solve when the free solve gives μ < 0.
+  bool enforce_nonnegative_mu = true;
+  Status Validate() const;
+};
+
+struct EstimatorOptions {
+  std::uint64_t seed = 1;  // every stochastic estimator seeds from this
+  double max_wall_time_s = std::numeric_limits<double>::infinity();
+  std::int64_t max_evaluations = -1;  // -1: no limit
+  bool record_trace = true;
+  int verbosity = 0;  // 0 silent, 1 per-run VLOG, 2 per-iteration VLOG
+  // How standard errors are computed (include/imusysid/covariance.h). kHac by
+  // default: the residuals are low-pass filtered and carry model error
+  // correlated over seconds, which σ̂²(JᵀJ)⁻¹ (kWhite) ignores and so
+  // understates the uncertainty several times over.
+  CovarianceType covariance = CovarianceType::kHac;
+  GaOptions ga;
+  LmOptions lm;
+  HybridOptions hybrid;
+  LinearOptions linear;
+
+  Status Validate() const;
+};
+
+// --- the interface ---------------------------------------------------------
+
+// An estimator is stateless and const: everything random is seeded from
+// options.seed inside Estimate, so the same inputs give the same result.
+//
+// Estimate() is the one entry point (non-virtual): it validates the options,
+// rejects a model the estimator cannot fit (listing the ones it can), times
+// Solve() with a steady clock, takes the evaluation counts from the Problem's
+// counters, and then computes what every result reports the same way
+// (cost, OF, standard errors, condition number, warnings). Implementations
+// only write Solve().
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+  Estimator(const Estimator&) = delete;
+  Estimator& operator=(const Estimator&) = delete;
+
+  virtual std::string_view name() const = 0;
+  // Model names this estimator can fit.
+  virtual std::vector<std::string> SupportedModels() const = 0;
+
+  StatusOr<EstimateResult> Estimate(const Problem& problem,
+                                    const EstimatorOptions& options) const;
+
+ protected:
+  Estimator() = default;
+
+  // Fills at least result->parameters and result->termination (and message,
+  // iterations, trace, details). Returns a non-OK status only for errors that
+  // are not outcomes (a non-converged solve is an outcome).
+  virtual Status Solve(const Problem& problem,
+                       const EstimatorOptions& options,
+                       EstimateResult* result) const = 0;
+};
+
+// Computes final_cost, rmse, standard_errors (of the given covariance type),
+// condition_number and the common warnings for result->parameters. Called by
+// Estimator::Estimate with EstimatorOptions::covariance; exposed for tests and
+// for callers that build results by hand. Does not count evaluations.
+void FinalizeResult(const Problem& problem,
+                    CovarianceType covariance,
+                    EstimateResult* result);
+// The same with the default covariance type (kHac).
+void FinalizeResult(const Problem& problem, EstimateResult* result);
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_ESTIMATOR_H_

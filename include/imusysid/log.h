@@ -1,0 +1,117 @@
+// The in-memory flight log every reader produces (CSV, ULog, DataFlash) and the
+// documented CSV format's reader and writer. All channels are stored in the
+// model's FLU body frame (x forward, y left, z up) in SI units.
+
+#ifndef IMUSYSID_LOG_H_
+#define IMUSYSID_LOG_H_
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "imusysid/status.h"
+
+namespace imusysid {
+
+// Axis convention of a file's accelerometer and gyroscope columns.
+// FRD → FLU maps (x, y, z) → (x, −y, −z) for both sensors (docs/log-format.md).
+enum class Frame { kFlu, kFrd };
+const char* FrameToString(Frame frame);  // "flu" / "frd"
+StatusOr<Frame> FrameFromString(std::string_view text);
+
+// A named extra channel, same length as FlightLog::t_s. Names are kept exactly
+// as in the file (CSV column, "topic.field" for ULog, "MSG.Field" for
+// DataFlash). Readers that know the autopilot's velocity and attitude also
+// provide the canonical channels named in kChannel* below.
+struct Channel {
+  std::string name;
+  std::vector<double> values;
+};
+
+// Canonical optional channels (NED velocity in m/s, Euler angles in rad as the
+// autopilot reports them: roll right-wing-down, pitch nose-up positive, yaw).
+inline constexpr const char* kChannelVelN = "vel_n";
+inline constexpr const char* kChannelVelE = "vel_e";
+inline constexpr const char* kChannelVelD = "vel_d";
+inline constexpr const char* kChannelRoll = "roll";
+inline constexpr const char* kChannelPitch = "pitch";
+inline constexpr const char* kChannelYaw = "yaw";
+
+struct FlightLog {
+  // Where the log came from (a path), used in messages.
+  std::string source;
+  // The frame the file was written in (the data below are always FLU).
+  Frame source_frame = Frame::kFlu;
+  // `# key: value` metadata lines (CSV) or the autopilot's info fields, in
+  // file order.
+  std::vector<std::pair<std::string, std::string>> metadata;
+
+  std::vector<double> t_s;         // time, s, strictly increasing
+  std::vector<double> ax, ay, az;  // specific force, m/s², FLU
+  std::vector<double> gx, gy, gz;  // angular rate, rad/s, FLU
+  std::vector<Channel> extra;      // every other column, by name
+
+  std::size_t size() const { return t_s.size(); }
+  // Returns the extra channel with this name, or nullptr.
+  const Channel* FindChannel(std::string_view name) const;
+  // Returns the metadata value for `key`, or nullptr.
+  const std::string* FindMetadata(std::string_view key) const;
+  // Median sample interval, s (0 for fewer than two samples).
+  double MedianDt() const;
+};
+
+struct CsvReadOptions {
+  // Overrides the file's `# frame:` metadata when set (the CLI's --frame).
+  bool override_frame = false;
+  Frame frame = Frame::kFlu;
+  // Fewer samples than this is an error ("fewer samples than the fit needs").
+  std::size_t min_samples = 10;
+  // A time step longer than this many median intervals is an error: the log
+  // has a hole the integrators cannot bridge.
+  double max_gap_factor = 10.0;
+};
+
+// Parses the CSV text `text`; `name` is used in error messages
+// ("name:line:column: ..."). Required columns: t, ax, ay, az, gx, gy, gz in any
+// order; others become FlightLog::extra. Every malformed input is an
+// InvalidArgument naming the file, the 1-based line and column, the column
+// name and the offending text. Never drops a row silently.
+StatusOr<FlightLog> ParseCsvLog(std::string_view text,
+                                const std::string& name,
+                                const CsvReadOptions& options = {});
+
+// Reads and parses a CSV log file.
+StatusOr<FlightLog> ReadCsvLog(const std::string& path,
+                               const CsvReadOptions& options = {});
+
+struct CsvWriteOptions {
+  // Frame to write in; FLU data are converted when kFrd is chosen.
+  Frame frame = Frame::kFlu;
+  // Significant digits for the values (17 round-trips doubles exactly; 0 or
+  // less writes the shortest text that round-trips). The time column uses at
+  // least 12.
+  int precision = 9;
+};
+
+// Serialises `log` as CSV text (metadata lines, `# frame:` line, header, rows).
+std::string FormatCsvLog(const FlightLog& log,
+                         const CsvWriteOptions& options = {});
+
+// Writes `contents` to `path` atomically: a temporary file in the same folder
+// that is renamed over `path` only when fully written, so no half-written file
+// is ever left behind.
+Status WriteFileAtomically(const std::string& path, std::string_view contents);
+
+// FormatCsvLog + WriteFileAtomically.
+Status WriteCsvLog(const FlightLog& log,
+                   const std::string& path,
+                   const CsvWriteOptions& options = {});
+
+// Reads a whole file into memory.
+StatusOr<std::string> ReadFileToString(const std::string& path);
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_LOG_H_

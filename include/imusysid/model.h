@@ -1,0 +1,121 @@
+// The measurement-model side: the preprocessed samples a fit consumes
+// (ProblemData), the Model interface that turns a parameter vector into
+// residuals, and the factory that builds a model by name.
+
+#ifndef IMUSYSID_MODEL_H_
+#define IMUSYSID_MODEL_H_
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "Eigen/Core"
+#include "imusysid/parameters.h"
+#include "imusysid/status.h"
+
+namespace imusysid {
+
+// The samples of the fit segment after preprocessing, FLU body frame, SI units.
+// Every vector has size() entries. Sample 0 is the reference instant t_a (in
+// hover, just before the maneuver) where θ and v start at zero.
+struct ProblemData {
+  std::string source;             // log path or description, for messages
+  double gravity = kGravity;      // m/s²
+  std::vector<double> t_s;        // time, s, strictly increasing
+  std::vector<double> f_x;        // x specific force (filtered), m/s²
+  std::vector<double> f_z;        // z specific force (filtered), m/s²; may be
+                                  // empty when the source has none
+  std::vector<double> omega;      // y rate, bias removed, filtered, rad/s
+  std::vector<double> omega_dot;  // time derivative of omega, rad/s²
+  std::vector<double> theta;      // ∫ω dt from sample 0 (θ0 = 0), rad
+  std::vector<double> v;          // horizontal velocity used by the paper's
+                                  // model (equation 7 by default), m/s
+
+  std::size_t size() const { return t_s.size(); }
+  // Checks sizes agree, values are finite and t strictly increases.
+  Status Validate() const;
+};
+
+// Describes one entry of a model's parameter vector.
+struct ParameterInfo {
+  std::string name;    // "r", "beta", "alpha", "mu", "c0", "c1"
+  std::string unit;    // "m", "deg", "1/m", "deg/s"
+  double lower = 0.0;  // default bounds (the GA's search box)
+  double upper = 0.0;
+  bool nuisance = false;  // not one of the four physical parameters
+};
+
+// A measurement model bound to one ProblemData. Residuals are
+// r_k = f_x,k − prediction_k(x) for k = 0..num_residuals()−1, and the cost is
+// ½ Σ r_k² (the Ceres convention; the paper's OF is sqrt(2·cost/n)).
+// Implementations are immutable after construction and safe to call from
+// several threads at once.
+class Model {
+ public:
+  virtual ~Model() = default;
+  Model(const Model&) = delete;
+  Model& operator=(const Model&) = delete;
+
+  // Registry key: "paper", "consistent".
+  virtual std::string_view name() const = 0;
+  // The first four parameters are always (r, β, α, μ) at kR..kMu.
+  virtual const std::vector<ParameterInfo>& parameter_info() const = 0;
+  int num_parameters() const {
+    return static_cast<int>(parameter_info().size());
+  }
+  virtual int num_residuals() const { return static_cast<int>(data_->size()); }
+
+  // Writes num_residuals() residuals and, when `jacobian` is not null, the
+  // row-major num_residuals() × num_parameters() Jacobian of the residuals.
+  // Returns false if any value is not finite (the step must be rejected).
+  virtual bool Residuals(const double* x,
+                         double* residuals,
+                         double* jacobian) const = 0;
+
+  // ½ Σ r². The default evaluates the residuals; a model with a cheaper exact
+  // path (the paper model's O(1) Gram form) overrides it.
+  virtual bool Cost(const double* x, double* cost) const;
+
+  // An equivalent least-squares problem with few residuals ρ(x): ‖ρ‖² = ‖r‖²,
+  // ρ_Jᵀρ = Jᵀr and ρ_Jᵀρ_J = JᵀJ at every x, so a Gauss–Newton or LM step
+  // on ρ is the step on r at a cost independent of n. 0 (the default) when
+  // the model has none; the paper model's is R·[a(x); −1] with RᵀR its Gram
+  // matrix. Same layout as Residuals (row-major Jacobian).
+  virtual int num_compressed_residuals() const { return 0; }
+  virtual bool CompressedResiduals(const double* x,
+                                   double* residuals,
+                                   double* jacobian) const;
+
+  const ProblemData& data() const { return *data_; }
+  const std::shared_ptr<const ProblemData>& shared_data() const {
+    return data_;
+  }
+
+ protected:
+  explicit Model(std::shared_ptr<const ProblemData> data);
+
+ private:
+  std::shared_ptr<const ProblemData> data_;
+};
+
+struct ModelOptions {
+  // consistent model: integrate v̇ = f_z·sin θ − μ v|v| with the measured z
+  // specific force instead of assuming altitude hold (v̇ = g tan θ − μ v|v|).
+  bool use_measured_fz = false;
+};
+
+// Names of the built-in models, in a fixed order.
+std::vector<std::string> ModelNames();
+
+// Builds the named model over `data`. NotFound lists the valid names;
+// FailedPrecondition if the data lack what the model needs.
+StatusOr<std::unique_ptr<Model>> CreateModel(
+    std::string_view name,
+    std::shared_ptr<const ProblemData> data,
+    const ModelOptions& options = {});
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_MODEL_H_

@@ -1,0 +1,45 @@
+// The estimator registry: names → factories. Built-in estimators are
+// registered explicitly in RegisterBuiltinEstimators (no static-initialiser
+// self-registration: it is order-fragile and dropped from static libraries).
+
+#ifndef IMUSYSID_REGISTRY_H_
+#define IMUSYSID_REGISTRY_H_
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "imusysid/estimator.h"
+#include "imusysid/status.h"
+
+namespace imusysid {
+
+using EstimatorFactory = std::function<std::unique_ptr<Estimator>()>;
+
+class EstimatorRegistry {
+ public:
+  // Adds a factory. Registering a name twice is a programmer error (CHECK).
+  void Register(std::string name, EstimatorFactory factory);
+  // NotFound, listing the valid names, for an unknown name.
+  StatusOr<std::unique_ptr<Estimator>> Create(std::string_view name) const;
+  // Names in registration order.
+  std::vector<std::string> Names() const;
+  // Names of the estimators whose SupportedModels() contains `model`.
+  std::vector<std::string> NamesSupporting(std::string_view model) const;
+
+ private:
+  std::vector<std::pair<std::string, EstimatorFactory>> entries_;
+};
+
+// Registers ga, lm, ga+lm, hybrid, linear and varpro.
+void RegisterBuiltinEstimators(EstimatorRegistry* registry);
+
+// A registry holding the built-in estimators, built once (thread-safe).
+const EstimatorRegistry& BuiltinEstimators();
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_REGISTRY_H_

@@ -1,0 +1,92 @@
+// What a fit returns: a Ceres-Summary-like plain struct with the parameters,
+// their standard errors and covariance, costs, counts, timing, the
+// convergence trace and diagnostics.
+
+#ifndef IMUSYSID_RESULT_H_
+#define IMUSYSID_RESULT_H_
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "Eigen/Core"
+
+namespace imusysid {
+
+enum class Termination {
+  kConverged,       // a convergence or stall test was met; parameters usable
+  kMaxIterations,   // iteration/generation limit; parameters usable
+  kMaxTime,         // wall-time limit; parameters usable
+  kMaxEvaluations,  // evaluation limit; parameters usable
+  kFailure,         // no usable parameters
+};
+const char* TerminationToString(Termination t);  // "converged", ...
+
+// One point of the convergence trace.
+struct TracePoint {
+  int iteration = 0;             // generation for the GA, LM iteration, ...
+  std::int64_t evaluations = 0;  // cumulative cost evaluations
+  double elapsed_s = 0.0;        // since the solve started
+  double best_cost = -1.0;       // ½Σr² of the best point so far
+  double mean_cost = -1.0;       // GA population mean of finite costs; else -1
+  std::string phase;             // "ga", "lm", ... for composite estimators
+};
+
+// A diagnostic attached to a result. `code` is a stable token for scripts:
+//   ill_conditioned   the data do not determine some parameters
+//   not_identifiable  r and β cannot be determined (no excitation)
+//   at_bound          a parameter ended on its bound
+//   a1_exceeds_g      |g sin α| coefficient beyond g
+//   no_convergence    stopped by a limit, not a convergence test
+struct Warning {
+  std::string code;
+  std::string message;
+};
+
+struct EstimateResult {
+  std::string estimator;
+  std::string model;
+  Termination termination = Termination::kFailure;
+  std::string message = "Estimate was not called";
+
+  // The model's full parameter vector (r m, β deg, α deg, μ 1/m, nuisance...).
+  Eigen::VectorXd parameters;
+  // 1σ standard errors at the solution from the covariance chosen by
+  // EstimatorOptions::covariance: by default the Newey–West (HAC) sandwich,
+  // which allows for residuals correlated in time; with kWhite σ̂²(JᵀJ)⁻¹,
+  // σ̂² = Σr²/(n − p). NaN where JᵀJ is singular. `details` records the kind
+  // ("covariance": "hac"|"white") and, for hac, the Bartlett bandwidth in
+  // samples ("covariance_bandwidth").
+  Eigen::VectorXd standard_errors;
+  // The full p × p covariance the standard errors come from (empty when there
+  // are none), for quantities that combine parameters (the PX4 position).
+  Eigen::MatrixXd covariance;
+  std::vector<std::string> parameter_names;
+
+  double initial_cost = -1.0;  // ½Σr² at the start (-1: not applicable)
+  double final_cost = -1.0;    // ½Σr² at the solution
+  double rmse = -1.0;          // the paper's OF, m/s²
+  int iterations = -1;         // generations (GA) or iterations (LM)
+  std::int64_t cost_evaluations = -1;
+  std::int64_t jacobian_evaluations = -1;
+  double wall_time_s = -1.0;  // the solve alone (steady clock)
+  // Scaled condition number of the Jacobian at the solution (columns scaled to
+  // unit norm), the identifiability diagnostic.
+  double condition_number = -1.0;
+
+  std::vector<TracePoint> trace;
+  std::vector<Warning> warnings;
+  // Estimator-specific facts worth reporting, e.g. {"ga_mode", "bounded"}.
+  std::vector<std::pair<std::string, std::string>> details;
+
+  bool HasWarning(std::string_view code) const;
+  // One line: estimator, model, termination, OF, parameters.
+  std::string BriefReport() const;
+  bool IsUsable() const { return termination != Termination::kFailure; }
+};
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_RESULT_H_

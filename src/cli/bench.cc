@@ -1,0 +1,226 @@
+// `imusysid bench`: the comparison experiment (benchmarks/runner.h) from the
+// command line: presets, flags → BenchConfig, Markdown or JSON on stdout, and
+// with --out the result files, the figures and index.html.
+
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "benchmarks/figures.h"
+#include "benchmarks/runner.h"
+#include "src/cli/common.h"
+#include "src/cli/log_flags.h"
+
+DEFINE_string(preset,
+              "paper",
+              "Preset: paper (the paper's experiment: paper_test1 and "
+              "paper_test2, every model x estimator) or ci (all bundled logs, "
+              "the paper model's estimators plus consistent varpro and lm, "
+              "10 Monte Carlo seeds).");
+DEFINE_string(logs,
+              "",
+              "Comma-separated logs to fit instead of the preset's "
+              "(a NAME.truth.json beside a log gives errors against truth).");
+DEFINE_string(models, "", "Comma-separated models (paper,consistent).");
+DEFINE_string(estimators,
+              "",
+              "Comma-separated estimators (default: every estimator "
+              "that supports each model, or the preset's choice).");
+DEFINE_int32(repeats, 1, "Timed repetitions of each run.");
+DEFINE_int32(seeds,
+             -1,
+             "Monte Carlo noise seeds per simulator scenario (0: none; "
+             "-1: the preset's).");
+DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
+DEFINE_string(scaling,
+              "",
+              "Comma-separated Google Benchmark JSON files or folders of them "
+              "(estimators_benchmark --benchmark_out=FILE "
+              "--benchmark_out_format=json; scripts/scaling.sh writes "
+              "out/scaling): runtime and memory versus samples, 1e3 ... 1e7, "
+              "drawn as runtime_vs_samples.svg and tabled on stdout.");
+
+DECLARE_int32(threads);
+DECLARE_int32(ga_population);
+DECLARE_int32(ga_max_generations);
+DECLARE_int32(lm_max_iterations);
+DECLARE_string(covariance);
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+std::string DataDir() {
+  const char* env = std::getenv("IMUSYSID_DATA_DIR");
+  if (env != nullptr && *env != '\0') return env;
+#ifdef IMUSYSID_SOURCE_DIR
+  return std::string(IMUSYSID_SOURCE_DIR) + "/data";
+#else
+  return "data";
+#endif
+}
+
+int Run(const std::vector<std::string>& positional) {
+  const std::string cmd = "bench";
+  if (!positional.empty()) {
+    return UsageError(cmd, "bench takes no positional arguments; use --logs");
+  }
+  StatusOr<bench::BenchConfig> preset =
+      bench::PresetConfig(FLAGS_preset, DataDir());
+  if (!preset.ok()) return ReportError(cmd, preset.status());
+  bench::BenchConfig config = *preset;
+  if (FlagWasSet("logs")) config.logs = bench::SplitList(FLAGS_logs);
+  if (FlagWasSet("models")) config.models = bench::SplitList(FLAGS_models);
+  if (FlagWasSet("estimators")) {
+    config.estimators = bench::SplitList(FLAGS_estimators);
+  }
+  config.repeats = FLAGS_repeats;
+  if (FLAGS_seeds >= 0) config.seeds = FLAGS_seeds;
+  if (FlagWasSet("threads")) {
+    if (FLAGS_threads < 1) {
+      return UsageError(cmd, "--threads must be >= 1");
+    }
+    config.threads = FLAGS_threads;
+  }
+  config.options.seed = FLAGS_seed;
+  config.options.ga.population_size = FLAGS_ga_population;
+  config.options.ga.max_generations = FLAGS_ga_max_generations;
+  config.options.lm.max_iterations = FLAGS_lm_max_iterations;
+  StatusOr<CovarianceType> covariance =
+      CovarianceTypeFromString(FLAGS_covariance);
+  if (!covariance.ok()) {
+    return ReportError(cmd, covariance.status().WithPrefix("--covariance"));
+  }
+  config.options.covariance = *covariance;
+  if (FLAGS_out.empty() || !FLAGS_figures) config.scaling_sizes.clear();
+  config.progress = [](const std::string& line) {
+    std::cerr << line << std::endl;
+  };
+  // Real logs (no truth sidecar) are read and preprocessed as `fit` does:
+  // binary logs without the whole-log gap check, the log's velocity when it
+  // has one, the longest gap-free stretch when no maneuver is found, and
+  // --t_start/--t_end/--plane/... applied to every such log.
+  config.read_log = [](const std::string& path) {
+    return ReadLogFromFlags(path);
+  };
+  config.preprocess_options =
+      [](const FlightLog& log,
+         std::vector<std::string>* notes) -> StatusOr<PreprocessOptions> {
+    StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(log);
+    if (!po.ok()) return po.status();
+    StatusOr<std::string> fallback = ApplyFallbackSegment(log, &*po);
+    if (!fallback.ok()) return fallback.status();
+    if (!fallback->empty()) notes->push_back(*fallback);
+    return po;
+  };
+  // Read before the runs, so that a bad file fails in a second, not after
+  // the whole experiment.
+  bench::GbenchScaling gbench;
+  if (!FLAGS_scaling.empty()) {
+    StatusOr<bench::GbenchScaling> read =
+        bench::ReadGbenchScaling(bench::SplitList(FLAGS_scaling));
+    if (!read.ok()) return ReportError(cmd, read.status());
+    gbench = std::move(read).value();
+    for (const auto& e : gbench.errors) {
+      std::cerr << "warning: --scaling: benchmark reported an error, not "
+                   "plotted: "
+                << e << "\n";
+    }
+  }
+
+  std::cerr << "bench: preset " << config.preset << ", " << config.logs.size()
+            << " log(s), " << config.threads << " worker(s)"
+            << (config.seeds > 0
+                    ? ", Monte Carlo " + std::to_string(config.seeds) + " seeds"
+                    : std::string())
+            << "\n";
+  StatusOr<bench::BenchReport> report = bench::RunBench(config);
+  if (!report.ok()) return ReportError(cmd, report.status());
+  report->gbench = std::move(gbench);
+
+  const std::string text = JsonOutput() ? bench::ReportJson(*report)
+                                        : bench::FormatMarkdown(*report);
+  Status s = EmitOutput(text, "");
+  if (!s.ok()) return ReportError(cmd, s);
+
+  if (!FLAGS_out.empty()) {
+    s = bench::WriteOutputs(*report, FLAGS_out);
+    if (!s.ok()) return ReportError(cmd, s);
+    if (FLAGS_figures) {
+      std::vector<bench::Figure> figures;
+      s = bench::WriteBenchFigures(*report, FLAGS_out, &figures);
+      if (s.code() == StatusCode::kFailedPrecondition) {
+        std::cerr << "warning: " << s.message() << "\n";
+      } else if (!s.ok()) {
+        return ReportError(cmd, s);
+      } else {
+        std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_out
+                  << "/index.html\n";
+      }
+    }
+    std::cerr << "wrote " << FLAGS_out
+              << "/{results.json,results.csv,traces.json,context.json}\n";
+  }
+  // A log that could not be fitted at all is bad input, even though the
+  // other logs' results were reported.
+  int exit_code = kExitOk;
+  for (const auto& log : report->logs) {
+    if (log.status.ok()) continue;
+    std::cerr << "imusysid bench: error: " << log.status.message() << "\n";
+    exit_code = ExitCodeFor(log.status);
+  }
+  return exit_code;
+}
+
+}  // namespace
+
+const Command& BenchCommand() {
+  static const Command c{
+      "bench",
+      "Run models x estimators x logs (and Monte Carlo seeds) and compare "
+      "accuracy and runtime.",
+      "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
+      "[--models=paper,consistent] [--estimators=NAMES] [--repeats=N] "
+      "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
+      "[--format=table|json]",
+      "Fits every log with every model x estimator through the same Estimate "
+      "API and prints\nMarkdown tables: per-run accuracy against the truth "
+      "sidecar, the paper's Table I,\nthe CoM displacement paper_test1 -> "
+      "paper_test2 beside the paper's 1.90 cm / 3.66 cm\nand its CAD values, "
+      "the runtime table and, with --seeds=K, Monte Carlo bias, std and\n"
+      "RMSE against the Cramer-Rao bound. --threads is the number of runs "
+      "executed at once\n(default: all cores; each GA then uses one thread). "
+      "--out=DIR is a folder: it receives\nresults.json, results.csv, "
+      "traces.json, context.json, report.json, the SVG figures\nand "
+      "index.html "
+      "(docs/benchmarks.md).\n--scaling reads Google Benchmark's "
+      "scaling results (scripts/scaling.sh) for the\nruntime-versus-samples "
+      "figure and the scaling table. Logs without a truth sidecar\n(real "
+      "CSV, ULog, DataFlash) are read and preprocessed as fit does, with "
+      "--imu, --frame,\n--t_start, --t_end, --plane, --velocity, --cutoff_hz "
+      "and --gyro_bias applied to each.",
+      WithLogFlags({"preset",
+                    "logs",
+                    "models",
+                    "estimators",
+                    "repeats",
+                    "seeds",
+                    "threads",
+                    "seed",
+                    "ga_population",
+                    "ga_max_generations",
+                    "lm_max_iterations",
+                    "covariance",
+                    "figures",
+                    "scaling",
+                    "out",
+                    "format"}),
+      &Run};
+  return c;
+}
+
+}  // namespace cli
+}  // namespace imusysid

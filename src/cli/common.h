@@ -1,0 +1,71 @@
+// Shared plumbing for the imusysid command-line tool: subcommand table,
+// per-command --help generated from the gflags definitions, strict flag
+// parsing (unknown flags and bad values are usage errors, exit code 2), and
+// error/JSON output helpers.
+
+#ifndef IMUSYSID_SRC_CLI_COMMON_H_
+#define IMUSYSID_SRC_CLI_COMMON_H_
+
+#include <string>
+#include <vector>
+
+#include "gflags/gflags.h"
+#include "imusysid/report.h"
+#include "imusysid/status.h"
+
+DECLARE_string(format);
+
+namespace imusysid {
+namespace cli {
+
+// Exit codes of the tool.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInternal = 1;
+inline constexpr int kExitBadInput = 2;
+
+struct Command {
+  std::string name;
+  std::string summary;  // one line for the command list
+  std::string usage;    // "imusysid fit --log=FILE [flags]"
+  std::string details;  // paragraphs printed by --help after the usage
+  std::vector<std::string> flags;  // gflags names this command accepts
+  // Runs with the positional arguments; flags are already set.
+  int (*run)(const std::vector<std::string>& positional) = nullptr;
+};
+
+// Every subcommand, in help order. Each cli_<name>.cc defines one accessor.
+const Command& SimulateCommand();
+const Command& InspectCommand();
+const Command& FitCommand();
+const Command& DisplacementCommand();
+const Command& ExportProblemCommand();
+const Command& ConvertCommand();
+const Command& BenchCommand();
+
+// The process exit code for a status: 0 for OK, 2 for the user's input
+// (invalid argument, not found, failed precondition), 1 otherwise.
+int ExitCodeFor(const Status& status);
+
+// Prints "imusysid <cmd>: error: <message>" to stderr and returns the exit
+// code for the status (2 for bad input, 1 otherwise).
+int ReportError(const std::string& command, const Status& status);
+
+// Usage error: prints the message and a hint to --help, returns 2.
+int UsageError(const std::string& command, const std::string& message);
+
+// True when the flag was given on the command line (gflags' is_default
+// cannot tell for NaN defaults). Recorded by the parser in cli_main.cc.
+bool FlagWasSet(const std::string& name);
+void MarkFlagSet(const std::string& name);
+
+// The value of --format: "table" or "json" (validated by the parser).
+bool JsonOutput();
+
+// Writes `text` to stdout; when `path` is not empty, writes it atomically to
+// that file instead.
+Status EmitOutput(const std::string& text, const std::string& path);
+
+}  // namespace cli
+}  // namespace imusysid
+
+#endif  // IMUSYSID_SRC_CLI_COMMON_H_

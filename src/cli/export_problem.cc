@@ -1,0 +1,86 @@
+// `imusysid export-problem`: preprocess a log exactly as `fit` does and write
+// the samples the estimators see as a problem CSV (src/problem_io.h), for
+// `fit --problem`, for other pipelines and for the peers in benchmarks/peers.
+
+#include <charconv>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "imusysid/preprocess.h"
+#include "imusysid/problem_io.h"
+#include "src/cli/common.h"
+#include "src/cli/log_flags.h"
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+// The shortest text that reads back as `value`.
+std::string Shortest(double value) {
+  char buf[64];
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), value);
+  return std::string(buf, r.ptr);
+}
+
+int Run(const std::vector<std::string>& positional) {
+  const std::string cmd = "export-problem";
+  std::string path = FLAGS_log;
+  if (path.empty() && positional.size() == 1) {
+    path = positional[0];
+  } else if (!positional.empty() || path.empty()) {
+    return UsageError(cmd, "give the log with --log=FILE");
+  }
+
+  StatusOr<FlightLog> log = ReadLogFromFlags(path);
+  if (!log.ok()) return ReportError(cmd, log.status());
+  StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
+  if (!po.ok()) return ReportError(cmd, po.status());
+  StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
+  if (!pre.ok()) return ReportError(cmd, pre.status());
+  for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
+
+  const ProblemData& data = pre->data;
+  ProblemMetadata metadata = {
+      {"source", path},
+      {"plane", PlaneToString(po->plane)},
+      {"velocity", VelocitySourceToString(po->velocity_source)},
+      {"t_start_s", Shortest(data.t_s.front())},
+      {"t_end_s", Shortest(data.t_s.back())},
+      {"samples", std::to_string(data.size())},
+      {"cutoff_hz", Shortest(po->cutoff_hz)},
+      {"gyro_bias_rad_s", Shortest(pre->gyro_bias_rad_s)},
+      {"sample_rate_hz", Shortest(pre->sample_rate_hz)},
+      {"model", "paper"},
+  };
+  Status s = EmitOutput(FormatProblemCsv(data, metadata), FLAGS_out);
+  if (!s.ok()) return ReportError(cmd, s);
+  if (!FLAGS_out.empty()) {
+    std::cerr << "wrote " << FLAGS_out << " (" << data.size() << " samples, t "
+              << FormatNumber(data.t_s.front()) << " to "
+              << FormatNumber(data.t_s.back()) << " s)\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+const Command& ExportProblemCommand() {
+  static const Command c{
+      "export-problem",
+      "Write the preprocessed samples a fit sees as a problem CSV.",
+      "imusysid export-problem --log=FILE [--out=P.csv] [preprocessing flags]",
+      "Preprocesses the log as 'fit' does (same flags) and writes the fit "
+      "segment's samples\nwith the columns t,f,omega,omega_dot,v (and theta, "
+      "f_z) in SI units, 17 significant\ndigits, with the settings as '# key: "
+      "value' lines (docs/problem-files.md). Fit it with\n'imusysid fit "
+      "--problem=P.csv --model=paper'. The consistent model needs the raw "
+      "log and\ncannot be fitted from a problem file. Without --out the CSV "
+      "goes to stdout.",
+      WithLogFlags({"log", "out"}),
+      &Run};
+  return c;
+}
+
+}  // namespace cli
+}  // namespace imusysid

@@ -1,0 +1,469 @@
+// `imusysid fit`: preprocess a log, fit a model with one estimator (or all
+// that support it) and report the parameters, their standard errors, the
+// paper's OF, the cost of the solve and any warnings.
+
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "benchmarks/figures.h"
+#include "imusysid/autopilot.h"
+#include "imusysid/preprocess.h"
+#include "imusysid/problem.h"
+#include "imusysid/problem_io.h"
+#include "imusysid/registry.h"
+#include "imusysid/report.h"
+#include "nlohmann/json.hpp"
+#include "src/cli/common.h"
+#include "src/cli/log_flags.h"
+
+DEFINE_string(model,
+              "consistent",
+              "Model: paper (equation 9 with v from equation 7) or consistent "
+              "(drag and thrust consistent, with attitude drift). Default: "
+              "consistent, but paper when the velocity comes from the log "
+              "(--velocity=log, auto on ULog/DataFlash), which only paper "
+              "uses.");
+DEFINE_string(estimator,
+              "ga+lm",
+              "Estimator name (ga, lm, ga+lm, hybrid, linear, varpro) or all.");
+DEFINE_string(bounds,
+              "",
+              "Override search bounds: name:lo:hi[,name:lo:hi...] with names "
+              "r, beta, alpha, mu, c0, c1 in m, deg, deg, 1/m, deg, deg/s.");
+DEFINE_string(initial,
+              "",
+              "Start point for lm: comma-separated values in parameter order "
+              "(default: centre of the bounds).");
+DEFINE_int32(ga_population, 250, "GA population size (the paper's 250).");
+DEFINE_string(ga_mode,
+              "bounded",
+              "GA mode: bounded (MATLAB with bounds: adaptive-feasible "
+              "mutation) or unbounded (Gaussian mutation).");
+DEFINE_int32(ga_max_generations, -1, "GA generation limit; -1: 100 x nvars.");
+DEFINE_int32(ga_stall_generations, 50, "GA stall generation limit.");
+DEFINE_double(ga_tolerance,
+              1e-6,
+              "GA function tolerance of the average-change stall test, m/s^2.");
+DEFINE_int32(threads, 2, "Threads evaluating the GA population.");
+DEFINE_int32(lm_max_iterations, 200, "Levenberg-Marquardt iteration limit.");
+DEFINE_int32(hybrid_period, 10, "hybrid: LM refinement every N generations.");
+DEFINE_int32(hybrid_lm_iterations, 5, "hybrid: LM iterations per refinement.");
+DEFINE_double(max_time_s, 0, "Wall-time limit per estimator, s; 0: none.");
+DEFINE_string(covariance,
+              "hac",
+              "Standard errors: hac (Newey-West sandwich with a Bartlett "
+              "kernel and automatic bandwidth; allows for the correlated, "
+              "filtered residuals) or white (s^2 (J^T J)^-1, assumes white "
+              "residuals and understates the uncertainty on real data).");
+DEFINE_bool(use_measured_fz,
+            false,
+            "consistent model: integrate velocity with the measured z "
+            "specific force instead of assuming altitude hold.");
+DEFINE_bool(trace, false, "Include the convergence trace in JSON output.");
+DEFINE_string(plot,
+              "",
+              "Write the per-log figures (SVG via gnuplot) and an index.html "
+              "into this folder.");
+DEFINE_string(problem,
+              "",
+              "Problem CSV to fit instead of a log (from export-problem or "
+              "another pipeline; docs/problem-files.md): no preprocessing, "
+              "model paper only.");
+
+DEFINE_string(emit,
+              "",
+              "Also state the result in an autopilot's terms: px4 "
+              "(EKF2_IMU_POS_*, QGroundControl .params) or ardupilot "
+              "(INS_POSn_*, .parm), with the trim the tilt corresponds to.");
+DEFINE_string(emit_out,
+              "",
+              "With --emit: write the parameter file here (atomically) "
+              "instead of only showing it.");
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+Status ApplyBounds(Problem* problem) {
+  Eigen::VectorXd lo = problem->lower_bounds();
+  Eigen::VectorXd hi = problem->upper_bounds();
+  const auto& info = problem->model().parameter_info();
+  std::stringstream items(FLAGS_bounds);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    if (item.empty()) continue;
+    const auto c1 = item.find(':');
+    const auto c2 = c1 == std::string::npos ? c1 : item.find(':', c1 + 1);
+    if (c2 == std::string::npos) {
+      return InvalidArgumentError("--bounds: '" + item + "' is not name:lo:hi");
+    }
+    const std::string name = item.substr(0, c1);
+    int index = -1;
+    for (std::size_t i = 0; i < info.size(); ++i) {
+      if (info[i].name == name) index = static_cast<int>(i);
+    }
+    if (index < 0) {
+      std::string valid;
+      for (const auto& p : info) valid += " " + p.name;
+      return InvalidArgumentError(
+          "--bounds: model '" + std::string(problem->model().name()) +
+          "' has no parameter '" + name + "'; valid:" + valid);
+    }
+    char* e1 = nullptr;
+    char* e2 = nullptr;
+    const std::string a = item.substr(c1 + 1, c2 - c1 - 1);
+    const std::string b = item.substr(c2 + 1);
+    lo[index] = std::strtod(a.c_str(), &e1);
+    hi[index] = std::strtod(b.c_str(), &e2);
+    if (a.empty() || b.empty() || *e1 != '\0' || *e2 != '\0') {
+      return InvalidArgumentError("--bounds: '" + item +
+                                  "': bounds are not numbers");
+    }
+  }
+  IMUSYSID_RETURN_IF_ERROR(problem->SetBounds(lo, hi).WithPrefix("--bounds"));
+  if (!FLAGS_initial.empty()) {
+    std::vector<double> values;
+    std::stringstream vs(FLAGS_initial);
+    std::string v;
+    while (std::getline(vs, v, ',')) {
+      char* end = nullptr;
+      values.push_back(std::strtod(v.c_str(), &end));
+      if (v.empty() || *end != '\0') {
+        return InvalidArgumentError("--initial: '" + v + "' is not a number");
+      }
+    }
+    IMUSYSID_RETURN_IF_ERROR(
+        problem
+            ->SetInitialGuess(Eigen::Map<Eigen::VectorXd>(
+                values.data(), static_cast<Eigen::Index>(values.size())))
+            .WithPrefix("--initial"));
+  }
+  return Status::Ok();
+}
+
+StatusOr<EstimatorOptions> OptionsFromFlags() {
+  EstimatorOptions o;
+  o.seed = FLAGS_seed;
+  if (FLAGS_max_time_s > 0) o.max_wall_time_s = FLAGS_max_time_s;
+  o.record_trace = true;
+  o.ga.population_size = FLAGS_ga_population;
+  StatusOr<GaMode> mode = GaModeFromString(FLAGS_ga_mode);
+  if (!mode.ok()) return mode.status().WithPrefix("--ga_mode");
+  o.ga.mode = *mode;
+  o.ga.max_generations = FLAGS_ga_max_generations;
+  o.ga.max_stall_generations = FLAGS_ga_stall_generations;
+  o.ga.function_tolerance = FLAGS_ga_tolerance;
+  o.ga.num_threads = FLAGS_threads;
+  o.lm.max_iterations = FLAGS_lm_max_iterations;
+  o.hybrid.period_generations = FLAGS_hybrid_period;
+  o.hybrid.lm_iterations = FLAGS_hybrid_lm_iterations;
+  StatusOr<CovarianceType> covariance =
+      CovarianceTypeFromString(FLAGS_covariance);
+  if (!covariance.ok()) return covariance.status().WithPrefix("--covariance");
+  o.covariance = *covariance;
+  IMUSYSID_RETURN_IF_ERROR(o.Validate());
+  return o;
+}
+
+// Reads and preprocesses the log at `path` for the fit; fills `context`.
+// `unidentifiable` gets a reason when the log itself shows r and β cannot be
+// identified (no maneuver, or no flight in the segment), whatever the fit's
+// standard errors say.
+StatusOr<std::shared_ptr<ProblemData>> DataFromLog(
+    const std::string& path, FitContext* context, std::string* unidentifiable) {
+  StatusOr<FlightLog> log = ReadLogFromFlags(path);
+  if (!log.ok()) return log.status();
+  StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
+  if (!po.ok()) return po.status();
+  // No maneuver and no window: fit a stretch anyway and let the
+  // identifiability rule answer, rather than refuse.
+  StatusOr<std::string> fallback = ApplyFallbackSegment(*log, &*po);
+  if (!fallback.ok()) return fallback.status();
+  if (!fallback->empty()) std::cerr << "note: " << *fallback << "\n";
+  StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
+  if (!pre.ok()) return pre.status();
+  *unidentifiable =
+      NoFlightReason(path, pre->data.t_s.front(), pre->data.t_s.back());
+  if (unidentifiable->empty() && !fallback->empty()) {
+    *unidentifiable =
+        "no maneuver was detected in this log, so the segment does not "
+        "excite the lever-arm terms: r and beta are not identifiable";
+  }
+  for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
+  context->plane = PlaneToString(po->plane);
+  context->velocity = VelocitySourceToString(po->velocity_source);
+  return std::make_shared<ProblemData>(std::move(pre->data));
+}
+
+// Reads a problem file as it is (no preprocessing); fills `context` from its
+// metadata.
+StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
+    const std::string& path, FitContext* context) {
+  StatusOr<ProblemFile> file = ReadProblemCsv(path);
+  if (!file.ok()) return file.status();
+  if (!file->ignored_columns.empty()) {
+    std::cerr << "note: " << path << ": ignoring column"
+              << (file->ignored_columns.size() > 1 ? "s" : "");
+    for (const auto& c : file->ignored_columns) std::cerr << " '" << c << "'";
+    std::cerr << " (the fit uses t, f, omega, omega_dot, v)\n";
+  }
+  const std::string* plane = file->FindMetadata("plane");
+  const std::string* velocity = file->FindMetadata("velocity");
+  context->plane = plane != nullptr ? *plane : "unknown";
+  context->velocity = velocity != nullptr ? *velocity : "unknown";
+  return std::make_shared<ProblemData>(std::move(file->data));
+}
+
+// --emit: the autopilot's terms for every result, in the JSON (an "emit"
+// object per fit) or after the table; --emit_out gets the file of the
+// lowest-OF usable result.
+Status AddEmit(const std::vector<EstimateResult>& results,
+               EmitFormat format,
+               const FitContext& context,
+               std::string* text) {
+  std::vector<AutopilotParameters> emitted(results.size());
+  std::vector<bool> have(results.size(), false);
+  int best = -1;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    StatusOr<AutopilotParameters> p = ToAutopilotParameters(
+        results[i], format, context.plane, FLAGS_imu, context.log);
+    if (!p.ok()) continue;  // an unusable fit: nothing to restate
+    emitted[i] = std::move(p).value();
+    have[i] = true;
+    if (best < 0 || results[i].rmse < results[best].rmse) {
+      best = static_cast<int>(i);
+    }
+  }
+  if (JsonOutput()) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(*text);
+    auto add = [&](nlohmann::ordered_json* fit, std::size_t i) {
+      (*fit)["emit"] =
+          have[i] ? AutopilotParametersToJson(emitted[i])
+                  : nlohmann::ordered_json{{"format", FLAGS_emit},
+                                           {"reason", "the fit failed"}};
+    };
+    if (j.is_array()) {
+      for (std::size_t i = 0; i < j.size(); ++i) add(&j[i], i);
+    } else {
+      add(&j, 0);
+    }
+    *text = j.dump(2) + "\n";
+  } else if (best >= 0) {
+    *text += AutopilotParametersToText(emitted[static_cast<std::size_t>(best)]);
+  }
+  if (!FLAGS_emit_out.empty()) {
+    if (best < 0) {
+      return FailedPreconditionError(
+          "--emit_out: no usable fit to write parameters from");
+    }
+    IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+        FLAGS_emit_out, emitted[static_cast<std::size_t>(best)].snippet));
+    std::cerr << "wrote " << FLAGS_emit_out << "\n";
+  }
+  return Status::Ok();
+}
+
+int Run(const std::vector<std::string>& positional) {
+  const std::string cmd = "fit";
+  std::string path = FLAGS_log;
+  const bool from_problem = !FLAGS_problem.empty();
+  if (from_problem) {
+    if (!FLAGS_log.empty() || !positional.empty()) {
+      return UsageError(cmd,
+                        "give either a log (--log=FILE) or a problem file "
+                        "(--problem=P.csv), not both");
+    }
+    // A problem file is already preprocessed: these flags would be ignored.
+    std::vector<std::string> log_only = PreprocessFlagNames();
+    for (const auto& f : LogFlagNames()) log_only.push_back(f);
+    log_only.push_back("use_measured_fz");
+    for (const auto& f : log_only) {
+      if (FlagWasSet(f)) {
+        return UsageError(cmd,
+                          "--" + f +
+                              " applies to a log; a problem file is fitted "
+                              "as it is, already preprocessed");
+      }
+    }
+    path = FLAGS_problem;
+  } else if (path.empty() && positional.size() == 1) {
+    path = positional[0];
+  } else if (!positional.empty() || path.empty()) {
+    return UsageError(cmd,
+                      "give the log with --log=FILE (or a problem file with "
+                      "--problem=P.csv)");
+  }
+  // With a problem file the only model is paper, so it is the default there.
+  std::string model_name =
+      from_problem && !FlagWasSet("model") ? "paper" : FLAGS_model;
+  if (from_problem && model_name == "consistent") {
+    return ReportError(
+        cmd,
+        FailedPreconditionError(
+            "model 'consistent' cannot be fitted from a problem file: it "
+            "needs the raw log (it integrates attitude and velocity from the "
+            "IMU itself); fit the log with --log=FILE, or use --model=paper "
+            "with --problem"));
+  }
+  StatusOr<EstimatorOptions> options = OptionsFromFlags();
+  if (!options.ok()) return ReportError(cmd, options.status());
+  StatusOr<EmitFormat> emit = EmitFormatFromString(FLAGS_emit);
+  if (!emit.ok()) return ReportError(cmd, emit.status().WithPrefix("--emit"));
+  const EmitFormat emit_format = *emit;
+  if (emit_format == EmitFormat::kNone && !FLAGS_emit_out.empty()) {
+    return UsageError(cmd, "--emit_out needs --emit=px4|ardupilot");
+  }
+
+  // Estimators to run, validated before any work is done.
+  const EstimatorRegistry& registry = BuiltinEstimators();
+  std::vector<std::string> names;
+  if (FLAGS_estimator == "all") {
+    names = registry.NamesSupporting(model_name);
+  } else {
+    StatusOr<std::unique_ptr<Estimator>> e = registry.Create(FLAGS_estimator);
+    if (!e.ok()) return ReportError(cmd, e.status());
+    names.push_back(FLAGS_estimator);
+  }
+
+  FitContext context;
+  std::string unidentifiable;
+  StatusOr<std::shared_ptr<ProblemData>> loaded =
+      from_problem ? DataFromProblemFile(path, &context)
+                   : DataFromLog(path, &context, &unidentifiable);
+  if (!loaded.ok()) return ReportError(cmd, loaded.status());
+  std::shared_ptr<ProblemData> data = std::move(loaded).value();
+  // Only the paper model uses the autopilot's velocity (consistent integrates
+  // its own from θ = ∫ω, which on a 3-D flight drifts far from the pitch), so
+  // a log velocity makes paper the default.
+  if (!from_problem && !FlagWasSet("model") && context.velocity == "log" &&
+      model_name != "paper") {
+    std::cerr << "note: model paper (the default when the velocity comes "
+                 "from the log; --model=consistent ignores it)\n";
+    model_name = "paper";
+    if (FLAGS_estimator == "all") names = registry.NamesSupporting(model_name);
+  }
+  ModelOptions model_options;
+  model_options.use_measured_fz = FLAGS_use_measured_fz;
+  StatusOr<std::unique_ptr<Model>> model =
+      CreateModel(model_name, data, model_options);
+  if (!model.ok()) return ReportError(cmd, model.status());
+  Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+  Status s = ApplyBounds(&problem);
+  if (!s.ok()) return ReportError(cmd, s);
+
+  context.log = path;
+  context.t_start_s = data->t_s.front();
+  context.t_end_s = data->t_s.back();
+  context.samples = data->size();
+  context.seed = FLAGS_seed;
+  context.include_trace = FLAGS_trace;
+
+  std::vector<EstimateResult> results;
+  for (const std::string& name : names) {
+    StatusOr<std::unique_ptr<Estimator>> created = registry.Create(name);
+    if (!created.ok()) return ReportError(cmd, created.status());
+    std::unique_ptr<Estimator> estimator = std::move(created).value();
+    std::cerr << "fitting " << model_name << " with " << name << " ("
+              << data->size() << " samples)...\n";
+    StatusOr<EstimateResult> r = estimator->Estimate(problem, *options);
+    if (!r.ok()) return ReportError(cmd, r.status());
+    results.push_back(std::move(*r));
+  }
+  if (!unidentifiable.empty()) {
+    for (EstimateResult& r : results) {
+      if (!r.HasWarning("not_identifiable")) {
+        r.warnings.push_back({"not_identifiable", unidentifiable});
+      }
+    }
+  }
+
+  std::string text;
+  if (JsonOutput()) {
+    if (FLAGS_estimator == "all") {
+      nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+      for (const auto& r : results) arr.push_back(ResultToJson(r, context));
+      text = arr.dump(2) + "\n";
+    } else {
+      text = ResultToJson(results.front(), context).dump(2) + "\n";
+    }
+  } else {
+    text = ResultsToTable(results, context);
+  }
+  if (emit_format != EmitFormat::kNone) {
+    s = AddEmit(results, emit_format, context, &text);
+    if (!s.ok()) return ReportError(cmd, s);
+  }
+  s = EmitOutput(text, FLAGS_out);
+  if (!s.ok()) return ReportError(cmd, s);
+  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  if (!FLAGS_plot.empty()) {
+    bench::FitFigureOptions figure_options;
+    figure_options.title = path;
+    std::vector<bench::Figure> figures;
+    s = bench::WriteFitFigures(
+        FLAGS_plot, data, results, figure_options, &figures);
+    if (s.code() == StatusCode::kFailedPrecondition) {
+      std::cerr << "warning: no figures: " << s.message() << "\n";
+    } else if (!s.ok()) {
+      return ReportError(cmd, s);
+    } else {
+      std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_plot
+                << "/index.html\n";
+    }
+  }
+  for (const auto& r : results) {
+    if (!r.IsUsable()) return kExitBadInput;
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+const Command& FitCommand() {
+  static const Command c{
+      "fit",
+      "Fit the IMU position, tilt and drag to a log with one or all "
+      "estimators.",
+      "imusysid fit --log=FILE [--model=paper|consistent] "
+      "[--estimator=NAME|all] [--format=table|json] [--seed=N]\n"
+      "       imusysid fit --problem=P.csv [--model=paper] "
+      "[--estimator=NAME|all] [--format=table|json] [--seed=N]",
+      "Parameters: r (m) and beta (deg) place the IMU relative to the CoM, "
+      "p = r(cos beta, sin beta)\nin the FLU body x-z plane; alpha (deg) tilts "
+      "the sensor x axis toward +z; mu (1/m) is the\nquadratic drag per unit "
+      "mass. OF is the paper's RMSE of the x specific force (m/s^2).\nStandard "
+      "errors are 1-sigma, by default from a Newey-West (HAC) sandwich that\n"
+      "allows for correlated residuals (--covariance=white: s^2 (J^T J)^-1).\n"
+      "r and beta are withheld (null) when the log cannot determine them. "
+      "--problem fits a\nproblem CSV (export-problem, docs/problem-files.md) "
+      "as it is, with the paper model (the\ndefault there); consistent needs "
+      "the raw log.",
+      WithLogFlags({"log", "problem", "model", "estimator", "format", "seed"},
+                   {"bounds",
+                    "initial",
+                    "ga_population",
+                    "ga_mode",
+                    "ga_max_generations",
+                    "ga_stall_generations",
+                    "ga_tolerance",
+                    "threads",
+                    "lm_max_iterations",
+                    "hybrid_period",
+                    "hybrid_lm_iterations",
+                    "max_time_s",
+                    "covariance",
+                    "use_measured_fz",
+                    "plot",
+                    "trace",
+                    "emit",
+                    "emit_out",
+                    "out"}),
+      &Run};
+  return c;
+}
+
+}  // namespace cli
+}  // namespace imusysid

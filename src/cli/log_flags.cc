@@ -1,0 +1,135 @@
+#include "src/cli/log_flags.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string_view>
+
+#include "imusysid/log_reader.h"
+
+DEFINE_string(log,
+              "",
+              "Flight log to read: CSV (docs/log-format.md), PX4 ULog "
+              "(.ulg) or ArduPilot DataFlash (.bin); detected from content.");
+DEFINE_string(frame,
+              "",
+              "Axis frame of a CSV log's IMU columns: flu or frd. "
+              "Empty: the file's '# frame:' line, else flu.");
+DEFINE_int32(imu, 0, "IMU instance to use in ULog/DataFlash logs (0, 1, 2).");
+DEFINE_double(t_start,
+              std::numeric_limits<double>::quiet_NaN(),
+              "Start of the fit segment, s (log time). Default: detected "
+              "(1 s of hover before the maneuver).");
+DEFINE_double(t_end,
+              std::numeric_limits<double>::quiet_NaN(),
+              "End of the fit segment, s. Default: detected end of the "
+              "maneuver.");
+DEFINE_double(cutoff_hz,
+              5.0,
+              "Zero-phase low-pass cut-off applied alike to "
+              "the accelerometer and gyro, Hz; 0 disables the filter.");
+DEFINE_string(plane,
+              "pitch",
+              "Plane of the planar model: pitch (x accel, y "
+              "gyro: the paper's) or roll (y accel, x gyro).");
+DEFINE_string(velocity,
+              "auto",
+              "Horizontal velocity for the drag term: gyro "
+              "(the paper's equation 7), log (the autopilot's estimate), or "
+              "auto (log when the log has it, else gyro).");
+DEFINE_string(gyro_bias,
+              "auto",
+              "Gyro bias removed before integration: auto "
+              "(mean over the detected still segment), none, a value in "
+              "rad/s, or a still window T0:T1 in s.");
+DEFINE_uint64(seed, 1, "Seed for everything random (GA, simulator noise).");
+DEFINE_string(out, "", "Output file (written atomically).");
+
+namespace imusysid {
+namespace cli {
+
+std::vector<std::string> LogFlagNames() { return {"frame", "imu"}; }
+
+std::vector<std::string> PreprocessFlagNames() {
+  return {"t_start", "t_end", "cutoff_hz", "plane", "velocity", "gyro_bias"};
+}
+
+std::vector<std::string> WithLogFlags(std::vector<std::string> head,
+                                      const std::vector<std::string>& tail) {
+  for (const auto& f : LogFlagNames()) head.push_back(f);
+  for (const auto& f : PreprocessFlagNames()) head.push_back(f);
+  head.insert(head.end(), tail.begin(), tail.end());
+  return head;
+}
+
+StatusOr<FlightLog> ReadLogFromFlags(const std::string& path) {
+  LogReadOptions options;
+  options.imu_instance = FLAGS_imu;
+  if (FLAGS_imu < 0 || FLAGS_imu > 2) {
+    return InvalidArgumentError("--imu=" + std::to_string(FLAGS_imu) +
+                                "; required 0, 1 or 2");
+  }
+  if (!FLAGS_frame.empty()) {
+    StatusOr<Frame> frame = FrameFromString(FLAGS_frame);
+    if (!frame.ok()) return frame.status().WithPrefix("--frame");
+    options.override_frame = true;
+    options.frame = *frame;
+  }
+  return ReadLogForFit(path, options);
+}
+
+StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log) {
+  PreprocessOptions o;
+  StatusOr<Plane> plane = PlaneFromString(FLAGS_plane);
+  if (!plane.ok()) return plane.status().WithPrefix("--plane");
+  o.plane = *plane;
+  if (FLAGS_velocity == "auto") {
+    const bool has_log_velocity = log.FindChannel(kChannelVelN) != nullptr &&
+                                  log.FindChannel(kChannelVelE) != nullptr &&
+                                  log.FindChannel(kChannelYaw) != nullptr;
+    o.velocity_source =
+        has_log_velocity ? VelocitySource::kLog : VelocitySource::kGyro;
+  } else {
+    StatusOr<VelocitySource> v = VelocitySourceFromString(FLAGS_velocity);
+    if (!v.ok()) return v.status().WithPrefix("--velocity");
+    o.velocity_source = *v;
+  }
+  if (!(FLAGS_cutoff_hz >= 0.0)) {
+    return InvalidArgumentError(
+        "--cutoff_hz=" + std::to_string(FLAGS_cutoff_hz) + "; required >= 0");
+  }
+  o.cutoff_hz = FLAGS_cutoff_hz;
+  o.t_start = FLAGS_t_start;
+  o.t_end = FLAGS_t_end;
+  const std::string& bias = FLAGS_gyro_bias;
+  if (bias == "auto") {
+    o.gyro_bias_mode = GyroBiasMode::kAuto;
+  } else if (bias == "none") {
+    o.gyro_bias_mode = GyroBiasMode::kNone;
+  } else if (bias.find(':') != std::string::npos) {
+    const auto colon = bias.find(':');
+    char* end0 = nullptr;
+    char* end1 = nullptr;
+    const std::string a = bias.substr(0, colon), b = bias.substr(colon + 1);
+    o.bias_window_t0 = std::strtod(a.c_str(), &end0);
+    o.bias_window_t1 = std::strtod(b.c_str(), &end1);
+    if (a.empty() || b.empty() || *end0 != '\0' || *end1 != '\0') {
+      return InvalidArgumentError("--gyro_bias='" + bias +
+                                  "': expected auto, none, a number or T0:T1");
+    }
+    o.gyro_bias_mode = GyroBiasMode::kWindow;
+  } else {
+    char* end = nullptr;
+    o.gyro_bias_rad_s = std::strtod(bias.c_str(), &end);
+    if (bias.empty() || *end != '\0' || !std::isfinite(o.gyro_bias_rad_s)) {
+      return InvalidArgumentError("--gyro_bias='" + bias +
+                                  "': expected auto, none, a number or T0:T1");
+    }
+    o.gyro_bias_mode = GyroBiasMode::kValue;
+  }
+  return o;
+}
+
+}  // namespace cli
+}  // namespace imusysid

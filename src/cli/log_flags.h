@@ -1,0 +1,54 @@
+// Flags and helpers shared by the commands that read a flight log (inspect,
+// fit, export-problem, convert): reading any supported format and turning the
+// preprocessing flags into PreprocessOptions.
+
+#ifndef IMUSYSID_SRC_CLI_LOG_FLAGS_H_
+#define IMUSYSID_SRC_CLI_LOG_FLAGS_H_
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gflags/gflags.h"
+#include "imusysid/log.h"
+#include "imusysid/preprocess.h"
+#include "imusysid/segments.h"
+#include "imusysid/status.h"
+
+DECLARE_string(log);
+DECLARE_string(frame);
+DECLARE_int32(imu);
+DECLARE_double(t_start);
+DECLARE_double(t_end);
+DECLARE_double(cutoff_hz);
+DECLARE_string(plane);
+DECLARE_string(velocity);
+DECLARE_string(gyro_bias);
+DECLARE_uint64(seed);
+DECLARE_string(out);
+
+namespace imusysid {
+namespace cli {
+
+// Names of the flags above that concern reading a log, and those that
+// concern preprocessing, for Command::flags.
+std::vector<std::string> LogFlagNames();
+std::vector<std::string> PreprocessFlagNames();
+// The flag list of a command that reads and preprocesses a log: `head`, then
+// LogFlagNames() and PreprocessFlagNames(), then `tail` (--help order).
+std::vector<std::string> WithLogFlags(
+    std::vector<std::string> head, const std::vector<std::string>& tail = {});
+
+// Reads a log with --frame and --imu through ReadLogForFit (its gap policy).
+StatusOr<FlightLog> ReadLogFromFlags(const std::string& path);
+
+// PreprocessOptions from --t_start, --t_end, --cutoff_hz, --plane,
+// --velocity, --gyro_bias. --velocity=auto picks the log's own velocity when
+// `log` has the canonical velocity and yaw channels, else the gyro
+// (equation 7).
+StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log);
+
+}  // namespace cli
+}  // namespace imusysid
+
+#endif  // IMUSYSID_SRC_CLI_LOG_FLAGS_H_

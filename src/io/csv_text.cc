@@ -1,0 +1,63 @@
+#include "src/io/csv_text.h"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+constexpr std::size_t kMaxQuotedText = 40;
+
+}  // namespace
+
+std::string_view TrimBlanks(std::string_view s) {
+  while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && (IsBlank(s.back()) || s.back() == '\r')) {
+    s.remove_suffix(1);
+  }
+  return s;
+}
+
+int CharColumn(std::string_view line, const char* at) {
+  int column = 1;
+  for (const char* p = line.data(); p < at; ++p) {
+    if ((static_cast<unsigned char>(*p) & 0xC0) != 0x80) ++column;
+  }
+  return column;
+}
+
+std::string Quote(std::string_view text) {
+  std::string out = "'";
+  if (text.size() > kMaxQuotedText) {
+    out.append(text.substr(0, kMaxQuotedText));
+    out += "...";
+  } else {
+    out.append(text);
+  }
+  out += "'";
+  return out;
+}
+
+Status ErrorAt(const std::string& name,
+               int line,
+               int column,
+               const std::string& message) {
+  return InvalidArgumentError(name + ":" + std::to_string(line) + ":" +
+                              std::to_string(column) + ": line " +
+                              std::to_string(line) + ": " + message);
+}
+
+bool ParseMetadata(std::string_view comment,
+                   std::string_view* key,
+                   std::string_view* value) {
+  const std::string_view body = comment.substr(comment.find('#') + 1);
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    if (body[i] != ':') continue;
+    if (i + 1 < body.size() && !IsBlank(body[i + 1])) continue;
+    *key = TrimBlanks(body.substr(0, i));
+    *value = TrimBlanks(body.substr(i + 1));
+    return !key->empty();
+  }
+  return false;
+}
+
+}  // namespace internal
+}  // namespace imusysid

@@ -1,0 +1,443 @@
+#include "imusysid/problem_io.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <system_error>
+
+#include "glog/logging.h"
+#include "imusysid/log.h"
+#include "src/io/csv_text.h"
+
+namespace imusysid {
+namespace {
+
+using internal::CharColumn;
+using internal::ErrorAt;
+using internal::IsBlank;
+using internal::ParseMetadata;
+using internal::Quote;
+using internal::TrimBlanks;
+
+// 17 significant digits identify every double, so a written file reads back
+// bit for bit (up to the sign of zero).
+constexpr int kDigits = 17;
+
+constexpr const char* kTitle =
+    "# imusysid problem file: the preprocessed samples of the paper's "
+    "equation 9 (docs/problem-files.md)";
+
+// Column roles; the order of the writer.
+enum Role { kT, kF, kOmega, kOmegaDot, kV, kTheta, kFz, kNumRoles, kIgnored };
+constexpr int kNumRequired = 5;
+constexpr const char* kRoleNames[kNumRoles] = {
+    "t", "f", "omega", "omega_dot", "v", "theta", "f_z"};
+
+// One comma-separated field: its text without surrounding blanks and where
+// that text starts (the line's end for an empty last field).
+struct Field {
+  std::string_view text;
+  const char* start;
+};
+
+std::vector<Field> SplitFields(std::string_view line) {
+  std::vector<Field> fields;
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  while (true) {
+    const char* stop = p;
+    while (stop < end && *stop != ',') ++stop;
+    const char* start = p;
+    while (start < stop && IsBlank(*start)) ++start;
+    fields.push_back(
+        {TrimBlanks(std::string_view(start, static_cast<size_t>(stop - start))),
+         start});
+    if (stop == end) break;
+    p = stop + 1;
+  }
+  return fields;
+}
+
+enum class NumberError { kNone, kEmpty, kNotANumber, kOutOfRange, kNotFinite };
+
+// Parses a whole field as a double. A leading '+' is accepted because
+// spreadsheets write it.
+NumberError ParseNumber(std::string_view text, double* value) {
+  if (text.empty()) return NumberError::kEmpty;
+  const char* first = text.data();
+  const char* const last = text.data() + text.size();
+  if (*first == '+' && text.size() > 1 && first[1] != '+' && first[1] != '-') {
+    ++first;
+  }
+  const std::from_chars_result r = std::from_chars(first, last, *value);
+  if (r.ec == std::errc::result_out_of_range) return NumberError::kOutOfRange;
+  if (r.ec != std::errc() || r.ptr != last) return NumberError::kNotANumber;
+  if (!std::isfinite(*value)) return NumberError::kNotFinite;
+  return NumberError::kNone;
+}
+
+std::string NumberMessage(NumberError error, std::string_view text) {
+  switch (error) {
+    case NumberError::kEmpty:
+      return "empty cell";
+    case NumberError::kNotANumber:
+      return Quote(text) + " is not a number";
+    case NumberError::kOutOfRange:
+      return Quote(text) + " is outside the range of a double";
+    case NumberError::kNotFinite:
+      return Quote(text) + " is not a finite number";
+    case NumberError::kNone:
+      break;
+  }
+  return "";
+}
+
+std::string JoinQuoted(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += ", ";
+    out += "'" + names[i] + "'";
+  }
+  return out;
+}
+
+std::string RequiredList() {
+  std::string out;
+  for (int r = 0; r < kNumRequired; ++r) {
+    if (r > 0) out += ",";
+    out += kRoleNames[r];
+  }
+  return out;
+}
+
+// Metadata must stay on one line or the file would not read back.
+std::string OneLine(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return out;
+}
+
+void AppendNumber(std::string* out, double value) {
+  char buf[64];
+  // +0.0 turns -0.0 into 0.0 so no "-0" appears.
+  const std::to_chars_result r = std::to_chars(
+      buf, buf + sizeof(buf), value + 0.0, std::chars_format::general, kDigits);
+  out->append(buf, r.ptr);
+}
+
+}  // namespace
+
+const std::string* ProblemFile::FindMetadata(std::string_view key) const {
+  for (const auto& entry : metadata) {
+    if (entry.first == key) return &entry.second;
+  }
+  return nullptr;
+}
+
+std::vector<std::string> ProblemRequiredColumns() {
+  return std::vector<std::string>(kRoleNames, kRoleNames + kNumRequired);
+}
+
+std::vector<std::string> ProblemOptionalColumns() {
+  return std::vector<std::string>(kRoleNames + kNumRequired,
+                                  kRoleNames + kNumRoles);
+}
+
+std::string FormatProblemCsv(const ProblemData& data,
+                             const ProblemMetadata& metadata) {
+  const Status valid = data.Validate();
+  CHECK(valid.ok()) << valid.message();
+  CHECK(std::isfinite(data.gravity)) << "gravity " << data.gravity;
+  const std::size_t n = data.size();
+  std::vector<const std::vector<double>*> columns = {
+      &data.t_s, &data.f_x, &data.omega, &data.omega_dot, &data.v};
+  std::string header = RequiredList();
+  if (!data.theta.empty()) {
+    columns.push_back(&data.theta);
+    header += ",theta";
+  }
+  if (!data.f_z.empty()) {
+    columns.push_back(&data.f_z);
+    header += ",f_z";
+  }
+
+  std::string out;
+  // A 17-digit value with sign, point and exponent takes at most 24 bytes.
+  out.reserve(512 + n * columns.size() * 25);
+  out += kTitle;
+  out += '\n';
+  for (const auto& entry : metadata) {
+    if (entry.first == "gravity") continue;
+    out += "# " + OneLine(entry.first) + ": " + OneLine(entry.second) + "\n";
+  }
+  out += "# gravity: ";
+  AppendNumber(&out, data.gravity);
+  out += '\n';
+  out += header;
+  out += '\n';
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (c > 0) out += ',';
+      AppendNumber(&out, (*columns[c])[i]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+Status WriteProblemCsv(const std::string& path,
+                       const ProblemData& data,
+                       const ProblemMetadata& metadata) {
+  return WriteFileAtomically(path, FormatProblemCsv(data, metadata));
+}
+
+StatusOr<ProblemFile> ParseProblemCsv(std::string_view text,
+                                      const std::string& name) {
+  ProblemFile file;
+  ProblemData& data = file.data;
+  data.source = name;
+  data.gravity = kGravity;
+
+  std::string_view body = text;
+  if (body.size() >= 3 && body.substr(0, 3) == "\xEF\xBB\xBF") {
+    body.remove_prefix(3);
+  }
+
+  // Lines without their terminator and trailing blanks or '\r'.
+  std::size_t pos = 0;
+  int line_number = 0;
+  std::string_view line;
+  auto next_line = [&]() -> bool {
+    if (pos >= body.size()) return false;
+    std::size_t stop = body.find('\n', pos);
+    if (stop == std::string_view::npos) stop = body.size();
+    line = body.substr(pos, stop - pos);
+    pos = stop + 1;
+    while (!line.empty() && (line.back() == '\r' || IsBlank(line.back()))) {
+      line.remove_suffix(1);
+    }
+    ++line_number;
+    return true;
+  };
+  enum class Kind { kBlank, kComment, kContent };
+  auto classify = [](std::string_view l) {
+    const std::string_view trimmed = TrimBlanks(l);
+    if (trimmed.empty()) return Kind::kBlank;
+    return trimmed.front() == '#' ? Kind::kComment : Kind::kContent;
+  };
+  // Comments may appear anywhere; metadata keeps file order.
+  auto handle_comment = [&](std::string_view comment) -> Status {
+    std::string_view key, value;
+    if (!ParseMetadata(comment, &key, &value)) return Status::Ok();
+    if (key == "gravity") {
+      double g = 0.0;
+      const NumberError e = ParseNumber(value, &g);
+      if (e != NumberError::kNone || !(g > 0.0)) {
+        return ErrorAt(
+            name,
+            line_number,
+            CharColumn(comment, value.data()),
+            "metadata 'gravity': " +
+                (e != NumberError::kNone ? NumberMessage(e, value)
+                                         : Quote(value) + " is not positive") +
+                "; expected the gravity in m/s^2, e.g. 9.80665");
+      }
+      data.gravity = g;
+    }
+    file.metadata.emplace_back(std::string(key), std::string(value));
+    return Status::Ok();
+  };
+
+  // --- Header -------------------------------------------------------------
+  bool have_header = false;
+  while (next_line()) {
+    const Kind kind = classify(line);
+    if (kind == Kind::kBlank) continue;
+    if (kind == Kind::kComment) {
+      IMUSYSID_RETURN_IF_ERROR(handle_comment(line));
+      continue;
+    }
+    have_header = true;
+    break;
+  }
+  if (!have_header) {
+    return ErrorAt(
+        name,
+        std::max(line_number, 1),
+        1,
+        std::string(line_number == 0 ? "the file is empty"
+                                     : "no header line: the file holds only "
+                                       "comments or blank lines") +
+            "; expected a header naming the columns " + RequiredList());
+  }
+  const int header_line = line_number;
+  const std::string_view header_text = line;
+  const std::vector<Field> header_fields = SplitFields(line);
+  std::vector<std::string> header;
+  std::vector<int> roles;
+  int role_column[kNumRoles];
+  std::fill(role_column, role_column + kNumRoles, -1);
+  for (std::size_t c = 0; c < header_fields.size(); ++c) {
+    const Field& field = header_fields[c];
+    const int col = CharColumn(line, field.start);
+    if (field.text.empty()) {
+      return ErrorAt(
+          name,
+          header_line,
+          col,
+          "header column " + std::to_string(c + 1) + " has an empty name");
+    }
+    double ignored;
+    if (ParseNumber(field.text, &ignored) != NumberError::kNotANumber) {
+      return ErrorAt(name,
+                     header_line,
+                     col,
+                     "no header: the first non-comment line holds the number " +
+                         Quote(field.text) +
+                         " where a column name belongs; the first line must "
+                         "name the columns " +
+                         RequiredList());
+    }
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      if (header[i] == field.text) {
+        return ErrorAt(
+            name,
+            header_line,
+            col,
+            "duplicate column name " + Quote(field.text) +
+                " (first at column " +
+                std::to_string(CharColumn(line, header_fields[i].start)) + ")");
+      }
+    }
+    header.emplace_back(field.text);
+    int role = kIgnored;
+    for (int r = 0; r < kNumRoles; ++r) {
+      if (field.text == kRoleNames[r]) role = r;
+    }
+    roles.push_back(role);
+    if (role == kIgnored) {
+      file.ignored_columns.emplace_back(field.text);
+    } else {
+      role_column[role] = static_cast<int>(c);
+    }
+  }
+  std::vector<std::string> missing;
+  for (int r = 0; r < kNumRequired; ++r) {
+    if (role_column[r] < 0) missing.emplace_back(kRoleNames[r]);
+  }
+  if (!missing.empty()) {
+    return ErrorAt(name,
+                   header_line,
+                   1,
+                   "header " + Quote(header_text) + " is missing required " +
+                       (missing.size() > 1 ? "columns " : "column ") +
+                       JoinQuoted(missing) + "; required: " + RequiredList() +
+                       " in any order");
+  }
+
+  std::vector<double>* dest_of_role[kNumRoles] = {&data.t_s,
+                                                  &data.f_x,
+                                                  &data.omega,
+                                                  &data.omega_dot,
+                                                  &data.v,
+                                                  &data.theta,
+                                                  &data.f_z};
+  std::vector<std::vector<double>*> dest(header.size(), nullptr);
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (roles[c] != kIgnored) dest[c] = dest_of_role[roles[c]];
+  }
+  const std::size_t row_estimate =
+      static_cast<std::size_t>(std::count(body.begin(), body.end(), '\n')) + 1;
+  for (std::vector<double>* d : dest) {
+    if (d != nullptr) d->reserve(row_estimate);
+  }
+
+  // --- Rows ---------------------------------------------------------------
+  const std::size_t t_column = static_cast<std::size_t>(role_column[kT]);
+  std::string previous_t_text;
+  int previous_t_line = 0;
+  int last_row_line = header_line;
+  while (next_line()) {
+    const Kind kind = classify(line);
+    if (kind != Kind::kContent) {
+      if (kind == Kind::kComment) {
+        IMUSYSID_RETURN_IF_ERROR(handle_comment(line));
+      }
+      continue;
+    }
+    const std::vector<Field> fields = SplitFields(line);
+    if (fields.size() < header.size()) {
+      return ErrorAt(name,
+                     line_number,
+                     CharColumn(line, line.data() + line.size()),
+                     "row has " + std::to_string(fields.size()) +
+                         " fields, expected " + std::to_string(header.size()) +
+                         " (the header's count); column '" +
+                         header[fields.size()] + "' is missing");
+    }
+    if (fields.size() > header.size()) {
+      const Field& extra = fields[header.size()];
+      return ErrorAt(name,
+                     line_number,
+                     CharColumn(line, extra.start),
+                     "row has " + std::to_string(fields.size()) +
+                         " fields, expected " + std::to_string(header.size()) +
+                         " (the header's count); extra field " +
+                         Quote(extra.text));
+    }
+    for (std::size_t c = 0; c < header.size(); ++c) {
+      if (dest[c] == nullptr) continue;
+      double value = 0.0;
+      const NumberError e = ParseNumber(fields[c].text, &value);
+      if (e != NumberError::kNone) {
+        return ErrorAt(
+            name,
+            line_number,
+            CharColumn(line, fields[c].start),
+            "column '" + header[c] + "': " + NumberMessage(e, fields[c].text));
+      }
+      dest[c]->push_back(value);
+    }
+    const std::size_t n = data.t_s.size();
+    if (n >= 2 && !(data.t_s[n - 1] > data.t_s[n - 2])) {
+      const bool equal = data.t_s[n - 1] == data.t_s[n - 2];
+      return ErrorAt(name,
+                     line_number,
+                     CharColumn(line, fields[t_column].start),
+                     "column 't': time " + Quote(fields[t_column].text) +
+                         (equal ? " repeats the previous time "
+                                : " is before the previous time ") +
+                         Quote(previous_t_text) + " (line " +
+                         std::to_string(previous_t_line) +
+                         "); t must increase strictly");
+    }
+    previous_t_text = std::string(fields[t_column].text);
+    previous_t_line = line_number;
+    last_row_line = line_number;
+  }
+
+  if (data.size() < kMinProblemSamples) {
+    return ErrorAt(name,
+                   last_row_line,
+                   1,
+                   "the problem has " + std::to_string(data.size()) +
+                       " sample" + (data.size() == 1 ? "" : "s") +
+                       ", fewer than the " +
+                       std::to_string(kMinProblemSamples) + " the fit needs");
+  }
+  // Everything above makes this hold; it is the contract CreateModel checks.
+  IMUSYSID_RETURN_IF_ERROR(data.Validate());
+  return file;
+}
+
+StatusOr<ProblemFile> ReadProblemCsv(const std::string& path) {
+  StatusOr<std::string> text = ReadFileToString(path);
+  if (!text.ok()) return text.status();
+  return ParseProblemCsv(*text, path);
+}
+
+}  // namespace imusysid

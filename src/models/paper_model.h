@@ -1,0 +1,69 @@
+// The paper's model as a Model: residuals f_x − f̄_x of equation 9 with v from
+// equation 7, and its exact O(1) cost through the 5×5 Gram matrix of
+// (1, −ω², ω̇, −sign(v)v², f_x) (the model is linear in a = (g sin α,
+// r cos(β−α), r sin(β−α), μ)).
+
+#ifndef IMUSYSID_SRC_MODELS_PAPER_MODEL_H_
+#define IMUSYSID_SRC_MODELS_PAPER_MODEL_H_
+
+#include <memory>
+#include <string_view>
+#include <vector>
+
+#include "Eigen/Core"
+#include "imusysid/problem.h"
+
+namespace imusysid {
+
+class PaperModel : public Model {
+ public:
+  explicit PaperModel(std::shared_ptr<const ProblemData> data);
+
+  std::string_view name() const override { return "paper"; }
+  const std::vector<ParameterInfo>& parameter_info() const override {
+    return info_;
+  }
+  // Evaluates equation 9 through PaperPrediction<ceres::Jet> for the
+  // Jacobian. O(n).
+  bool Residuals(const double* x,
+                 double* residuals,
+                 double* jacobian) const override;
+  // O(1): ½ (G_yy − 2 aᵀ G_φy + aᵀ G_φφ a).
+  bool Cost(const double* x, double* cost) const override;
+  // The same cost by the direct O(n) sum (the cross-check of the Gram path).
+  bool DirectCost(const double* x, double* cost) const;
+  // Five residuals R·[a(x); −1], RᵀR = gram() (Cholesky), and their exact
+  // Jacobian: O(1) per evaluation. 0 when the Gram matrix is not positive
+  // definite (regressors without excitation), so LM falls back to the full
+  // residuals.
+  int num_compressed_residuals() const override {
+    return has_sqrt_gram_ ? 5 : 0;
+  }
+  bool CompressedResiduals(const double* x,
+                           double* residuals,
+                           double* jacobian) const override;
+
+  // The n × 4 regressor matrix Φ (columns 1, −ω², ω̇, −sign(v)v²) and the 5×5
+  // Gram matrix of [Φ f_x].
+  Eigen::MatrixXd Regressors() const;
+  // The 5 × 5 upper-triangular factor R of [Φ f_x], so that
+  // ‖Φa − f‖² = ‖R₁₁a − z‖² + R₄₄² with z = R(0:4, 4): Householder QR in
+  // blocks streamed from the samples (TSQR), as stable as one QR of the whole
+  // matrix, without forming Φ. O(n) time, O(1) memory in n.
+  Eigen::Matrix<double, 5, 5> TriangularFactor() const;
+  const Eigen::Matrix<double, 5, 5>& gram() const { return gram_; }
+
+ private:
+  std::vector<ParameterInfo> info_;
+  Eigen::Matrix<double, 5, 5> gram_;
+  Eigen::Matrix<double, 5, 5> sqrt_gram_;  // upper triangular R
+  bool has_sqrt_gram_ = false;
+};
+
+// The paper model's default parameter box (also the GA's): r ∈ [0, 0.5] m,
+// β ∈ [−180°, 180°], α ∈ [−15°, 15°], μ ∈ [0, 1] 1/m.
+std::vector<ParameterInfo> PhysicalParameterInfo();
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_SRC_MODELS_PAPER_MODEL_H_

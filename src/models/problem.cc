@@ -1,0 +1,168 @@
+#include "imusysid/problem.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+#include "glog/logging.h"
+
+namespace imusysid {
+
+Status ProblemData::Validate() const {
+  const std::size_t n = t_s.size();
+  auto check_size = [&](const std::vector<double>& column,
+                        const char* name,
+                        bool optional) -> Status {
+    if (optional && column.empty()) return Status::Ok();
+    if (column.size() != n) {
+      std::ostringstream msg;
+      msg << source << ": problem column '" << name << "' has " << column.size()
+          << " samples, t has " << n;
+      return InvalidArgumentError(msg.str());
+    }
+    for (std::size_t i = 0; i < column.size(); ++i) {
+      if (!std::isfinite(column[i])) {
+        std::ostringstream msg;
+        msg << source << ": problem column '" << name << "' sample " << i
+            << " is not finite (" << column[i] << ")";
+        return InvalidArgumentError(msg.str());
+      }
+    }
+    return Status::Ok();
+  };
+  IMUSYSID_RETURN_IF_ERROR(check_size(t_s, "t", false));
+  IMUSYSID_RETURN_IF_ERROR(check_size(f_x, "f", false));
+  IMUSYSID_RETURN_IF_ERROR(check_size(f_z, "f_z", true));
+  IMUSYSID_RETURN_IF_ERROR(check_size(omega, "omega", false));
+  IMUSYSID_RETURN_IF_ERROR(check_size(omega_dot, "omega_dot", false));
+  IMUSYSID_RETURN_IF_ERROR(check_size(theta, "theta", true));
+  IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", false));
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(t_s[i] > t_s[i - 1])) {
+      std::ostringstream msg;
+      msg << source << ": problem time is not strictly increasing at sample "
+          << i << " (t = " << t_s[i] << " after " << t_s[i - 1] << ")";
+      return InvalidArgumentError(msg.str());
+    }
+  }
+  return Status::Ok();
+}
+
+Model::Model(std::shared_ptr<const ProblemData> data) : data_(std::move(data)) {
+  CHECK(data_ != nullptr);
+}
+
+bool Model::Cost(const double* x, double* cost) const {
+  std::vector<double> residuals(static_cast<std::size_t>(num_residuals()));
+  if (!Residuals(x, residuals.data(), nullptr)) return false;
+  double sum = 0.0;
+  for (double r : residuals) sum += r * r;
+  *cost = 0.5 * sum;
+  return std::isfinite(*cost);
+}
+
+bool Model::CompressedResiduals(const double* /*x*/,
+                                double* /*residuals*/,
+                                double* /*jacobian*/) const {
+  return false;  // num_compressed_residuals() is 0: callers never get here
+}
+
+Problem::Problem(std::shared_ptr<const Model> model)
+    : model_(std::move(model)), counters_(std::make_shared<Counters>()) {
+  CHECK(model_ != nullptr);
+  const auto& info = model_->parameter_info();
+  const int n = static_cast<int>(info.size());
+  lower_.resize(n);
+  upper_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    lower_[i] = info[static_cast<std::size_t>(i)].lower;
+    upper_[i] = info[static_cast<std::size_t>(i)].upper;
+  }
+  initial_guess_ = 0.5 * (lower_ + upper_);
+}
+
+Status Problem::SetBounds(const Eigen::VectorXd& lower,
+                          const Eigen::VectorXd& upper) {
+  const int n = num_parameters();
+  if (lower.size() != n || upper.size() != n) {
+    std::ostringstream msg;
+    msg << "bounds have " << lower.size() << " and " << upper.size()
+        << " entries; model '" << model_->name() << "' has " << n
+        << " parameters";
+    return InvalidArgumentError(msg.str());
+  }
+  const auto& info = model_->parameter_info();
+  for (int i = 0; i < n; ++i) {
+    const std::string& name = info[static_cast<std::size_t>(i)].name;
+    if (!std::isfinite(lower[i]) || !std::isfinite(upper[i]) ||
+        lower[i] > upper[i]) {
+      std::ostringstream msg;
+      msg << "bounds for " << name << " = [" << lower[i] << ", " << upper[i]
+          << "]; required finite with lower <= upper";
+      return InvalidArgumentError(msg.str());
+    }
+  }
+  lower_ = lower;
+  upper_ = upper;
+  initial_guess_ = initial_guess_.cwiseMax(lower_).cwiseMin(upper_);
+  return Status::Ok();
+}
+
+Status Problem::SetInitialGuess(const Eigen::VectorXd& x) {
+  if (x.size() != num_parameters()) {
+    std::ostringstream msg;
+    msg << "initial guess has " << x.size() << " entries; model '"
+        << model_->name() << "' has " << num_parameters() << " parameters";
+    return InvalidArgumentError(msg.str());
+  }
+  if (!x.allFinite()) return InvalidArgumentError("initial guess not finite");
+  initial_guess_ = x;
+  return Status::Ok();
+}
+
+Problem Problem::WithInitialGuess(const Eigen::VectorXd& x) const {
+  Problem copy(*this);
+  CHECK(copy.SetInitialGuess(x).ok());
+  return copy;
+}
+
+double Problem::Cost(const double* x) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  double cost = 0.0;
+  if (!model_->Cost(x, &cost) || !std::isfinite(cost)) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return cost;
+}
+
+void Problem::CountEvaluation(bool with_jacobian) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  if (with_jacobian) {
+    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+bool Problem::Residuals(const double* x,
+                        double* residuals,
+                        double* jacobian) const {
+  CountEvaluation(jacobian != nullptr);
+  return model_->Residuals(x, residuals, jacobian);
+}
+
+bool Problem::CompressedResiduals(const double* x,
+                                  double* residuals,
+                                  double* jacobian) const {
+  CountEvaluation(jacobian != nullptr);
+  return model_->CompressedResiduals(x, residuals, jacobian);
+}
+
+double Problem::CostToRmse(double cost) const {
+  const int n = num_residuals();
+  if (n <= 0 || !std::isfinite(cost)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return std::sqrt(2.0 * cost / n);
+}
+
+}  // namespace imusysid

@@ -1,0 +1,360 @@
+#include "src/preprocess/signal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <sstream>
+
+#include "Eigen/Dense"
+#include "glog/logging.h"
+#include "imusysid/parameters.h"
+
+namespace imusysid {
+
+StatusOr<std::vector<Biquad>> DesignButterworthLowPass(int order,
+                                                       double cutoff_hz,
+                                                       double sample_rate_hz) {
+  if (order < 2 || order > 8 || order % 2 != 0) {
+    std::ostringstream msg;
+    msg << "Butterworth order = " << order << " is not supported (2, 4, 6, 8)";
+    return InvalidArgumentError(msg.str());
+  }
+  if (!(std::isfinite(sample_rate_hz) && sample_rate_hz > 0.0)) {
+    std::ostringstream msg;
+    msg << "sample rate = " << sample_rate_hz << " Hz must be positive";
+    return InvalidArgumentError(msg.str());
+  }
+  if (!(std::isfinite(cutoff_hz) && cutoff_hz > 0.0 &&
+        cutoff_hz < 0.5 * sample_rate_hz)) {
+    std::ostringstream msg;
+    msg << "low-pass cutoff = " << cutoff_hz
+        << " Hz must lie strictly between 0 and the Nyquist frequency "
+        << 0.5 * sample_rate_hz << " Hz (sample rate " << sample_rate_hz
+        << " Hz)";
+    return InvalidArgumentError(msg.str());
+  }
+  // Prewarping: the analog prototype's cutoff is chosen so that the bilinear
+  // map s = (1 − z⁻¹)/(1 + z⁻¹) lands it exactly on cutoff_hz.
+  const double k = std::tan(kPi * cutoff_hz / sample_rate_hz);
+  const double k2 = k * k;
+  std::vector<Biquad> sections;
+  for (int i = 0; i < order / 2; ++i) {
+    // Poles of the analog prototype come in conjugate pairs at angles
+    // (2i + 1)π/(2·order) from the imaginary axis: 1/Q = 2 sin of that angle.
+    const double inv_q = 2.0 * std::sin((2 * i + 1) * kPi / (2.0 * order));
+    const double norm = 1.0 + k * inv_q + k2;
+    Biquad s;
+    s.b0 = k2 / norm;
+    s.b1 = 2.0 * s.b0;
+    s.b2 = s.b0;
+    s.a1 = 2.0 * (k2 - 1.0) / norm;
+    s.a2 = (1.0 - k * inv_q + k2) / norm;
+    sections.push_back(s);
+  }
+  return sections;
+}
+
+double CascadeGain(const std::vector<Biquad>& sections,
+                   double frequency_hz,
+                   double sample_rate_hz) {
+  const double w = 2.0 * kPi * frequency_hz / sample_rate_hz;
+  const std::complex<double> z1 = std::polar(1.0, -w);
+  const std::complex<double> z2 = z1 * z1;
+  double gain = 1.0;
+  for (const Biquad& s : sections) {
+    const std::complex<double> num = s.b0 + s.b1 * z1 + s.b2 * z2;
+    const std::complex<double> den = 1.0 + s.a1 * z1 + s.a2 * z2;
+    gain *= std::abs(num / den);
+  }
+  return gain;
+}
+
+std::vector<double> FilterCascade(const std::vector<Biquad>& sections,
+                                  const std::vector<double>& x) {
+  std::vector<double> y = x;
+  if (y.empty()) return y;
+  for (const Biquad& s : sections) {
+    // Transposed direct form II; the state for a constant input c with unit
+    // DC gain is z1 = (1 − b0)c, z2 = (b2 − a2)c.
+    const double c = y[0];
+    double z1 = (1.0 - s.b0) * c;
+    double z2 = (s.b2 - s.a2) * c;
+    for (double& v : y) {
+      const double in = v;
+      const double out = s.b0 * in + z1;
+      z1 = s.b1 * in - s.a1 * out + z2;
+      z2 = s.b2 * in - s.a2 * out;
+      v = out;
+    }
+  }
+  return y;
+}
+
+std::vector<double> FiltFilt(const std::vector<Biquad>& sections,
+                             const std::vector<double>& x,
+                             std::size_t pad) {
+  const std::size_t n = x.size();
+  if (n < 2) return x;
+  pad = std::min(pad, n - 1);
+  std::vector<double> ext;
+  ext.reserve(n + 2 * pad);
+  for (std::size_t i = pad; i >= 1; --i) ext.push_back(2.0 * x[0] - x[i]);
+  ext.insert(ext.end(), x.begin(), x.end());
+  for (std::size_t i = 1; i <= pad; ++i) {
+    ext.push_back(2.0 * x[n - 1] - x[n - 1 - i]);
+  }
+  std::vector<double> y = FilterCascade(sections, ext);
+  std::reverse(y.begin(), y.end());
+  y = FilterCascade(sections, y);
+  std::reverse(y.begin(), y.end());
+  return std::vector<double>(y.begin() + static_cast<std::ptrdiff_t>(pad),
+                             y.begin() + static_cast<std::ptrdiff_t>(pad + n));
+}
+
+std::size_t ButterworthPadLength(double cutoff_hz, double sample_rate_hz) {
+  return static_cast<std::size_t>(std::ceil(4.0 * sample_rate_hz / cutoff_hz));
+}
+
+StatusOr<std::vector<double>> ZeroPhaseLowPass(const std::vector<double>& x,
+                                               double cutoff_hz,
+                                               double sample_rate_hz,
+                                               int order) {
+  StatusOr<std::vector<Biquad>> sections =
+      DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
+  if (!sections.ok()) return sections.status();
+  return FiltFilt(
+      *sections, x, ButterworthPadLength(cutoff_hz, sample_rate_hz));
+}
+
+StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
+    const std::vector<double>& t,
+    const std::vector<double>& x,
+    double cutoff_hz,
+    int order) {
+  if (t.size() != x.size()) {
+    std::ostringstream msg;
+    msg << "low-pass: t has " << t.size() << " samples, x has " << x.size();
+    return InvalidArgumentError(msg.str());
+  }
+  const std::size_t n = t.size();
+  if (n < 2) return x;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(t[i] > t[i - 1])) {
+      std::ostringstream msg;
+      msg << "low-pass: time is not increasing at sample " << i;
+      return InvalidArgumentError(msg.str());
+    }
+  }
+  const double dt = MedianInterval(t);
+  bool uniform = true;
+  for (std::size_t i = 1; i < n && uniform; ++i) {
+    uniform = std::abs(t[i] - t[i - 1] - dt) <= 1e-6 * dt;
+  }
+  if (uniform) return ZeroPhaseLowPass(x, cutoff_hz, 1.0 / dt, order);
+  const std::size_t m =
+      static_cast<std::size_t>(std::floor((t.back() - t.front()) / dt)) + 1;
+  std::vector<double> grid(m);
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < m; ++j) {
+    const double u = t.front() + static_cast<double>(j) * dt;
+    while (k + 2 < n && t[k + 1] < u) ++k;
+    const double w = (u - t[k]) / (t[k + 1] - t[k]);
+    grid[j] = x[k] + std::clamp(w, 0.0, 1.0) * (x[k + 1] - x[k]);
+  }
+  StatusOr<std::vector<double>> filtered =
+      ZeroPhaseLowPass(grid, cutoff_hz, 1.0 / dt, order);
+  if (!filtered.ok()) return filtered.status();
+  std::vector<double> y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double pos = (t[i] - t.front()) / dt;
+    std::size_t j = static_cast<std::size_t>(std::max(0.0, std::floor(pos)));
+    if (m < 2) {
+      y[i] = (*filtered)[0];
+      continue;
+    }
+    j = std::min(j, m - 2);
+    // Past the last grid point (less than one interval) the last segment is
+    // extended.
+    const double w = pos - static_cast<double>(j);
+    y[i] = (*filtered)[j] + w * ((*filtered)[j + 1] - (*filtered)[j]);
+  }
+  return y;
+}
+
+StatusOr<std::vector<double>> SavitzkyGolayDerivative(
+    const std::vector<double>& t,
+    const std::vector<double>& x,
+    int half_width,
+    int degree) {
+  if (t.size() != x.size()) {
+    std::ostringstream msg;
+    msg << "Savitzky-Golay: t has " << t.size() << " samples, x has "
+        << x.size();
+    return InvalidArgumentError(msg.str());
+  }
+  if (degree < 1 || degree > 4) {
+    std::ostringstream msg;
+    msg << "Savitzky-Golay degree = " << degree << " must be 1 to 4";
+    return InvalidArgumentError(msg.str());
+  }
+  if (half_width < 1) {
+    std::ostringstream msg;
+    msg << "Savitzky-Golay half width = " << half_width
+        << " samples must be at least 1";
+    return InvalidArgumentError(msg.str());
+  }
+  const std::size_t n = t.size();
+  const std::size_t coeffs = static_cast<std::size_t>(degree) + 1;
+  if (n < coeffs) {
+    std::ostringstream msg;
+    msg << "Savitzky-Golay: " << n << " samples cannot fit a degree " << degree
+        << " polynomial (need " << coeffs << ")";
+    return InvalidArgumentError(msg.str());
+  }
+  const std::size_t width =
+      std::min(n, 2 * static_cast<std::size_t>(half_width) + 1);
+  const std::size_t half = static_cast<std::size_t>(half_width);
+  std::vector<double> dx(n);
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+  Matrix gram(coeffs, coeffs);
+  Vector rhs(coeffs);
+  double powers[9];
+  for (std::size_t k = 0; k < n; ++k) {
+    std::size_t lo = k > half ? k - half : 0;
+    if (lo + width > n) lo = n - width;
+    const std::size_t hi = lo + width;  // exclusive
+    // Local abscissa scaled to about [−1, 1] keeps the normal equations
+    // well conditioned whatever the sample rate.
+    const double scale = 0.5 * (t[hi - 1] - t[lo]);
+    gram.setZero();
+    rhs.setZero();
+    for (std::size_t j = lo; j < hi; ++j) {
+      const double tau = (t[j] - t[k]) / scale;
+      powers[0] = 1.0;
+      for (std::size_t p = 1; p < 2 * coeffs - 1; ++p) {
+        powers[p] = powers[p - 1] * tau;
+      }
+      for (std::size_t r = 0; r < coeffs; ++r) {
+        rhs(static_cast<Eigen::Index>(r)) += powers[r] * x[j];
+        for (std::size_t c = 0; c < coeffs; ++c) {
+          gram(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) +=
+              powers[r + c];
+        }
+      }
+    }
+    const Vector c = gram.ldlt().solve(rhs);
+    dx[k] = c(1) / scale;
+  }
+  return dx;
+}
+
+std::vector<double> CumulativeTrapezoid(const std::vector<double>& t,
+                                        const std::vector<double>& x) {
+  CHECK_EQ(t.size(), x.size());
+  std::vector<double> y(t.size(), 0.0);
+  for (std::size_t k = 1; k < t.size(); ++k) {
+    y[k] = y[k - 1] + 0.5 * (t[k] - t[k - 1]) * (x[k] + x[k - 1]);
+  }
+  return y;
+}
+
+namespace {
+
+// Mean and mean square of x over each centred window.
+void MovingMoments(const std::vector<double>& t,
+                   const std::vector<double>& x,
+                   double window_s,
+                   std::vector<double>* mean,
+                   std::vector<double>* variance) {
+  CHECK_EQ(t.size(), x.size());
+  CHECK_GT(window_s, 0.0);
+  const std::size_t n = t.size();
+  mean->assign(n, 0.0);
+  variance->assign(n, 0.0);
+  if (n == 0) return;
+  // Removing the global mean first keeps the prefix sums of squares from
+  // cancelling catastrophically (an accelerometer axis sits near ±9.8).
+  double offset = 0.0;
+  for (double v : x) offset += v;
+  offset /= static_cast<double>(n);
+  std::vector<double> s1(n + 1, 0.0);
+  std::vector<double> s2(n + 1, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = x[i] - offset;
+    s1[i + 1] = s1[i] + d;
+    s2[i + 1] = s2[i] + d * d;
+  }
+  const double half = 0.5 * window_s;
+  std::size_t lo = 0;
+  std::size_t hi = 0;  // exclusive
+  for (std::size_t k = 0; k < n; ++k) {
+    while (lo < k && t[lo] < t[k] - half) ++lo;
+    if (hi < k + 1) hi = k + 1;
+    while (hi < n && t[hi] <= t[k] + half) ++hi;
+    const double count = static_cast<double>(hi - lo);
+    const double m1 = (s1[hi] - s1[lo]) / count;
+    const double m2 = (s2[hi] - s2[lo]) / count;
+    (*mean)[k] = m1 + offset;
+    (*variance)[k] = std::max(0.0, m2 - m1 * m1);
+  }
+}
+
+}  // namespace
+
+std::vector<double> MovingMean(const std::vector<double>& t,
+                               const std::vector<double>& x,
+                               double window_s) {
+  std::vector<double> mean, variance;
+  MovingMoments(t, x, window_s, &mean, &variance);
+  return mean;
+}
+
+std::vector<double> MovingRms(const std::vector<double>& t,
+                              const std::vector<double>& x,
+                              double window_s) {
+  std::vector<double> mean, variance;
+  MovingMoments(t, x, window_s, &mean, &variance);
+  for (std::size_t k = 0; k < mean.size(); ++k) {
+    mean[k] = std::sqrt(variance[k] + mean[k] * mean[k]);
+  }
+  return mean;
+}
+
+std::vector<double> MovingVariance(const std::vector<double>& t,
+                                   const std::vector<double>& x,
+                                   double window_s) {
+  std::vector<double> mean, variance;
+  MovingMoments(t, x, window_s, &mean, &variance);
+  return variance;
+}
+
+double Quantile(const std::vector<double>& x,
+                double q,
+                std::size_t begin,
+                std::size_t end) {
+  end = std::min(end, x.size());
+  if (begin >= end) return std::nan("");
+  std::vector<double> v(x.begin() + static_cast<std::ptrdiff_t>(begin),
+                        x.begin() + static_cast<std::ptrdiff_t>(end));
+  q = std::clamp(q, 0.0, 1.0);
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const std::size_t i = static_cast<std::size_t>(std::floor(pos));
+  const double frac = pos - static_cast<double>(i);
+  std::nth_element(
+      v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
+  const double lower = v[i];
+  if (frac == 0.0 || i + 1 >= v.size()) return lower;
+  const double upper = *std::min_element(
+      v.begin() + static_cast<std::ptrdiff_t>(i) + 1, v.end());
+  return lower + frac * (upper - lower);
+}
+
+double MedianInterval(const std::vector<double>& t) {
+  if (t.size() < 2) return 0.0;
+  std::vector<double> dt(t.size() - 1);
+  for (std::size_t i = 1; i < t.size(); ++i) dt[i - 1] = t[i] - t[i - 1];
+  return Quantile(dt, 0.5);
+}
+
+}  // namespace imusysid

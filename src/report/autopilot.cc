@@ -1,0 +1,227 @@
+#include "imusysid/autopilot.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+
+#include "Eigen/Dense"
+#include "imusysid/parameters.h"
+#include "imusysid/report.h"
+
+namespace imusysid {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string Fixed(double value, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
+  return buffer;
+}
+
+std::string General(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.*g", digits, value);
+  return buffer;
+}
+
+// The (r, β) block of the fit's covariance (the kind its standard errors
+// use), β in degrees. Falls back to the standard errors without correlation
+// when the result carries no covariance matrix.
+Eigen::Matrix2d PositionCovariance(const EstimateResult& result) {
+  Eigen::Matrix2d diagonal = Eigen::Matrix2d::Zero();
+  diagonal(0, 0) = std::pow(result.standard_errors[kR], 2);
+  diagonal(1, 1) = std::pow(result.standard_errors[kBeta], 2);
+  const Eigen::MatrixXd& cov = result.covariance;
+  if (cov.rows() <= kBeta || cov.cols() <= kBeta) return diagonal;
+  Eigen::Matrix2d block;
+  block << cov(kR, kR), cov(kR, kBeta), cov(kBeta, kR), cov(kBeta, kBeta);
+  if (!block.allFinite()) return diagonal;
+  return block;
+}
+
+}  // namespace
+
+StatusOr<EmitFormat> EmitFormatFromString(std::string_view text) {
+  if (text.empty()) return EmitFormat::kNone;
+  if (text == "px4") return EmitFormat::kPx4;
+  if (text == "ardupilot") return EmitFormat::kArduPilot;
+  return InvalidArgumentError("unknown emit format '" + std::string(text) +
+                              "' (valid: px4, ardupilot)");
+}
+
+const char* EmitFormatToString(EmitFormat format) {
+  switch (format) {
+    case EmitFormat::kNone:
+      return "none";
+    case EmitFormat::kPx4:
+      return "px4";
+    case EmitFormat::kArduPilot:
+      return "ardupilot";
+  }
+  return "unknown";
+}
+
+StatusOr<AutopilotParameters> ToAutopilotParameters(
+    const EstimateResult& result,
+    EmitFormat format,
+    const std::string& plane,
+    int imu_instance,
+    const std::string& source) {
+  if (format == EmitFormat::kNone) {
+    return FailedPreconditionError("no emit format chosen");
+  }
+  if (!result.IsUsable() || result.parameters.size() < kNumPhysicalParameters ||
+      result.standard_errors.size() < kNumPhysicalParameters) {
+    return FailedPreconditionError("the " + result.estimator +
+                                   " fit has no usable parameters to emit (" +
+                                   result.message + ")");
+  }
+  const bool roll = plane == "roll";
+  if (!roll && plane != "pitch") {
+    return FailedPreconditionError("the fit's plane '" + plane +
+                                   "' is unknown: cannot tell which body axes "
+                                   "r and beta lie along");
+  }
+  const bool px4 = format == EmitFormat::kPx4;
+  AutopilotParameters out;
+  out.format = format;
+  const std::string prefix =
+      px4 ? "EKF2_IMU_POS_"
+          : "INS_POS" + std::to_string(imu_instance + 1) + "_";
+  // Pitch plane: p = r(cos β, sin β) along (x_b, z_b up); roll plane: along
+  // (FRD +y, z_b up) (include/imusysid/preprocess.h, Plane). FRD z points down.
+  const std::string horizontal_axis = roll ? "Y" : "X";
+  out.omitted_axis = prefix + (roll ? "X" : "Y");
+  out.omitted_note = std::string("not determined by a ") + plane +
+                     "-plane fit (fit --plane=" + (roll ? "pitch" : "roll") +
+                     " for it); left unchanged";
+
+  const Eigen::VectorXd& x = result.parameters;
+  if (!Identifiable(result)) {
+    out.withheld_reason = "r and beta are not identifiable from this segment";
+    for (const Warning& w : result.warnings) {
+      if (w.code == "not_identifiable") out.withheld_reason = w.message;
+    }
+  } else {
+    const double r = x[kR];
+    const double b = x[kBeta] * kDegToRad;
+    const double h = r * std::cos(b);
+    const double z = -r * std::sin(b);
+    // First-order propagation with the (r, β[deg]) covariance.
+    const Eigen::Matrix2d cov = PositionCovariance(result);
+    const Eigen::Vector2d dh(std::cos(b), -r * std::sin(b) * kDegToRad);
+    const Eigen::Vector2d dz(-std::sin(b), -r * std::cos(b) * kDegToRad);
+    const double var_h = dh.dot(cov * dh);
+    const double var_z = dz.dot(cov * dz);
+    out.params = {{prefix + horizontal_axis, h}, {prefix + "Z", z}};
+    out.stderrs = {
+        {prefix + horizontal_axis, var_h >= 0.0 ? std::sqrt(var_h) : kNaN},
+        {prefix + "Z", var_z >= 0.0 ? std::sqrt(var_z) : kNaN}};
+  }
+
+  // The tilt. The sensor's in-plane axis (x_b, or FRD +y for the roll plane)
+  // is tilted by α toward up, so at rest it reads g sin α. Both autopilots
+  // map sensor to body with v_body = R(Euler(x_off, y_off, 0)) v_sensor
+  // (PX4: SENS_BOARD_*_OFF; ArduPilot: AHRS_TRIM_*, "autopilot body to
+  // vehicle body"). A sensor x axis pitched up by α is R(0, α, 0)·e_x =
+  // (cos α, 0, −sin α) in FRD: pitch offset = +α. A sensor y axis rolled up
+  // by α is R(φ, 0, 0)·e_y = (0, cos φ, sin φ) = (0, cos α, −sin α) for
+  // φ = −α: roll offset = −α.
+  out.tilt_deg = x[kAlpha];
+  out.tilt_stderr_deg = result.standard_errors[kAlpha];
+  const double offset_deg = roll ? -x[kAlpha] : x[kAlpha];
+  const std::string what = roll ? "roll" : "pitch";
+  if (px4) {
+    out.trim_parameter = roll ? "SENS_BOARD_X_OFF" : "SENS_BOARD_Y_OFF";
+    out.trim_value = offset_deg;
+    out.trim_unit = "deg";
+    out.trim_note = "add " + General(offset_deg, 3) + " deg to " +
+                    out.trim_parameter +
+                    " (PX4 logs sensor data after the board rotation, so "
+                    "this is a correction to the current value)";
+  } else {
+    out.trim_parameter = roll ? "AHRS_TRIM_X" : "AHRS_TRIM_Y";
+    out.trim_value = offset_deg * kDegToRad;
+    out.trim_unit = "rad";
+    out.trim_note = out.trim_parameter + " = " + General(out.trim_value, 3) +
+                    " rad (radians; ArduPilot logs IMU data before the AHRS "
+                    "trim, so this is the whole trim, not a change)";
+  }
+  out.trim_note += "; it also absorbs any " + what +
+                   "-axis accelerometer bias (g sin alpha and a bias look "
+                   "alike), so it is not written as a parameter";
+
+  std::ostringstream s;
+  const std::string axis_frame =
+      "IMU position relative to the centre of mass, FRD body axes, m "
+      "(1-sigma)";
+  if (px4) {
+    s << "# Onboard parameters for Vehicle 1 (QGroundControl .params)\n";
+  } else {
+    s << "# ArduPilot parameters (.parm: NAME,VALUE)\n";
+  }
+  s << "# from imusysid fit of " << source << ": " << plane << " plane, model "
+    << result.model << ", estimator " << result.estimator << ", OF "
+    << General(result.rmse, 4) << " m/s^2\n";
+  if (out.params.empty()) {
+    s << "# IMU position NOT written: " << out.withheld_reason << "\n";
+  } else {
+    s << "# " << axis_frame << ":\n";
+    for (std::size_t i = 0; i < out.params.size(); ++i) {
+      s << "#   " << out.params[i].first << " = "
+        << Fixed(out.params[i].second, 4) << " +/- "
+        << General(out.stderrs[i].second, 2) << "\n";
+    }
+  }
+  s << "# " << out.omitted_axis << ": " << out.omitted_note << "\n";
+  s << "# tilt alpha = " << General(out.tilt_deg, 4) << " +/- "
+    << General(out.tilt_stderr_deg, 2) << " deg: " << out.trim_note << "\n";
+  if (px4) {
+    s << "#\n# Vehicle-Id\tComponent-Id\tName\tValue\tType\n";
+    for (const auto& [name, value] : out.params) {
+      // Type 9: MAV_PARAM_TYPE_REAL32.
+      s << "1\t1\t" << name << "\t" << Fixed(value, 4) << "\t9\n";
+    }
+  } else {
+    for (const auto& [name, value] : out.params) {
+      s << name << "," << Fixed(value, 4) << "\n";
+    }
+  }
+  out.snippet = s.str();
+  return out;
+}
+
+nlohmann::ordered_json AutopilotParametersToJson(const AutopilotParameters& p) {
+  auto num = [](double v) -> nlohmann::ordered_json {
+    if (!std::isfinite(v)) return nullptr;
+    return v;
+  };
+  nlohmann::ordered_json j;
+  j["format"] = EmitFormatToString(p.format);
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  nlohmann::ordered_json se = nlohmann::ordered_json::object();
+  for (const auto& [name, value] : p.params) params[name] = num(value);
+  for (const auto& [name, value] : p.stderrs) se[name] = num(value);
+  j["params"] = params;
+  j["stderr"] = se;
+  if (!p.withheld_reason.empty()) j["reason"] = p.withheld_reason;
+  j["omitted"] = {{p.omitted_axis, p.omitted_note}};
+  j["tilt"] = {{"alpha_deg", num(p.tilt_deg)},
+               {"alpha_stderr_deg", num(p.tilt_stderr_deg)},
+               {"trim_parameter", p.trim_parameter},
+               {"trim_value", num(p.trim_value)},
+               {"trim_unit", p.trim_unit},
+               {"note", p.trim_note}};
+  j["snippet"] = p.snippet;
+  return j;
+}
+
+std::string AutopilotParametersToText(const AutopilotParameters& p) {
+  std::ostringstream s;
+  s << "\n" << EmitFormatToString(p.format) << " parameters:\n" << p.snippet;
+  return s.str();
+}
+
+}  // namespace imusysid
