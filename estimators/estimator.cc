@@ -174,6 +174,13 @@ std::string EstimateResult::BriefReport() const {
 StatusOr<EstimateResult> Estimator::Estimate(
     const Problem& problem, const EstimatorOptions& options) const {
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
+  // Named options are checked by the spec that declares them.
+  for (const OptionSpec& spec : this->options()) {
+    auto it = options.named.find(spec.name);
+    if (it == options.named.end()) continue;
+    EstimatorOptions scratch;
+    IMUSYSID_RETURN_IF_ERROR(spec.apply(it->second, &scratch));
+  }
   const std::string model_name(problem.model().name());
   const auto supported = SupportedModels();
   if (std::find(supported.begin(), supported.end(), model_name) ==

@@ -7,10 +7,13 @@
 #define IMUSYSID_ESTIMATOR_H_
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <map>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "Eigen/Core"
@@ -80,6 +83,9 @@ struct LinearOptions {
   Status Validate() const;
 };
 
+// A value of an option an estimator declares (see OptionSpec).
+using OptionValue = std::variant<bool, std::int64_t, double, std::string>;
+
 struct EstimatorOptions {
   std::uint64_t seed = 1;  // every stochastic estimator seeds from this
   double max_wall_time_s = std::numeric_limits<double>::infinity();
@@ -95,9 +101,60 @@ struct EstimatorOptions {
   LmOptions lm;
   HybridOptions hybrid;
   LinearOptions linear;
+  // Options of estimators that keep their settings outside the structs
+  // above, by the OptionSpec name that declares them (e.g. "nm_initial_step");
+  // an absent name means the declared default. Estimate() checks every value
+  // present through the declaring spec.
+  std::map<std::string, OptionValue> named;
+
+  // The value of named option `name`, or `fallback` when it is not set or
+  // holds another type (an int is read as a double where a double is asked).
+  double NamedDouble(const std::string& name, double fallback) const;
+  std::int64_t NamedInt(const std::string& name, std::int64_t fallback) const;
+  bool NamedBool(const std::string& name, bool fallback) const;
+  std::string NamedString(const std::string& name,
+                          const std::string& fallback) const;
 
   Status Validate() const;
 };
+
+// --- option declarations ---------------------------------------------------
+
+enum class OptionType { kBool, kInt, kDouble, kString };
+const char* OptionTypeToString(OptionType type);  // "bool", "int", ...
+
+// One tuning option an estimator declares next to its code. Front ends turn
+// each into a flag (`fit` and `bench` take --<name>=VALUE with this help and
+// default), so an option is declared once. `apply` checks a value (an
+// InvalidArgument that states the rule when it is out of range) and stores it
+// in EstimatorOptions, in a member struct or in `named`.
+struct OptionSpec {
+  std::string name;  // flag name, snake_case: "ga_population"
+  OptionType type = OptionType::kDouble;
+  std::string help;           // one line, with the unit
+  OptionValue default_value;  // the value when the option is not given
+  std::function<Status(const OptionValue& value, EstimatorOptions* options)>
+      apply;
+};
+
+// Parses `text` as a value of `type`: bool "true/false/1/0", int in int64,
+// double (finite), string as is. InvalidArgument names the expected type.
+StatusOr<OptionValue> ParseOptionValue(OptionType type, std::string_view text);
+// The value as text, as --help shows it.
+std::string OptionValueToString(const OptionValue& value);
+
+// Declarations of options kept in EstimatorOptions::named: the value must lie
+// in [min, max] (the rule the error states).
+OptionSpec NamedIntOption(std::string name,
+                          std::string help,
+                          std::int64_t default_value,
+                          std::int64_t min,
+                          std::int64_t max);
+OptionSpec NamedDoubleOption(std::string name,
+                             std::string help,
+                             double default_value,
+                             double min,
+                             double max);
 
 // --- the interface ---------------------------------------------------------
 
@@ -119,6 +176,10 @@ class Estimator {
   virtual std::string_view name() const = 0;
   // Model names this estimator can fit.
   virtual std::vector<std::string> SupportedModels() const = 0;
+  // The tuning options this estimator reads, declared once here; front ends
+  // make their flags from them. Options shared by several estimators (the GA's
+  // for ga, ga+lm and hybrid) are declared by each, with the same name.
+  virtual std::vector<OptionSpec> options() const { return {}; }
 
   StatusOr<EstimateResult> Estimate(const Problem& problem,
                                     const EstimatorOptions& options) const;
