@@ -601,17 +601,14 @@ Status RunGa(const Problem& problem,
   result->termination = termination;
   message << " (MATLAB exitflag " << exitflag << ")";
   result->message = message.str();
-  result->details.emplace_back("ga_mode", GaModeToString(ga.mode));
-  result->details.emplace_back("population_size", std::to_string(pop_size));
-  result->details.emplace_back("elite_count", std::to_string(counts.elite));
-  result->details.emplace_back("crossover_count",
-                               std::to_string(counts.crossover));
-  result->details.emplace_back("mutation_count",
-                               std::to_string(counts.mutation));
-  result->details.emplace_back("max_generations",
-                               std::to_string(max_generations));
-  result->details.emplace_back("exitflag", std::to_string(exitflag));
-  result->details.emplace_back("counting", "every row every generation");
+  result->details.Set("ga_mode", GaModeToString(ga.mode));
+  result->details.Set("population_size", pop_size);
+  result->details.Set("elite_count", counts.elite);
+  result->details.Set("crossover_count", counts.crossover);
+  result->details.Set("mutation_count", counts.mutation);
+  result->details.Set("max_generations", max_generations);
+  result->details.Set("exitflag", exitflag);
+  result->details.Set("counting", "every row every generation");
   return Status::Ok();
 }
 
@@ -623,6 +620,46 @@ Status GaEstimator::Solve(const Problem& problem,
 
 std::unique_ptr<Estimator> NewGaEstimator() {
   return std::make_unique<GaEstimator>();
+}
+
+std::vector<OptionSpec> GaOptionSpecs() {
+  const GaOptions defaults;
+  OptionSpec mode;
+  mode.name = "ga_mode";
+  mode.type = OptionType::kString;
+  mode.help =
+      "GA mode: bounded (MATLAB with bounds: adaptive-feasible mutation) or "
+      "unbounded (Gaussian mutation).";
+  mode.default_value = std::string(GaModeToString(defaults.mode));
+  mode.apply = [](const OptionValue& value, EstimatorOptions* options) {
+    const std::string* text = std::get_if<std::string>(&value);
+    if (text == nullptr) return InvalidArgumentError("ga_mode must be text");
+    StatusOr<GaMode> parsed = GaModeFromString(*text);
+    if (!parsed.ok()) return parsed.status();
+    options->ga.mode = *parsed;
+    return Status::Ok();
+  };
+  return {
+      IntOption("ga_population",
+                "GA population size (the paper's 250).",
+                defaults.population_size,
+                [](EstimatorOptions* o, int v) { o->ga.population_size = v; }),
+      mode,
+      IntOption("ga_max_generations",
+                "GA generation limit; -1: 100 x nvars.",
+                defaults.max_generations,
+                [](EstimatorOptions* o, int v) { o->ga.max_generations = v; }),
+      IntOption(
+          "ga_stall_generations",
+          "GA stall generation limit.",
+          defaults.max_stall_generations,
+          [](EstimatorOptions* o, int v) { o->ga.max_stall_generations = v; }),
+      DoubleOption(
+          "ga_tolerance",
+          "GA function tolerance of the average-change stall test, m/s^2.",
+          defaults.function_tolerance,
+          [](EstimatorOptions* o, double v) { o->ga.function_tolerance = v; }),
+  };
 }
 
 }  // namespace imusysid

@@ -130,10 +130,15 @@ GaOffspringCounts ComputeGaOffspringCounts(const GaOptions& options);
 // options.max_generations, or 100·num_variables when it is −1.
 int GaMaxGenerations(const GaOptions& options, int num_variables);
 
+// The GA's tuning flags (ga_population, ga_mode, ga_max_generations,
+// ga_stall_generations, ga_tolerance), declared once for ga, ga+lm and hybrid.
+std::vector<OptionSpec> GaOptionSpecs();
+
 class GaEstimator : public Estimator {
  public:
   GaEstimator() = default;
   std::string_view name() const override { return "ga"; }
+  std::vector<OptionSpec> options() const override { return GaOptionSpecs(); }
   std::vector<std::string> SupportedModels() const override {
     return {"paper", "consistent"};
   }
@@ -146,6 +151,7 @@ class GaEstimator : public Estimator {
 };
 
 std::unique_ptr<Estimator> NewGaEstimator();
+
 
 }  // namespace imusysid
 

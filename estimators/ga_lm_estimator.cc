@@ -10,16 +10,6 @@
 #include "glog/logging.h"
 
 namespace imusysid {
-namespace {
-
-std::string FormatNumber(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
-
-}  // namespace
-
 namespace internal {
 
 Status PolishWithLm(const Problem& problem,
@@ -29,14 +19,13 @@ Status PolishWithLm(const Problem& problem,
                     EstimateResult* result) {
   CHECK(result != nullptr);
   const int ga_generations = result->iterations;
-  result->details.emplace_back("ga_generations",
-                               std::to_string(ga_generations));
+  result->details.Set("ga_generations", ga_generations);
   if (!result->IsUsable()) {
-    result->details.emplace_back("lm_accepted", "skipped");
+    result->details.Set("lm_accepted", "skipped");
     return Status::Ok();
   }
   const double ga_cost = problem.Cost(result->parameters.data());
-  result->details.emplace_back("ga_cost", FormatNumber(ga_cost));
+  result->details.Set("ga_cost", ga_cost);
 
   const double elapsed_s = std::chrono::duration<double>(
                                std::chrono::steady_clock::now() - solve_start)
@@ -50,8 +39,8 @@ Status PolishWithLm(const Problem& problem,
       result->termination == Termination::kMaxEvaluations ||
       !(remaining_s > 0.0) || remaining_evaluations == 0 ||
       (options.max_evaluations >= 0 && remaining_evaluations < 0)) {
-    result->details.emplace_back("lm_iterations", "0");
-    result->details.emplace_back("lm_accepted", "skipped");
+    result->details.Set("lm_iterations", 0);
+    result->details.Set("lm_accepted", "skipped");
     result->message += "; LM skipped: no time or evaluations left";
     return Status::Ok();
   }
@@ -84,10 +73,9 @@ Status PolishWithLm(const Problem& problem,
   result->message = "GA: " + result->message + "; LM: " + run->message +
                     (accepted ? " (LM result kept)"
                               : " (LM result discarded: not strictly better)");
-  result->details.emplace_back("lm_iterations",
-                               std::to_string(run->iterations));
-  result->details.emplace_back("lm_cost", FormatNumber(run->final_cost));
-  result->details.emplace_back("lm_accepted", accepted ? "yes" : "no");
+  result->details.Set("lm_iterations", run->iterations);
+  result->details.Set("lm_cost", run->final_cost);
+  result->details.SetYesNo("lm_accepted", accepted);
   return Status::Ok();
 }
 
@@ -106,6 +94,12 @@ Status GaLmEstimator::Solve(const Problem& problem,
   IMUSYSID_RETURN_IF_ERROR(RunGa(problem, options, {}, result));
   return internal::PolishWithLm(
       problem, options, solve_start, evaluations_at_start, result);
+}
+
+std::vector<OptionSpec> GaLmEstimator::options() const {
+  std::vector<OptionSpec> specs = GaOptionSpecs();
+  for (OptionSpec& spec : LmOptionSpecs()) specs.push_back(std::move(spec));
+  return specs;
 }
 
 }  // namespace imusysid

@@ -40,6 +40,7 @@ class GaLmEstimator : public Estimator {
   GaLmEstimator() = default;
 
   std::string_view name() const override { return "ga+lm"; }
+  std::vector<OptionSpec> options() const override;
   std::vector<std::string> SupportedModels() const override {
     return {"paper", "consistent"};
   }

@@ -112,16 +112,31 @@ Status HybridEstimator::Solve(const Problem& problem,
   };
 
   IMUSYSID_RETURN_IF_ERROR(RunGa(problem, options, hook, result));
-  result->details.emplace_back("refinements", std::to_string(refinements));
-  result->details.emplace_back("refinements_reused", std::to_string(reused));
-  result->details.emplace_back("refinements_improved",
-                               std::to_string(improved));
-  result->details.emplace_back("refinement_lm_iterations",
-                               std::to_string(lm_iterations));
-  result->details.emplace_back("refined_generations", refined_generations);
-  result->details.emplace_back("final_polish", "lm");
+  result->details.Set("refinements", refinements);
+  result->details.Set("refinements_reused", reused);
+  result->details.Set("refinements_improved", improved);
+  result->details.Set("refinement_lm_iterations", lm_iterations);
+  result->details.Set("refined_generations", refined_generations);
+  result->details.Set("final_polish", "lm");
   return internal::PolishWithLm(
       problem, options, solve_start, evaluations_at_start, result);
+}
+
+std::vector<OptionSpec> HybridEstimator::options() const {
+  const HybridOptions defaults;
+  std::vector<OptionSpec> specs = GaOptionSpecs();
+  for (OptionSpec& spec : LmOptionSpecs()) specs.push_back(std::move(spec));
+  specs.push_back(IntOption(
+      "hybrid_period",
+      "hybrid: LM refinement every N generations.",
+      defaults.period_generations,
+      [](EstimatorOptions* o, int v) { o->hybrid.period_generations = v; }));
+  specs.push_back(IntOption(
+      "hybrid_lm_iterations",
+      "hybrid: LM iterations per refinement.",
+      defaults.lm_iterations,
+      [](EstimatorOptions* o, int v) { o->hybrid.lm_iterations = v; }));
+  return specs;
 }
 
 }  // namespace imusysid

@@ -52,6 +52,7 @@ class HybridEstimator : public Estimator {
   HybridEstimator() = default;
 
   std::string_view name() const override { return "hybrid"; }
+  std::vector<OptionSpec> options() const override;
   std::vector<std::string> SupportedModels() const override {
     return {"paper", "consistent"};
   }

@@ -9,18 +9,11 @@
 #include "Eigen/Dense"
 #include "glog/logging.h"
 #include "imusysid/parameters.h"
+#include "imusysid/report.h"
 #include "src/models/paper_model.h"
 
 namespace imusysid {
-namespace {
-
-std::string FormatNumber(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::unique_ptr<Estimator> NewLinearEstimator() {
   return std::make_unique<LinearEstimator>();
@@ -74,8 +67,8 @@ Status LinearEstimator::Solve(const Problem& problem,
     mu_constrained = true;
   }
 
-  result->details.emplace_back("condition_number", FormatNumber(condition));
-  result->details.emplace_back("mu_constrained", mu_constrained ? "yes" : "no");
+  result->details.Set("condition_number", condition);
+  result->details.SetYesNo("mu_constrained", mu_constrained);
 
   const double gravity = data.gravity;
   if (std::isfinite(a[0]) && std::abs(a[0]) > gravity) {

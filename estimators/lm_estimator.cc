@@ -231,9 +231,17 @@ Status LmEstimator::Solve(const Problem& problem,
   result->iterations = run->iterations;
   result->termination = run->termination;
   result->message = run->message;
-  result->details.emplace_back("lm_residuals", std::to_string(run->residuals));
+  result->details.Set("lm_residuals", run->residuals);
   if (options.record_trace) result->trace = std::move(run->trace);
   return Status::Ok();
+}
+
+std::vector<OptionSpec> LmOptionSpecs() {
+  return {
+      IntOption("lm_max_iterations",
+                "Levenberg-Marquardt iteration limit.",
+                LmOptions().max_iterations,
+                [](EstimatorOptions* o, int v) { o->lm.max_iterations = v; })};
 }
 
 }  // namespace imusysid

@@ -64,11 +64,16 @@ StatusOr<LmRun> RunLm(const Problem& problem,
                       double max_time_s,
                       std::int64_t max_evaluations = -1);
 
+// LM's tuning flags (lm_max_iterations), declared once for lm, ga+lm and
+// hybrid.
+std::vector<OptionSpec> LmOptionSpecs();
+
 class LmEstimator : public Estimator {
  public:
   LmEstimator() = default;
 
   std::string_view name() const override { return "lm"; }
+  std::vector<OptionSpec> options() const override { return LmOptionSpecs(); }
   std::vector<std::string> SupportedModels() const override {
     return {"paper", "consistent"};
   }
@@ -82,6 +87,7 @@ class LmEstimator : public Estimator {
 };
 
 std::unique_ptr<Estimator> NewLmEstimator();
+
 
 }  // namespace imusysid
 

@@ -5,10 +5,12 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <utility>
 
 #include "imusysid/estimator.h"
+#include "imusysid/report.h"
 
 namespace imusysid {
 namespace {
@@ -19,20 +21,6 @@ const T* Get(const std::map<std::string, OptionValue>& named,
   auto it = named.find(name);
   if (it == named.end()) return nullptr;
   return std::get_if<T>(&it->second);
-}
-
-std::string FormatDouble(double v) {
-  std::ostringstream out;
-  out.precision(17);
-  out << v;
-  // The shortest text that reads back the same value.
-  for (int digits = 1; digits <= 17; ++digits) {
-    std::ostringstream o;
-    o.precision(digits);
-    o << v;
-    if (std::strtod(o.str().c_str(), nullptr) == v) return o.str();
-  }
-  return out.str();
 }
 
 }  // namespace
@@ -114,8 +102,64 @@ std::string OptionValueToString(const OptionValue& value) {
   if (const std::int64_t* i = std::get_if<std::int64_t>(&value)) {
     return std::to_string(*i);
   }
-  if (const double* d = std::get_if<double>(&value)) return FormatDouble(*d);
+  if (const double* d = std::get_if<double>(&value)) return FormatRoundTrip(*d);
   return std::get<std::string>(value);
+}
+
+OptionSpec IntOption(std::string name,
+                     std::string help,
+                     int default_value,
+                     std::function<void(EstimatorOptions*, int)> store) {
+  OptionSpec spec;
+  spec.name = name;
+  spec.type = OptionType::kInt;
+  spec.help = std::move(help);
+  spec.default_value = static_cast<std::int64_t>(default_value);
+  spec.apply = [name, store = std::move(store)](
+                   const OptionValue& value,
+                   EstimatorOptions* options) -> Status {
+    const std::int64_t* v = std::get_if<std::int64_t>(&value);
+    if (v == nullptr) return InvalidArgumentError(name + " must be an integer");
+    constexpr std::int64_t kMin = std::numeric_limits<int>::min();
+    constexpr std::int64_t kMax = std::numeric_limits<int>::max();
+    if (*v < kMin || *v > kMax) {
+      return InvalidArgumentError(name + " = " + std::to_string(*v) +
+                                  "; required in [" + std::to_string(kMin) +
+                                  ", " + std::to_string(kMax) + "]");
+    }
+    store(options, static_cast<int>(*v));
+    return Status::Ok();
+  };
+  return spec;
+}
+
+OptionSpec DoubleOption(std::string name,
+                        std::string help,
+                        double default_value,
+                        std::function<void(EstimatorOptions*, double)> store) {
+  OptionSpec spec;
+  spec.name = name;
+  spec.type = OptionType::kDouble;
+  spec.help = std::move(help);
+  spec.default_value = default_value;
+  spec.apply = [name, store = std::move(store)](
+                   const OptionValue& value,
+                   EstimatorOptions* options) -> Status {
+    double v = 0.0;
+    if (const double* d = std::get_if<double>(&value)) {
+      v = *d;
+    } else if (const std::int64_t* i = std::get_if<std::int64_t>(&value)) {
+      v = static_cast<double>(*i);
+    } else {
+      return InvalidArgumentError(name + " must be a number");
+    }
+    if (!std::isfinite(v)) {
+      return InvalidArgumentError(name + " must be a finite number");
+    }
+    store(options, v);
+    return Status::Ok();
+  };
+  return spec;
 }
 
 OptionSpec NamedIntOption(std::string name,
@@ -164,9 +208,9 @@ OptionSpec NamedDoubleOption(std::string name,
       return InvalidArgumentError(name + " must be a number");
     }
     if (!(v >= min && v <= max)) {  // NaN fails too
-      return InvalidArgumentError(name + " = " + FormatDouble(v) +
-                                  "; required in [" + FormatDouble(min) + ", " +
-                                  FormatDouble(max) + "]");
+      return InvalidArgumentError(name + " = " + FormatRoundTrip(v) +
+                                  "; required in [" + FormatRoundTrip(min) +
+                                  ", " + FormatRoundTrip(max) + "]");
     }
     options->named[name] = v;
     return Status::Ok();

@@ -346,7 +346,7 @@ Status SolvePaper(const Problem& problem,
     a[3] = 0.0;
     mu_constrained = true;
   }
-  result->details.emplace_back("mu_constrained", mu_constrained ? "yes" : "no");
+  result->details.SetYesNo("mu_constrained", mu_constrained);
   result->iterations = 1;
   StatusOr<ImuParameters> params = CoefficientsToParameters(a, d.gravity);
   if (!params.ok()) {
@@ -443,12 +443,8 @@ Status SolveConsistent(const Problem& problem,
   }
   p[0] = best_mu;
   result->initial_cost = best_cost;
-  {
-    std::ostringstream start_mu;
-    start_mu << best_mu;
-    result->details.emplace_back("start_mu", start_mu.str());
-  }
-  result->details.emplace_back("jacobian", "kaufman");
+  result->details.Set("start_mu", best_mu);
+  result->details.Set("jacobian", "kaufman");
 
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -475,9 +471,8 @@ Status SolveConsistent(const Problem& problem,
   solver_options.callbacks.push_back(&monitor);
   ceres::Solver::Summary summary;
   ceres::Solve(solver_options, &ceres_problem, &summary);
-  result->details.emplace_back(
-      "ceres_termination",
-      ceres::TerminationTypeToString(summary.termination_type));
+  result->details.Set("ceres_termination",
+                      ceres::TerminationTypeToString(summary.termination_type));
   result->iterations =
       summary.num_successful_steps + summary.num_unsuccessful_steps;
 

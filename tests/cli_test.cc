@@ -202,5 +202,19 @@ TEST(Cli, DisplacementFromTwoFitFiles) {
   EXPECT_TRUE(j.contains("stderr"));
 }
 
+TEST(Cli, EstimatorFlagsComeFromTheEstimatorsDeclarations) {
+  const auto help = RunCli("fit --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_THAT(help.out, HasSubstr("Estimator flags"));
+  EXPECT_THAT(help.out, HasSubstr("--hybrid_period=INT"));
+  // bench takes the same declarations (it used to ignore --ga_mode).
+  const auto bench = RunCli("bench --preset=ci --ga_mode=sideways");
+  EXPECT_EQ(bench.exit_code, 2);
+  EXPECT_THAT(bench.err, HasSubstr("--ga_mode: unknown GA mode 'sideways'"));
+  const auto typed = RunCli("fit --log=x.csv --ga_population=many");
+  EXPECT_EQ(typed.exit_code, 2);
+  EXPECT_THAT(typed.err, HasSubstr("expected int"));
+}
+
 }  // namespace
 }  // namespace imusysid

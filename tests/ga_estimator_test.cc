@@ -133,12 +133,9 @@ TEST(GaEstimator, IsRegisteredAndReportsPaperSettings) {
   auto result = (*estimator)->Estimate(problem, DefaultOptions());
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   const auto& details = result->details;
-  using Detail = std::pair<std::string, std::string>;
-  EXPECT_THAT(details, ::testing::Contains(Detail("ga_mode", "bounded")));
-  EXPECT_THAT(details, ::testing::Contains(Detail("population_size", "250")));
-  EXPECT_THAT(
-      details,
-      ::testing::Contains(Detail("counting", "every row every generation")));
+  EXPECT_EQ(details.Text("ga_mode"), "bounded");
+  EXPECT_EQ(details.Integer("population_size"), 250);
+  EXPECT_EQ(details.Text("counting"), "every row every generation");
   EXPECT_EQ(result->trace.front().phase, "ga");
 }
 
@@ -257,9 +254,7 @@ TEST(GaEstimator, MaxGenerationsStopsWithExitflagZero) {
   ASSERT_TRUE(RunGa(problem, options, {}, &result).ok());
   EXPECT_EQ(result.termination, Termination::kMaxIterations);
   EXPECT_EQ(result.iterations, 5);
-  EXPECT_THAT(result.details,
-              ::testing::Contains(
-                  std::pair<std::string, std::string>("exitflag", "0")));
+  EXPECT_EQ(result.details.Integer("exitflag"), 0);
 }
 
 TEST(GaEstimator, MaxEvaluationsIsNeverExceeded) {
@@ -312,9 +307,7 @@ TEST(GaEstimator, ConstantObjectiveStopsByAverageChangeAfter51Generations) {
   EXPECT_EQ(result.iterations, 51);
   EXPECT_EQ(result.termination, Termination::kConverged);
   EXPECT_THAT(result.message, HasSubstr("average change"));
-  EXPECT_THAT(result.details,
-              ::testing::Contains(
-                  std::pair<std::string, std::string>("exitflag", "1")));
+  EXPECT_EQ(result.details.Integer("exitflag"), 1);
 }
 
 TEST(GaEstimator, NonFiniteObjectiveStopsByStallGenerationsAndFails) {
@@ -328,9 +321,7 @@ TEST(GaEstimator, NonFiniteObjectiveStopsByStallGenerationsAndFails) {
   EXPECT_EQ(result.iterations, 52);
   EXPECT_EQ(result.termination, Termination::kFailure);
   EXPECT_THAT(result.message, HasSubstr("stall generations"));
-  EXPECT_THAT(result.details,
-              ::testing::Contains(
-                  std::pair<std::string, std::string>("exitflag", "3")));
+  EXPECT_EQ(result.details.Integer("exitflag"), 3);
 }
 
 // Noise-free data: the exact optimum is OF = 0 up to rounding, so the test is
@@ -393,9 +384,7 @@ TEST(GaEstimator, UnboundedModeRunsAndRecordsMode) {
   const GaEstimator ga;
   auto result = ga.Estimate(problem, options);
   ASSERT_TRUE(result.ok()) << result.status().ToString();
-  EXPECT_THAT(result->details,
-              ::testing::Contains(
-                  std::pair<std::string, std::string>("ga_mode", "unbounded")));
+  EXPECT_EQ(result->details.Text("ga_mode"), "unbounded");
   EXPECT_TRUE(result->IsUsable());
   // mutationgaussian's σ is (1 − g/400)·(bound width), still ≥ 40% of the box
   // when the stall test stops the run, so only crossover refines and the GA

@@ -83,14 +83,15 @@ TEST(GaLmEstimator, TraceIsGaThenLmWithCountsAdded) {
       EXPECT_LE(point.best_cost, prev.best_cost);
     }
   }
-  const int generations = std::stoi(Detail(result, "ga_generations"));
-  const int lm_iterations = std::stoi(Detail(result, "lm_iterations"));
+  const int generations = result.details.Integer("ga_generations").value_or(-1);
+  const int lm_iterations =
+      result.details.Integer("lm_iterations").value_or(-1);
   EXPECT_EQ(generations, 60);
   EXPECT_GT(lm_iterations, 0);
   EXPECT_EQ(result.iterations, generations + lm_iterations);
   EXPECT_EQ(Detail(result, "lm_accepted"), "yes");
-  EXPECT_LT(std::stod(Detail(result, "lm_cost")),
-            std::stod(Detail(result, "ga_cost")));
+  EXPECT_LT(result.details.Number("lm_cost").value_or(-1.0),
+            result.details.Number("ga_cost").value_or(-1.0));
 }
 
 TEST(GaLmEstimator, KeepsGaAnswerWhenLmIsNotStrictlyBetter) {

@@ -79,17 +79,17 @@ TEST(HybridEstimator, RefinesAtTheConfiguredPeriod) {
   EXPECT_EQ(Detail(result, "refined_generations"), "7 14 21 28");
   // 4 refinement generations × 2 individuals, each either refined by LM or
   // skipped as refined before.
-  const int refinements = std::stoi(Detail(result, "refinements"));
-  const int reused = std::stoi(Detail(result, "refinements_reused"));
+  const int refinements = result.details.Integer("refinements").value_or(-1);
+  const int reused = result.details.Integer("refinements_reused").value_or(-1);
   EXPECT_EQ(refinements + reused, 8);
   EXPECT_GE(refinements, 2);  // at least the first period's
   const int lm_iterations =
-      std::stoi(Detail(result, "refinement_lm_iterations"));
+      result.details.Integer("refinement_lm_iterations").value_or(-1);
   EXPECT_GT(lm_iterations, 0);
   EXPECT_LE(lm_iterations, refinements * 3);
   // The first refinement lands the best individual near the optimum, which
   // beats anything the GA had after 7 generations.
-  EXPECT_GE(std::stoi(Detail(result, "refinements_improved")), 1);
+  EXPECT_GE(result.details.Integer("refinements_improved").value_or(-1), 1);
 }
 
 TEST(HybridEstimator, DefaultRefinesTheEliteCount) {
@@ -104,8 +104,8 @@ TEST(HybridEstimator, DefaultRefinesTheEliteCount) {
   ASSERT_TRUE(result.IsUsable()) << result.message;
   // Elite count ceil(0.05 · 60) = 3, refined at generations 10 and 20.
   EXPECT_EQ(Detail(result, "refined_generations"), "10 20");
-  EXPECT_EQ(std::stoi(Detail(result, "refinements")) +
-                std::stoi(Detail(result, "refinements_reused")),
+  EXPECT_EQ(result.details.Integer("refinements").value_or(-1) +
+                result.details.Integer("refinements_reused").value_or(-1),
             6);
 }
 

@@ -89,7 +89,8 @@ TEST(LinearEstimator, RecoversTruthWhenNoiseFree) {
   EXPECT_GT(result.cost_evaluations, 0);
   EXPECT_GT(result.wall_time_s, 0.0);
   EXPECT_EQ(Detail(result, "mu_constrained"), "no");
-  const double condition = std::stod(Detail(result, "condition_number"));
+  const double condition =
+      result.details.Number("condition_number").value_or(-1.0);
   EXPECT_TRUE(std::isfinite(condition));
   EXPECT_GE(condition, 1.0);
 }

@@ -123,10 +123,7 @@ EstimateResult RunEstimator(const Estimator& estimator,
 }
 
 std::string Detail(const EstimateResult& result, const std::string& key) {
-  for (const auto& [k, v] : result.details) {
-    if (k == key) return v;
-  }
-  return "";
+  return result.details.Format(key);
 }
 
 EstimatorOptions SmallGaOptions() {

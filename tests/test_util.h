@@ -42,7 +42,7 @@ std::string WriteTempFile(const std::string& name, const std::string& contents);
 
 // --- synthetic flight for the paper model ----------------------------------
 // PaperFlightOptions, MakeSyntheticPaperData and MakeTwoToneFlight live in
-// tests/synthetic_flight.h (shared with the benchmarks, which do not link
+// src/sim/synthetic_flight.h (shared with the benchmarks, which do not link
 // GTest).
 
 // A problem over the paper model with its default bounds and initial guess.

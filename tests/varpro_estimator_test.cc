@@ -228,9 +228,7 @@ TEST(VarproEstimator, PaperModelEqualsClosedFormLeastSquares) {
   ASSERT_GT(ls.a[3], 0.0) << "the data should not need the mu constraint";
   EXPECT_NEAR(result.final_cost, ls.cost, kCostRelativeTolerance * ls.cost);
   EXPECT_EQ(result.cost_evaluations, 1);
-  EXPECT_THAT(result.details,
-              ::testing::Contains(std::make_pair(std::string("mu_constrained"),
-                                                 std::string("no"))));
+  EXPECT_EQ(result.details.Text("mu_constrained"), "no");
   // The parameters map back from a (model.md): α = asin(a1/g), r = |a2, a3|.
   EXPECT_NEAR(result.parameters[kAlpha],
               std::asin(ls.a[0] / kGravity) * kRadToDeg,
@@ -258,9 +256,7 @@ TEST(VarproEstimator, PaperModelConstrainsNegativeMuToZero) {
   EXPECT_NEAR(result.final_cost,
               constrained.cost,
               kCostRelativeTolerance * constrained.cost);
-  EXPECT_THAT(result.details,
-              ::testing::Contains(std::make_pair(std::string("mu_constrained"),
-                                                 std::string("yes"))));
+  EXPECT_EQ(result.details.Text("mu_constrained"), "yes");
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/covariance.h"
+#include "imusysid/identifiability.h"
 #include "imusysid/problem.h"
 #include "imusysid/result.h"
 #include "imusysid/status.h"
@@ -143,6 +144,18 @@ StatusOr<OptionValue> ParseOptionValue(OptionType type, std::string_view text);
 // The value as text, as --help shows it.
 std::string OptionValueToString(const OptionValue& value);
 
+// Declarations of options stored by `store` into a member struct of
+// EstimatorOptions, whose own Validate states the rule (GaOptions, ...).
+// IntOption rejects values outside int's range.
+OptionSpec IntOption(std::string name,
+                     std::string help,
+                     int default_value,
+                     std::function<void(EstimatorOptions*, int)> store);
+OptionSpec DoubleOption(std::string name,
+                        std::string help,
+                        double default_value,
+                        std::function<void(EstimatorOptions*, double)> store);
+
 // Declarations of options kept in EstimatorOptions::named: the value must lie
 // in [min, max] (the rule the error states).
 OptionSpec NamedIntOption(std::string name,
@@ -194,16 +207,6 @@ class Estimator {
                        const EstimatorOptions& options,
                        EstimateResult* result) const = 0;
 };
-
-// Computes final_cost, rmse, standard_errors (of the given covariance type),
-// condition_number and the common warnings for result->parameters. Called by
-// Estimator::Estimate with EstimatorOptions::covariance; exposed for tests and
-// for callers that build results by hand. Does not count evaluations.
-void FinalizeResult(const Problem& problem,
-                    CovarianceType covariance,
-                    EstimateResult* result);
-// The same with the default covariance type (kHac).
-void FinalizeResult(const Problem& problem, EstimateResult* result);
 
 }  // namespace imusysid
 

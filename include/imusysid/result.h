@@ -6,9 +6,12 @@
 #define IMUSYSID_RESULT_H_
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "Eigen/Core"
@@ -45,6 +48,56 @@ struct Warning {
   std::string message;
 };
 
+// Estimator-specific facts worth reporting (population size, LM iterations of
+// a refinement, the covariance kind), typed so that programs read numbers as
+// numbers, kept in the order they were set. One formatter (FormatDetail)
+// turns every value into the text the tool prints.
+class ResultDetails {
+ public:
+  using Value = std::variant<std::int64_t, double, std::string>;
+  using Entry = std::pair<std::string, Value>;
+
+  // Sets `key` (replacing an earlier value, keeping its place).
+  void Set(const std::string& key, Value value);
+  void Set(const std::string& key, const char* text) {
+    Set(key, Value(std::string(text)));
+  }
+  template <typename Int,
+            typename = std::enable_if_t<std::is_integral_v<Int> &&
+                                        !std::is_same_v<Int, bool>>>
+  void Set(const std::string& key, Int value) {
+    Set(key, Value(static_cast<std::int64_t>(value)));
+  }
+  // Yes/no facts are words in the output, not 0/1.
+  void SetYesNo(const std::string& key, bool value) {
+    Set(key, value ? "yes" : "no");
+  }
+
+  // nullptr when absent.
+  const Value* Find(std::string_view key) const;
+  bool Has(std::string_view key) const { return Find(key) != nullptr; }
+  // An integer or double as a double; nullopt when absent or text.
+  std::optional<double> Number(std::string_view key) const;
+  // nullopt when absent or not an integer.
+  std::optional<std::int64_t> Integer(std::string_view key) const;
+  // nullopt when absent or not text.
+  std::optional<std::string> Text(std::string_view key) const;
+  // FormatDetail of the value; "" when absent.
+  std::string Format(std::string_view key) const;
+
+  bool empty() const { return entries_.empty(); }
+  std::size_t size() const { return entries_.size(); }
+  std::vector<Entry>::const_iterator begin() const { return entries_.begin(); }
+  std::vector<Entry>::const_iterator end() const { return entries_.end(); }
+
+ private:
+  std::vector<Entry> entries_;
+};
+
+// The one formatter for details: integers in decimal, doubles as the
+// shortest text that reads back exactly (FormatRoundTrip), text as it is.
+std::string FormatDetail(const ResultDetails::Value& value);
+
 struct EstimateResult {
   std::string estimator;
   std::string model;
@@ -78,8 +131,8 @@ struct EstimateResult {
 
   std::vector<TracePoint> trace;
   std::vector<Warning> warnings;
-  // Estimator-specific facts worth reporting, e.g. {"ga_mode", "bounded"}.
-  std::vector<std::pair<std::string, std::string>> details;
+  // Estimator-specific facts worth reporting, e.g. "ga_mode": "bounded".
+  ResultDetails details;
 
   bool HasWarning(std::string_view code) const;
   // One line: estimator, model, termination, OF, parameters.

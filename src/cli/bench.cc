@@ -12,6 +12,7 @@
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
 #include "src/cli/common.h"
+#include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
 
 DEFINE_string(preset,
@@ -44,9 +45,6 @@ DEFINE_string(scaling,
               "drawn as runtime_vs_samples.svg and tabled on stdout.");
 
 DECLARE_int32(threads);
-DECLARE_int32(ga_population);
-DECLARE_int32(ga_max_generations);
-DECLARE_int32(lm_max_iterations);
 DECLARE_string(covariance);
 
 namespace imusysid {
@@ -86,9 +84,8 @@ int Run(const std::vector<std::string>& positional) {
     config.threads = FLAGS_threads;
   }
   config.options.seed = FLAGS_seed;
-  config.options.ga.population_size = FLAGS_ga_population;
-  config.options.ga.max_generations = FLAGS_ga_max_generations;
-  config.options.lm.max_iterations = FLAGS_lm_max_iterations;
+  Status estimator_flags = ApplyEstimatorFlags(&config.options);
+  if (!estimator_flags.ok()) return ReportError(cmd, estimator_flags);
   StatusOr<CovarianceType> covariance =
       CovarianceTypeFromString(FLAGS_covariance);
   if (!covariance.ok()) {
@@ -210,15 +207,13 @@ const Command& BenchCommand() {
                     "seeds",
                     "threads",
                     "seed",
-                    "ga_population",
-                    "ga_max_generations",
-                    "lm_max_iterations",
                     "covariance",
                     "figures",
                     "scaling",
                     "out",
                     "format"}),
-      &Run};
+      &Run,
+      /*estimator_flags=*/true};
   return c;
 }
 

@@ -31,6 +31,8 @@ struct Command {
   std::vector<std::string> flags;  // gflags names this command accepts
   // Runs with the positional arguments; flags are already set.
   int (*run)(const std::vector<std::string>& positional) = nullptr;
+  // Also takes every option the estimators declare (estimator_flags.h).
+  bool estimator_flags = false;
 };
 
 // Every subcommand, in help order. Each cli_<name>.cc defines one accessor.

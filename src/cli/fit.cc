@@ -17,6 +17,7 @@
 #include "imusysid/report.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
+#include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
 
 DEFINE_string(model,
@@ -37,20 +38,7 @@ DEFINE_string(initial,
               "",
               "Start point for lm: comma-separated values in parameter order "
               "(default: centre of the bounds).");
-DEFINE_int32(ga_population, 250, "GA population size (the paper's 250).");
-DEFINE_string(ga_mode,
-              "bounded",
-              "GA mode: bounded (MATLAB with bounds: adaptive-feasible "
-              "mutation) or unbounded (Gaussian mutation).");
-DEFINE_int32(ga_max_generations, -1, "GA generation limit; -1: 100 x nvars.");
-DEFINE_int32(ga_stall_generations, 50, "GA stall generation limit.");
-DEFINE_double(ga_tolerance,
-              1e-6,
-              "GA function tolerance of the average-change stall test, m/s^2.");
 DEFINE_int32(threads, 2, "Threads evaluating the GA population.");
-DEFINE_int32(lm_max_iterations, 200, "Levenberg-Marquardt iteration limit.");
-DEFINE_int32(hybrid_period, 10, "hybrid: LM refinement every N generations.");
-DEFINE_int32(hybrid_lm_iterations, 5, "hybrid: LM iterations per refinement.");
 DEFINE_double(max_time_s, 0, "Wall-time limit per estimator, s; 0: none.");
 DEFINE_string(covariance,
               "hac",
@@ -149,17 +137,8 @@ StatusOr<EstimatorOptions> OptionsFromFlags() {
   o.seed = FLAGS_seed;
   if (FLAGS_max_time_s > 0) o.max_wall_time_s = FLAGS_max_time_s;
   o.record_trace = true;
-  o.ga.population_size = FLAGS_ga_population;
-  StatusOr<GaMode> mode = GaModeFromString(FLAGS_ga_mode);
-  if (!mode.ok()) return mode.status().WithPrefix("--ga_mode");
-  o.ga.mode = *mode;
-  o.ga.max_generations = FLAGS_ga_max_generations;
-  o.ga.max_stall_generations = FLAGS_ga_stall_generations;
-  o.ga.function_tolerance = FLAGS_ga_tolerance;
   o.ga.num_threads = FLAGS_threads;
-  o.lm.max_iterations = FLAGS_lm_max_iterations;
-  o.hybrid.period_generations = FLAGS_hybrid_period;
-  o.hybrid.lm_iterations = FLAGS_hybrid_lm_iterations;
+  IMUSYSID_RETURN_IF_ERROR(ApplyEstimatorFlags(&o));
   StatusOr<CovarianceType> covariance =
       CovarianceTypeFromString(FLAGS_covariance);
   if (!covariance.ok()) return covariance.status().WithPrefix("--covariance");
@@ -444,15 +423,7 @@ const Command& FitCommand() {
       WithLogFlags({"log", "problem", "model", "estimator", "format", "seed"},
                    {"bounds",
                     "initial",
-                    "ga_population",
-                    "ga_mode",
-                    "ga_max_generations",
-                    "ga_stall_generations",
-                    "ga_tolerance",
                     "threads",
-                    "lm_max_iterations",
-                    "hybrid_period",
-                    "hybrid_lm_iterations",
                     "max_time_s",
                     "covariance",
                     "use_measured_fz",
@@ -461,7 +432,8 @@ const Command& FitCommand() {
                     "emit",
                     "emit_out",
                     "out"}),
-      &Run};
+      &Run,
+      /*estimator_flags=*/true};
   return c;
 }
 

@@ -11,6 +11,7 @@
 #include "gflags/gflags.h"
 #include "glog/logging.h"
 #include "src/cli/common.h"
+#include "src/cli/estimator_flags.h"
 
 namespace imusysid {
 namespace cli {
@@ -57,6 +58,11 @@ void PrintCommandHelp(const Command& c) {
     std::cout << "\n";
   }
   std::cout << "  --help\n      Show this help.\n";
+  if (c.estimator_flags) {
+    std::cout << "\nEstimator flags (declared by the estimators that use "
+                 "them):\n"
+              << EstimatorFlagsHelp();
+  }
 }
 
 bool Accepts(const Command& c, const std::string& name) {
@@ -95,6 +101,28 @@ bool ParseFlags(const Command& c,
       name = body.substr(0, eq);
       value = body.substr(eq + 1);
       has_value = true;
+    }
+    if (c.estimator_flags && FindEstimatorFlag(name) != nullptr) {
+      const OptionSpec& spec = FindEstimatorFlag(name)->spec;
+      if (!has_value) {
+        if (spec.type == OptionType::kBool) {
+          value = "true";
+        } else if (i + 1 < argc) {
+          value = argv[++i];
+        } else {
+          UsageError(c.name, "flag '--" + name + "' needs a value");
+          return false;
+        }
+      }
+      Status set = SetEstimatorFlag(name, value);
+      if (!set.ok()) {
+        UsageError(c.name,
+                   "bad value '" + value + "' for flag '--" + name +
+                       "' (expected " + OptionTypeToString(spec.type) + ")");
+        return false;
+      }
+      MarkFlagSet(name);
+      continue;
     }
     gflags::CommandLineFlagInfo info;
     bool known =

@@ -23,17 +23,10 @@ std::string ParamKey(const std::string& name, const std::string& unit) {
 }
 
 std::string DetailValue(const EstimateResult& result, const std::string& key) {
-  for (const auto& d : result.details) {
-    if (d.first == key) return d.second;
-  }
-  return "";
+  return result.details.Format(key);
 }
 
 }  // namespace
-
-bool Identifiable(const EstimateResult& result) {
-  return !result.HasWarning("not_identifiable");
-}
 
 nlohmann::ordered_json ResultToJson(const EstimateResult& result,
                                     const FitContext& context) {
@@ -105,7 +98,8 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
   }
   j["warnings"] = warnings;
   nlohmann::ordered_json details = nlohmann::ordered_json::object();
-  for (const auto& d : result.details) details[d.first] = d.second;
+  for (const auto& d : result.details)
+    details[d.first] = FormatDetail(d.second);
   j["details"] = details;
   if (context.include_trace) {
     nlohmann::ordered_json trace = nlohmann::ordered_json::array();
