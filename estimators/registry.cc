@@ -8,6 +8,7 @@
 #include "estimators/hybrid_estimator.h"
 #include "estimators/linear_estimator.h"
 #include "estimators/lm_estimator.h"
+#include "estimators/nelder_mead_estimator.h"
 #include "estimators/varpro_estimator.h"
 #include "glog/logging.h"
 
@@ -58,6 +59,7 @@ void RegisterBuiltinEstimators(EstimatorRegistry* registry) {
   registry->Register("hybrid", NewHybridEstimator);
   registry->Register("linear", NewLinearEstimator);
   registry->Register("varpro", NewVarproEstimator);
+  registry->Register("nelder-mead", NewNelderMeadEstimator);
 }
 
 const EstimatorRegistry& BuiltinEstimators() {
