@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "estimators/cmaes_estimator.h"
 #include "estimators/ga_estimator.h"
 #include "estimators/ga_lm_estimator.h"
 #include "estimators/hybrid_estimator.h"
@@ -60,6 +61,7 @@ void RegisterBuiltinEstimators(EstimatorRegistry* registry) {
   registry->Register("linear", NewLinearEstimator);
   registry->Register("varpro", NewVarproEstimator);
   registry->Register("nelder-mead", NewNelderMeadEstimator);
+  registry->Register("cmaes", NewCmaesEstimator);
 }
 
 const EstimatorRegistry& BuiltinEstimators() {
