@@ -415,12 +415,12 @@ Status NelderMeadEstimator::Solve(const Problem& problem,
       why << (tolerances_met
                   ? "simplex size " + FormatG(size) + " <= " + kXToleranceName +
                         " and cost spread " + FormatG(spread) +
-                        " <= " + kFToleranceName + "·|cost|"
+                        " <= " + kFToleranceName + " * |cost|"
                   : "simplex collapsed to rounding (size " + FormatG(size) +
                         ")");
       if (gain <= f_tolerance * std::abs(best)) {
         why << "; a restart did not improve the cost by more than "
-            << kFToleranceName << "·|cost| (" << restarts << " restarts)";
+            << kFToleranceName << " * |cost| (" << restarts << " restarts)";
         record_counts();
         finish(Termination::kConverged, why.str());
         return Status::Ok();
