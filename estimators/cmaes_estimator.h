@@ -71,8 +71,11 @@ namespace imusysid {
 //   and, IPOP (Auger & Hansen 2005), while fewer than cmaes_max_restarts
 //   restarts were made: λ ← 2λ (μ, weights and rates recomputed), m uniform
 //   in the cube, σ = σ0, C = I, p = 0, and a new run; the answer is the best
-//   point ever evaluated. Default: no restart — the models here have one
-//   basin over the box, and a restart costs more than the run it checks.
+//   point ever evaluated. Default: no restart. The paper model has a single
+//   basin over the box (its cost is a convex quadratic in a = (g sin α,
+//   r cos(β−α), r sin(β−α), μ), onto which the box maps one-to-one for
+//   r > 0), the consistent model has shown one on every log tried, and each
+//   restart costs more than the run it checks.
 //   Global limits, checked before each generation, first match wins:
 //     generations (over all runs) = cmaes_max_generations  → kMaxIterations
 //     wall time ≥ options.max_wall_time_s                    → kMaxTime
