@@ -74,8 +74,10 @@ namespace imusysid {
 //   point ever evaluated. Default: no restart. The paper model has a single
 //   basin over the box (its cost is a convex quadratic in a = (g sin α,
 //   r cos(β−α), r sin(β−α), μ), onto which the box maps one-to-one for
-//   r > 0), the consistent model has shown one on every log tried, and each
+//   r > 0); on the consistent model one run from the box centre reaches
+//   varpro's optimum on model_exact, paper_test1 and paper_test2; and each
 //   restart costs more than the run it checks.
+//
 //   Global limits, checked before each generation, first match wins:
 //     generations (over all runs) = cmaes_max_generations  → kMaxIterations
 //     wall time ≥ options.max_wall_time_s                    → kMaxTime
