@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <sstream>
 
+#include "estimators/cmaes_estimator.h"
 #include "estimators/ga_estimator.h"
 #include "estimators/ga_lm_estimator.h"
 #include "estimators/hybrid_estimator.h"
 #include "estimators/linear_estimator.h"
 #include "estimators/lm_estimator.h"
+#include "estimators/nelder_mead_estimator.h"
 #include "estimators/varpro_estimator.h"
 #include "glog/logging.h"
 
@@ -58,6 +60,8 @@ void RegisterBuiltinEstimators(EstimatorRegistry* registry) {
   registry->Register("hybrid", NewHybridEstimator);
   registry->Register("linear", NewLinearEstimator);
   registry->Register("varpro", NewVarproEstimator);
+  registry->Register("nelder-mead", NewNelderMeadEstimator);
+  registry->Register("cmaes", NewCmaesEstimator);
 }
 
 const EstimatorRegistry& BuiltinEstimators() {

@@ -1,0 +1,459 @@
+// Tests of the downhill-simplex estimator "nelder-mead": the closed-form
+// optimum and the truth on the paper model, the consistent model's optimum,
+// determinism, bounds (nothing evaluated outside them), non-finite costs,
+// every stopping rule, the trace and its named options.
+
+#include "estimators/nelder_mead_estimator.h"
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "Eigen/Dense"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "imusysid/estimator.h"
+#include "imusysid/model.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::MakePaperProblem;
+using testing::MakeSyntheticPaperData;
+
+// The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
+const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
+// Cost relative to the reference optimum. The simplex stops when its costs
+// agree to nm_f_tolerance = 1e-12 relative and a restart confirms it; 1e-9
+// leaves three orders of slack and is still far inside the noise (a 1σ move
+// of one parameter raises the cost by 1/n ≈ 5e-4 relative at n = 2000).
+constexpr double kCostRelTol = 1e-9;
+// Each estimate within this many Fisher standard errors of the truth: a 4σ
+// miss has probability ~6e-5 per parameter and the seeds are fixed.
+constexpr double kSigmas = 4.0;
+// Near the optimum x*, cost − cost* ≈ ½δᵀHδ with H ≈ JᵀJ, so a cost excess
+// Δc bounds every |δᵢ| by √(2Δc·(H⁻¹)ᵢᵢ) (the extreme of δᵢ on that
+// ellipsoid). This factor covers what JᵀJ leaves out of H (Σr∇²r, small next
+// to JᵀJ for noise-like residuals) and the cubic terms.
+constexpr double kCurvatureSlack = 2.0;
+
+using RowMajorMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// (JᵀJ)⁻¹ at x, from the model directly (bookkeeping, not counted).
+Eigen::MatrixXd InverseGram(const Problem& problem, const Eigen::VectorXd& x) {
+  const int n = problem.num_residuals();
+  const int p = problem.num_parameters();
+  Eigen::VectorXd residuals(n);
+  RowMajorMatrix jac(n, p);
+  EXPECT_TRUE(
+      problem.model().Residuals(x.data(), residuals.data(), jac.data()));
+  return (jac.transpose() * jac).ldlt().solve(Eigen::MatrixXd::Identity(p, p));
+}
+
+// Every parameter of `estimate` within what a cost excess of
+// kCostRelTol·cost* allows around the reference optimum `optimum`, and
+// within kSigmas Fisher standard errors of `truth` (white noise `sigma`).
+void ExpectAtOptimumAndNearTruth(const Problem& problem,
+                                 const EstimateResult& estimate,
+                                 const EstimateResult& optimum,
+                                 const Eigen::VectorXd& truth,
+                                 double sigma) {
+  ASSERT_TRUE(estimate.IsUsable()) << estimate.message;
+  ASSERT_TRUE(optimum.IsUsable()) << optimum.message;
+  EXPECT_LE(estimate.final_cost, optimum.final_cost * (1.0 + kCostRelTol));
+  // The reference is itself only converged to ~1e-12 relative.
+  EXPECT_GE(estimate.final_cost, optimum.final_cost * (1.0 - kCostRelTol));
+  const Eigen::MatrixXd h_inv = InverseGram(problem, optimum.parameters);
+  const Eigen::MatrixXd fisher = InverseGram(problem, truth);
+  const double cost_excess = kCostRelTol * optimum.final_cost;
+  for (int i = 0; i < problem.num_parameters(); ++i) {
+    const auto name = estimate.parameter_names[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(estimate.parameters[i],
+                optimum.parameters[i],
+                kCurvatureSlack * std::sqrt(2.0 * cost_excess * h_inv(i, i)))
+        << name;
+    EXPECT_NEAR(estimate.parameters[i],
+                truth[i],
+                kSigmas * sigma * std::sqrt(fisher(i, i)))
+        << name;
+  }
+}
+
+std::unique_ptr<Estimator> Create(const std::string& name) {
+  StatusOr<std::unique_ptr<Estimator>> estimator =
+      BuiltinEstimators().Create(name);
+  EXPECT_TRUE(estimator.ok()) << estimator.status().ToString();
+  return std::move(estimator).value();
+}
+
+EstimateResult Fit(const Problem& problem,
+                   const EstimatorOptions& options = {},
+                   const std::string& name = "nelder-mead") {
+  StatusOr<EstimateResult> result = Create(name)->Estimate(problem, options);
+  EXPECT_TRUE(result.ok()) << result.status().ToString();
+  return result.ok() ? std::move(result).value() : EstimateResult{};
+}
+
+EstimatorOptions WithNamed(const std::string& name, OptionValue value) {
+  EstimatorOptions options;
+  options.named[name] = std::move(value);
+  return options;
+}
+
+// Wraps a model: records every point whose cost is asked for, and cannot
+// evaluate (returns false, so Problem::Cost gives +inf) where `unevaluable`
+// says so.
+class ProbeModel : public Model {
+ public:
+  explicit ProbeModel(std::shared_ptr<const Model> inner,
+                      std::function<bool(const double*)> unevaluable = {})
+      : Model(inner->shared_data()),
+        inner_(std::move(inner)),
+        unevaluable_(std::move(unevaluable)) {}
+
+  std::string_view name() const override { return inner_->name(); }
+  const std::vector<ParameterInfo>& parameter_info() const override {
+    return inner_->parameter_info();
+  }
+  int num_residuals() const override { return inner_->num_residuals(); }
+  bool Residuals(const double* x,
+                 double* residuals,
+                 double* jacobian) const override {
+    if (unevaluable_ && unevaluable_(x)) return false;
+    return inner_->Residuals(x, residuals, jacobian);
+  }
+  bool Cost(const double* x, double* cost) const override {
+    points_.emplace_back(
+        Eigen::Map<const Eigen::VectorXd>(x, num_parameters()));
+    if (unevaluable_ && unevaluable_(x)) return false;
+    return inner_->Cost(x, cost);
+  }
+
+  const std::vector<Eigen::VectorXd>& points() const { return points_; }
+
+ private:
+  std::shared_ptr<const Model> inner_;
+  std::function<bool(const double*)> unevaluable_;
+  mutable std::vector<Eigen::VectorXd> points_;  // single-threaded tests
+};
+
+std::shared_ptr<const Model> PaperModelOver(std::shared_ptr<ProblemData> data) {
+  return MakePaperProblem(std::move(data)).shared_model();
+}
+
+TEST(NelderMeadEstimator, IsRegisteredForEveryModel) {
+  const std::unique_ptr<Estimator> estimator = Create("nelder-mead");
+  EXPECT_EQ(estimator->name(), "nelder-mead");
+  EXPECT_EQ(estimator->SupportedModels(), ModelNames());
+}
+
+TEST(NelderMeadEstimator, DeclaresItsOptionsAndSolveReadsTheSameDefaults) {
+  const std::vector<OptionSpec> specs = NelderMeadEstimator().options();
+  std::vector<std::string> names;
+  for (const OptionSpec& spec : specs) names.push_back(spec.name);
+  EXPECT_THAT(names,
+              ::testing::ElementsAre("nm_max_iterations",
+                                     "nm_initial_step",
+                                     "nm_x_tolerance",
+                                     "nm_f_tolerance",
+                                     "nm_max_restarts"));
+  // Every declared default stored explicitly gives the very same run as no
+  // named option at all: Solve falls back to the declared values.
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  EstimatorOptions explicit_defaults;
+  for (const OptionSpec& spec : specs) {
+    ASSERT_TRUE(spec.apply(spec.default_value, &explicit_defaults).ok())
+        << spec.name;
+  }
+  const EstimateResult plain = Fit(problem);
+  const EstimateResult with_defaults = Fit(problem, explicit_defaults);
+  EXPECT_EQ(plain.parameters, with_defaults.parameters);
+  EXPECT_EQ(plain.cost_evaluations, with_defaults.cost_evaluations);
+  EXPECT_EQ(plain.iterations, with_defaults.iterations);
+}
+
+TEST(NelderMeadEstimator, ReachesTheClosedFormOptimumOnNoisyPaperData) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  const EstimateResult result = Fit(problem);
+  EXPECT_EQ(result.termination, Termination::kConverged) << result.message;
+  // "linear" is the paper model's exact least-squares minimum.
+  ExpectAtOptimumAndNearTruth(
+      problem, result, Fit(problem, {}, "linear"), kTruth, kSigma);
+  EXPECT_GT(result.initial_cost, result.final_cost);
+}
+
+// Noise-free data: the optimum is the truth with zero cost, so the relative
+// cost test is empty and the accuracy is set by how finely the cost resolves
+// x. The paper model evaluates the cost from its Gram matrix, ½(aᵀGa −
+// 2aᵀb + Σf²), which cancels to at most ~eps·Σf² absolute; a parameter offset
+// δ is invisible while ½δᵀJᵀJδ is below that, i.e. while
+// |δᵢ| < √(2·eps·Σf²·(JᵀJ)⁻¹ᵢᵢ). That floor is the allowance: the simplex
+// stops only once it has collapsed to rounding (its size ≤ 64·eps box
+// widths), and the bound on the cancellation is pessimistic.
+TEST(NelderMeadEstimator, RecoversTheTruthFromNoiseFreePaperData) {
+  const auto data = MakeSyntheticPaperData(kTruth, 0.0, 1);
+  const Problem problem = MakePaperProblem(data);
+  const EstimateResult result = Fit(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_EQ(result.termination, Termination::kConverged) << result.message;
+  double sum_f2 = 0.0;
+  for (double f : data->f_x) sum_f2 += f * f;
+  const Eigen::MatrixXd h_inv = InverseGram(problem, kTruth);
+  const double resolution =
+      std::sqrt(2.0 * std::numeric_limits<double>::epsilon() * sum_f2);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_NEAR(
+        result.parameters[i], kTruth[i], resolution * std::sqrt(h_inv(i, i)))
+        << result.parameter_names[static_cast<std::size_t>(i)];
+  }
+}
+
+TEST(NelderMeadEstimator, ReachesTheConsistentModelsOptimum) {
+  const testing::ConsistentTruth truth;
+  testing::ConsistentSimOptions sim;
+  sim.rate_hz = 200.0;  // 2000 samples keep the O(n) cost cheap
+  sim.duration_s = 10.0;
+  sim.noise_sigma = kSigma;
+  auto model =
+      CreateModel("consistent", testing::SimulateConsistent(truth, sim));
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  const Problem problem(std::shared_ptr<const Model>(std::move(model).value()));
+  const EstimateResult result = Fit(problem);
+  EXPECT_EQ(result.termination, Termination::kConverged) << result.message;
+  // "varpro" solves the linear coefficients exactly inside every evaluation:
+  // the reference optimum of this model.
+  ExpectAtOptimumAndNearTruth(
+      problem, result, Fit(problem, {}, "varpro"), truth.Vector(), kSigma);
+}
+
+TEST(NelderMeadEstimator, IsDeterministicAndDoesNotUseTheSeed) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  EstimatorOptions options;
+  options.seed = 1;
+  const EstimateResult first = Fit(problem, options);
+  const EstimateResult second = Fit(problem, options);
+  options.seed = 99;
+  const EstimateResult other_seed = Fit(problem, options);
+  for (const EstimateResult* r : {&second, &other_seed}) {
+    EXPECT_EQ(r->parameters, first.parameters);
+    EXPECT_EQ(r->cost_evaluations, first.cost_evaluations);
+    EXPECT_EQ(r->iterations, first.iterations);
+    EXPECT_EQ(r->trace.size(), first.trace.size());
+  }
+}
+
+TEST(NelderMeadEstimator, EvaluatesOnlyInsideTheBoundsAndEndsOnTheActiveOne) {
+  auto probe = std::make_shared<ProbeModel>(
+      PaperModelOver(MakeSyntheticPaperData(kTruth, kSigma, 7)));
+  Problem problem(probe);
+  Eigen::VectorXd lower = problem.lower_bounds();
+  Eigen::VectorXd upper = problem.upper_bounds();
+  upper[kR] = 0.15;   // below the optimum's 0.19 m
+  lower[kMu] = 0.08;  // above the optimum's 0.0716
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  const EstimateResult result = Fit(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  ASSERT_FALSE(probe->points().empty());
+  for (const Eigen::VectorXd& x : probe->points()) {
+    ASSERT_TRUE((x.array() >= lower.array()).all() &&
+                (x.array() <= upper.array()).all())
+        << "evaluated outside the bounds: " << x.transpose();
+  }
+  // Projection puts the best vertex exactly on the active faces.
+  EXPECT_EQ(result.parameters[kR], 0.15);
+  EXPECT_EQ(result.parameters[kMu], 0.08);
+  EXPECT_TRUE(result.HasWarning("at_bound"));
+  // The bounded LM (Ceres, projected steps) is the reference optimum.
+  const EstimateResult lm = Fit(problem, {}, "lm");
+  ASSERT_TRUE(lm.IsUsable()) << lm.message;
+  EXPECT_LE(result.final_cost, lm.final_cost * (1.0 + kCostRelTol));
+}
+
+// With α held, the paper model is linear in (r cos(β−α), r sin(β−α), μ) once
+// g sin α is subtracted from f_x: least squares on three regressors, written
+// out here, is the reference optimum.
+TEST(NelderMeadEstimator, HoldsAParameterFixedByItsBounds) {
+  constexpr double kFixedAlphaDeg = -2.0;
+  const auto data = MakeSyntheticPaperData(kTruth, kSigma, 7);
+  Problem problem = MakePaperProblem(data);
+  Eigen::VectorXd lower = problem.lower_bounds();
+  Eigen::VectorXd upper = problem.upper_bounds();
+  lower[kAlpha] = upper[kAlpha] = kFixedAlphaDeg;
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  const EstimateResult result = Fit(problem);
+  ASSERT_TRUE(result.IsUsable()) << result.message;
+  EXPECT_EQ(result.parameters[kAlpha], kFixedAlphaDeg);
+
+  const auto n = static_cast<Eigen::Index>(data->size());
+  Eigen::MatrixXd phi(n, 3);
+  Eigen::VectorXd y(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    const double v = data->v[s];
+    phi.row(k) << -data->omega[s] * data->omega[s], data->omega_dot[s],
+        -std::copysign(v * v, v);
+    y[k] = data->f_x[s] - kGravity * std::sin(kFixedAlphaDeg * kDegToRad);
+  }
+  const Eigen::Vector3d a = phi.colPivHouseholderQr().solve(y);
+  ASSERT_GE(a[2], 0.0) << "the reference optimum has mu >= 0";
+  const double optimum = 0.5 * (phi * a - y).squaredNorm();
+  EXPECT_NEAR(result.final_cost, optimum, kCostRelTol * optimum);
+}
+
+// r > 0.28 m cannot be evaluated. The start (box centre, r = 0.25 m) puts the
+// first simplex's r vertex at 0.30 m, so the run meets +inf at once.
+TEST(NelderMeadEstimator, TreatsANonFiniteCostAsTheWorst) {
+  auto probe = std::make_shared<ProbeModel>(
+      PaperModelOver(MakeSyntheticPaperData(kTruth, kSigma, 7)),
+      [](const double* x) { return x[kR] > 0.28; });
+  const Problem problem(probe);
+  const EstimateResult result = Fit(problem);
+  EXPECT_EQ(result.termination, Termination::kConverged) << result.message;
+  int unevaluable = 0;
+  for (const Eigen::VectorXd& x : probe->points()) unevaluable += x[kR] > 0.28;
+  EXPECT_GT(unevaluable, 0);
+  // "linear" needs the paper model itself, not a wrapper: same data.
+  const EstimateResult linear =
+      Fit(MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7)),
+          {},
+          "linear");
+  EXPECT_NEAR(
+      result.final_cost, linear.final_cost, kCostRelTol * linear.final_cost);
+}
+
+TEST(NelderMeadEstimator, FailsWhenNoVertexOfTheFirstSimplexIsFinite) {
+  const Problem problem(std::make_shared<ProbeModel>(
+      PaperModelOver(MakeSyntheticPaperData(kTruth, kSigma, 7)),
+      [](const double*) { return true; }));
+  const EstimateResult result = Fit(problem);
+  EXPECT_EQ(result.termination, Termination::kFailure);
+  EXPECT_THAT(result.message, HasSubstr("not finite"));
+  EXPECT_EQ(result.cost_evaluations, 1 + problem.num_parameters());
+}
+
+TEST(NelderMeadEstimator, StopsExactlyAtTheEvaluationBudget) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  EstimatorOptions options;
+  options.max_evaluations = 60;
+  const EstimateResult result = Fit(problem, options);
+  EXPECT_EQ(result.termination, Termination::kMaxEvaluations) << result.message;
+  EXPECT_TRUE(result.IsUsable());
+  EXPECT_TRUE(result.HasWarning("no_convergence"));
+  // The run stops before the evaluation that would exceed the budget, even
+  // in the middle of an iteration.
+  EXPECT_EQ(result.cost_evaluations, 60);
+  EXPECT_LT(result.final_cost, result.initial_cost);
+
+  options.max_evaluations = 1;
+  const EstimateResult start_only = Fit(problem, options);
+  EXPECT_EQ(start_only.termination, Termination::kMaxEvaluations);
+  EXPECT_EQ(start_only.cost_evaluations, 1);
+  EXPECT_TRUE(start_only.parameters.isApprox(problem.initial_guess(), 1e-15));
+}
+
+TEST(NelderMeadEstimator, StopsAtTheIterationLimit) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  const EstimateResult result =
+      Fit(problem, WithNamed("nm_max_iterations", std::int64_t{5}));
+  EXPECT_EQ(result.termination, Termination::kMaxIterations);
+  EXPECT_EQ(result.iterations, 5);
+  EXPECT_THAT(result.message, HasSubstr("nm_max_iterations"));
+  EXPECT_TRUE(result.IsUsable());
+}
+
+TEST(NelderMeadEstimator, StopsAtTheWallTimeLimit) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  EstimatorOptions options;
+  options.max_wall_time_s = 1e-9;  // spent before the first iteration
+  const EstimateResult result = Fit(problem, options);
+  EXPECT_EQ(result.termination, Termination::kMaxTime);
+  EXPECT_TRUE(result.IsUsable());
+  EXPECT_EQ(result.iterations, 0);
+}
+
+TEST(NelderMeadEstimator, TracesEveryIterationWithANonIncreasingBest) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  const EstimateResult result = Fit(problem);
+  ASSERT_EQ(result.trace.size(),
+            static_cast<std::size_t>(result.iterations) + 1);
+  // Point 0 is the first simplex: the start and one vertex per parameter.
+  EXPECT_EQ(result.trace.front().evaluations, 1 + problem.num_parameters());
+  EXPECT_LE(result.trace.front().best_cost, result.initial_cost);
+  for (std::size_t i = 0; i < result.trace.size(); ++i) {
+    EXPECT_EQ(result.trace[i].iteration, static_cast<int>(i));
+    EXPECT_EQ(result.trace[i].phase, "nelder-mead");
+    if (i > 0) {
+      EXPECT_LE(result.trace[i].best_cost, result.trace[i - 1].best_cost);
+      EXPECT_GT(result.trace[i].evaluations, result.trace[i - 1].evaluations);
+    }
+  }
+  EXPECT_LE(result.trace.back().evaluations, result.cost_evaluations);
+  EXPECT_NEAR(result.trace.back().best_cost,
+              result.final_cost,
+              kCostRelTol * result.final_cost);
+
+  EstimatorOptions no_trace;
+  no_trace.record_trace = false;
+  EXPECT_TRUE(Fit(problem, no_trace).trace.empty());
+}
+
+TEST(NelderMeadEstimator, RestartsConfirmTheMinimum) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  const EstimateResult restarted = Fit(problem);
+  EXPECT_NE(testing::Detail(restarted, "nm_restarts"), "0");
+  EXPECT_THAT(restarted.message, HasSubstr("restart did not improve"));
+  const EstimateResult single =
+      Fit(problem, WithNamed("nm_max_restarts", std::int64_t{0}));
+  EXPECT_EQ(single.termination, Termination::kConverged);
+  EXPECT_EQ(testing::Detail(single, "nm_restarts"), "0");
+  EXPECT_THAT(single.message, HasSubstr("nm_max_restarts = 0"));
+  // The single run is the restarted run's prefix (the search is
+  // deterministic), and the best cost never increases.
+  EXPECT_LE(restarted.trace.back().best_cost, single.trace.back().best_cost);
+  EXPECT_GT(restarted.cost_evaluations, single.cost_evaluations);
+}
+
+TEST(NelderMeadEstimator, RejectsInvalidOptionValuesNamingTheOption) {
+  const Problem problem =
+      MakePaperProblem(MakeSyntheticPaperData(kTruth, kSigma, 7));
+  const std::vector<std::pair<std::string, OptionValue>> cases = {
+      {"nm_max_iterations", std::int64_t{0}},
+      {"nm_initial_step", 0.0},
+      {"nm_initial_step", 1.5},
+      {"nm_x_tolerance", -1e-3},
+      {"nm_f_tolerance", 2.0},
+      {"nm_max_restarts", std::int64_t{-1}},
+      {"nm_max_iterations", std::string("many")},
+  };
+  const std::unique_ptr<Estimator> estimator = Create("nelder-mead");
+  for (const auto& [name, value] : cases) {
+    StatusOr<EstimateResult> result =
+        estimator->Estimate(problem, WithNamed(name, value));
+    ASSERT_FALSE(result.ok()) << name << " = " << OptionValueToString(value);
+    EXPECT_EQ(result.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_THAT(result.status().message(), HasSubstr(name));
+  }
+}
+
+}  // namespace
+}  // namespace imusysid
