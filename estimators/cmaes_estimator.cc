@@ -486,18 +486,12 @@ Status CmaesEstimator::Solve(const Problem& problem,
     result->message = std::move(message);
     result->parameters = scaling.ToModel(objective.best_u());
     result->iterations = generations;
-    result->details.emplace_back("cmaes_population",
-                                 std::to_string(first_lambda));
-    result->details.emplace_back("cmaes_restarts", std::to_string(restarts));
-    std::ostringstream sigma;
-    sigma.precision(3);
-    sigma << final_sigma;
-    result->details.emplace_back("cmaes_final_sigma", sigma.str());
-    result->details.emplace_back("cmaes_resampled",
-                                 std::to_string(counters.resampled));
-    result->details.emplace_back("cmaes_projected",
-                                 std::to_string(counters.projected));
-    result->details.emplace_back("cmaes_bounds", "resampling");
+    result->details.Set("cmaes_population", first_lambda);
+    result->details.Set("cmaes_restarts", restarts);
+    result->details.Set("cmaes_final_sigma", final_sigma);
+    result->details.Set("cmaes_resampled", counters.resampled);
+    result->details.Set("cmaes_projected", counters.projected);
+    result->details.Set("cmaes_bounds", "resampling");
   };
   auto add_trace = [&]() {
     if (!options.record_trace) return;

@@ -344,8 +344,8 @@ Status NelderMeadEstimator::Solve(const Problem& problem,
   Objective objective(problem, scaling, options.max_evaluations, start);
   const Eigen::VectorXd u0 = scaling.ToUnit(problem.initial_guess());
 
-  result->details.emplace_back("nm_coefficients", "standard (1, 2, 0.5, 0.5)");
-  result->details.emplace_back("nm_bounds", "projection onto the box");
+  result->details.Set("nm_coefficients", "standard (1, 2, 0.5, 0.5)");
+  result->details.Set("nm_bounds", "projection onto the box");
 
   // options.max_evaluations ≥ 1 (validated), so this evaluation happens.
   double f0 = kInf;
@@ -373,8 +373,8 @@ Status NelderMeadEstimator::Solve(const Problem& problem,
   int shrinks = 0;
   auto record_counts = [&]() {
     result->iterations = iteration;
-    result->details.emplace_back("nm_restarts", std::to_string(restarts));
-    result->details.emplace_back("nm_shrinks", std::to_string(shrinks));
+    result->details.Set("nm_restarts", restarts);
+    result->details.Set("nm_shrinks", shrinks);
   };
 
   if (scaling.num_free() == 0) {
