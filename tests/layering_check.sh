@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Checks that includes run one way: cli -> benchmarks -> library, and that the
+# installed headers stand alone. Prints each offending include; exits 1 if
+# there is any.
+#   tests/layering_check.sh [SOURCE_DIR]
+set -euo pipefail
+cd "${1:-$(dirname "$0")/..}"
+bad=0
+# check DESCRIPTION PATTERN FILES...: no file may include a path matching
+# PATTERN (an extended regex applied to the quoted include path).
+check() {
+  local what=$1 pattern=$2
+  shift 2
+  local hits
+  hits=$(grep -HnE "^#include [\"<]($pattern)" "$@" 2>/dev/null || true)
+  if [ -n "$hits" ]; then
+    echo "layering: $what:"
+    echo "$hits" | sed 's/^/  /'
+    bad=1
+  fi
+}
+public=(include/imusysid/*.h)
+library=$(find src estimators -name '*.cc' -o -name '*.h' | grep -v '^src/cli/')
+bench_lib=$(ls benchmarks/*.cc benchmarks/*.h | grep -v '_benchmark\.cc$')
+bench_bin=$(ls benchmarks/*_benchmark.cc)
+tests=$(ls tests/*.cc tests/*.h)
+check "public headers include only public headers, Eigen and nlohmann_json" \
+  'src/|estimators/|benchmarks/|tests/|ceres/|glog/|gflags/' "${public[@]}"
+check "the library does not reach up into the apps or the benchmarks" \
+  'src/cli/|benchmarks/|tests/|gflags/' $library
+check "the benchmark library uses the public headers only" \
+  'src/|estimators/|tests/|gflags/' $bench_lib
+check "benchmark binaries include nothing from the CLI or the tests" \
+  'src/cli/|tests/' $bench_bin
+check "tests include nothing from the CLI" 'src/cli/' $tests
+if [ "$bad" = 0 ]; then echo "layering: ok"; fi
+exit $bad
