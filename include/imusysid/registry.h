@@ -34,7 +34,7 @@ class EstimatorRegistry {
   std::vector<std::pair<std::string, EstimatorFactory>> entries_;
 };
 
-// Registers ga, lm, ga+lm, hybrid, linear and varpro.
+// Registers the built-in estimators (estimators/registry.cc, one line each).
 void RegisterBuiltinEstimators(EstimatorRegistry* registry);
 
 // A registry holding the built-in estimators, built once (thread-safe).
