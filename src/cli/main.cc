@@ -5,11 +5,13 @@
 
 #include <cstdio>
 #include <iostream>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "gflags/gflags.h"
 #include "glog/logging.h"
+#include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 
@@ -161,6 +163,30 @@ bool ParseFlags(const Command& c,
   return true;
 }
 
+// No exception leaves a command: the library reports errors as Status, so
+// anything thrown is either input that broke a third-party parser (a JSON
+// value of the wrong type: the user's input, exit 2) or a resource failure
+// (memory: exit 1). Either way the user gets one line, not an abort.
+int RunBehindBarrier(const Command& c,
+                     const std::vector<std::string>& positional) {
+  try {
+    return c.run(positional);
+  } catch (const nlohmann::json::exception& e) {
+    std::cerr << "imusysid " << c.name
+              << ": error: bad JSON input: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "imusysid " << c.name
+              << ": error: out of memory (is an input or a flag far larger "
+                 "than intended?)\n";
+    return kExitInternal;
+  } catch (const std::exception& e) {
+    std::cerr << "imusysid " << c.name << ": error: internal: " << e.what()
+              << "\n";
+    return kExitInternal;
+  }
+}
+
 int Main(int argc, char** argv) {
   if (argc < 2) {
     PrintToolHelp();
@@ -190,7 +216,7 @@ int Main(int argc, char** argv) {
           c->name,
           "--format must be 'table' or 'json', not '" + FLAGS_format + "'");
     }
-    return c->run(positional);
+    return RunBehindBarrier(*c, positional);
   }
   std::cerr << "imusysid: unknown command '" << name << "'\n";
   PrintToolHelp();
