@@ -17,6 +17,7 @@
 
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
+#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/parameters.h"
@@ -76,19 +77,12 @@ void ParallelFor(std::size_t n,
   for (auto& t : pool) t.join();
 }
 
-std::string FormatSeconds(double s) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.1f s", s);
-  return buf;
-}
+std::string FormatSeconds(double s) { return FormatFixed(s, 1) + " s"; }
 
-std::string Fmt(double v, int digits = 4) { return FormatNumber(v, digits); }
-
-std::string FmtFixed(double v, int decimals) {
-  if (!std::isfinite(v)) return "n/a";
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
+// A table cell with fixed decimals; any non-finite value (a missing error, an
+// efficiency against a zero bound) reads "n/a".
+std::string FixedCell(double v, int decimals) {
+  return std::isfinite(v) ? FormatFixed(v, decimals) : "n/a";
 }
 
 std::string JsonSettingText(const nlohmann::json& v) {
@@ -1180,9 +1174,7 @@ std::string ResultsCsv(const BenchReport& report) {
         }
         out << s;
       } else if (v.is_number_float()) {
-        char buf[40];
-        std::snprintf(buf, sizeof(buf), "%.17g", v.get<double>());
-        out << buf;
+        out << FormatNumber(v.get<double>(), 17);
       } else {
         out << v.dump();
       }
@@ -1353,17 +1345,17 @@ std::string FormatGbenchScaling(const GbenchScaling& gbench) {
       std::string cell = "–";
       for (const auto& p : gbench.points) {
         if (p.estimator != name || p.samples != n) continue;
-        cell = FmtFixed(p.real_time_ms, p.real_time_ms < 10 ? 3 : 1);
+        cell = FixedCell(p.real_time_ms, p.real_time_ms < 10 ? 3 : 1);
         if (std::isfinite(p.peak_rss_mb)) largest_rss = &p;
       }
       row.push_back(cell);
     }
     if (largest_rss != nullptr) {
-      row.push_back(FmtFixed(largest_rss->peak_rss_mb, 0) + " (" +
+      row.push_back(FixedCell(largest_rss->peak_rss_mb, 0) + " (" +
                     SizeLabel(largest_rss->samples) + ")");
       row.push_back(
           std::isfinite(largest_rss->raw_log_mb) && largest_rss->raw_log_mb > 0
-              ? FmtFixed(largest_rss->peak_rss_mb / largest_rss->raw_log_mb, 2)
+              ? FixedCell(largest_rss->peak_rss_mb / largest_rss->raw_log_mb, 2)
               : "–");
     } else {
       row.push_back("–");
@@ -1406,25 +1398,26 @@ std::string FormatMarkdown(const BenchReport& report) {
     const bool usable = run.Usable();
     const bool ident = usable && Identifiable(run.result);
     const auto& x = run.result.parameters;
-    rows.push_back(
-        {run.log,
-         run.model,
-         run.estimator,
-         usable ? Fmt(run.result.rmse, 5) : "-",
-         usable ? Fmt(run.of_gap, 2) : "-",
-         ident ? Fmt(x[kR], 4) : (usable ? "n/i" : "-"),
-         ident ? Fmt(x[kBeta], 5) : (usable ? "n/i" : "-"),
-         usable ? Fmt(x[kAlpha], 4) : "-",
-         usable ? Fmt(x[kMu], 4) : "-",
-         FmtFixed(1000.0 * run.r_error_m, 2),
-         FmtFixed(run.beta_error_deg, 3),
-         FmtFixed(run.alpha_error_deg, 3) + (run.alpha_vs_effective ? "*" : ""),
-         FmtFixed(run.mu_error, 4),
-         std::to_string(run.result.cost_evaluations),
-         std::to_string(run.result.iterations),
-         FmtFixed(run.wall_ms_median, 1),
-         run.status.ok() ? TerminationToString(run.result.termination)
-                         : "failure: " + Truncate(run.status.message(), 60)});
+    rows.push_back({run.log,
+                    run.model,
+                    run.estimator,
+                    usable ? FormatNumber(run.result.rmse, 5) : "-",
+                    usable ? FormatNumber(run.of_gap, 2) : "-",
+                    ident ? FormatNumber(x[kR], 4) : (usable ? "n/i" : "-"),
+                    ident ? FormatNumber(x[kBeta], 5) : (usable ? "n/i" : "-"),
+                    usable ? FormatNumber(x[kAlpha], 4) : "-",
+                    usable ? FormatNumber(x[kMu], 4) : "-",
+                    FixedCell(1000.0 * run.r_error_m, 2),
+                    FixedCell(run.beta_error_deg, 3),
+                    FixedCell(run.alpha_error_deg, 3) +
+                        (run.alpha_vs_effective ? "*" : ""),
+                    FixedCell(run.mu_error, 4),
+                    std::to_string(run.result.cost_evaluations),
+                    std::to_string(run.result.iterations),
+                    FixedCell(run.wall_ms_median, 1),
+                    run.status.ok()
+                        ? TerminationToString(run.result.termination)
+                        : "failure: " + Truncate(run.status.message(), 60)});
   }
   out << MarkdownTable({"log",
                         "model",
@@ -1466,25 +1459,26 @@ std::string FormatMarkdown(const BenchReport& report) {
         if (l.name == names[t]) pl = &l;
       }
       const Paper& p = papers[t];
-      rows.push_back({std::string(p.name) + " (" + names[t] + ")",
-                      "paper (published)",
-                      Fmt(p.r, 4),
-                      Fmt(p.beta, 5),
-                      Fmt(p.alpha, 5),
-                      Fmt(p.mu, 4),
-                      std::isfinite(p.of) ? Fmt(p.of, 3) : "not given"});
+      rows.push_back(
+          {std::string(p.name) + " (" + names[t] + ")",
+           "paper (published)",
+           FormatNumber(p.r, 4),
+           FormatNumber(p.beta, 5),
+           FormatNumber(p.alpha, 5),
+           FormatNumber(p.mu, 4),
+           std::isfinite(p.of) ? FormatNumber(p.of, 3) : "not given"});
       if (pl != nullptr && pl->truth.known) {
         const Truth& tr = pl->truth;
-        std::string alpha = Fmt(tr.alpha_deg, 5);
+        std::string alpha = FormatNumber(tr.alpha_deg, 5);
         if (std::isfinite(tr.alpha_effective_deg)) {
-          alpha += " (" + Fmt(tr.alpha_effective_deg, 4) + ")";
+          alpha += " (" + FormatNumber(tr.alpha_effective_deg, 4) + ")";
         }
         rows.push_back({"",
                         "truth (simulator)",
-                        Fmt(tr.r_m, 4),
-                        Fmt(tr.beta_deg, 5),
+                        FormatNumber(tr.r_m, 4),
+                        FormatNumber(tr.beta_deg, 5),
                         alpha,
-                        Fmt(tr.mu, 4),
+                        FormatNumber(tr.mu, 4),
                         "-"});
       }
       for (const auto& run : report.runs) {
@@ -1495,11 +1489,11 @@ std::string FormatMarkdown(const BenchReport& report) {
         const auto& x = run.result.parameters;
         rows.push_back({"",
                         run.model + " / " + run.estimator,
-                        ident ? Fmt(x[kR], 4) : "n/i",
-                        ident ? Fmt(x[kBeta], 5) : "n/i",
-                        Fmt(x[kAlpha], 4),
-                        Fmt(x[kMu], 4),
-                        Fmt(run.result.rmse, 4)});
+                        ident ? FormatNumber(x[kR], 4) : "n/i",
+                        ident ? FormatNumber(x[kBeta], 5) : "n/i",
+                        FormatNumber(x[kAlpha], 4),
+                        FormatNumber(x[kMu], 4),
+                        FormatNumber(run.result.rmse, 4)});
       }
     }
     out << MarkdownTable(
@@ -1516,55 +1510,55 @@ std::string FormatMarkdown(const BenchReport& report) {
     const ComDisplacement paper_fit =
         ComputeDisplacement(0.19, 56.299, 0.213, 66.066);
     rows.push_back({"paper's experiment (published)",
-                    FmtFixed(kPaperLM * 100, 2),
-                    FmtFixed(kPaperDeltaDeg, 2),
-                    FmtFixed(kPaperDxCm, 2),
-                    FmtFixed(-kPaperDzCm, 2),
+                    FixedCell(kPaperLM * 100, 2),
+                    FixedCell(kPaperDeltaDeg, 2),
+                    FixedCell(kPaperDxCm, 2),
+                    FixedCell(-kPaperDzCm, 2),
                     "-",
                     "-",
                     "-"});
     rows.push_back({"paper's fits through eq. 11",
-                    FmtFixed(paper_fit.l_m * 100, 2),
-                    FmtFixed(paper_fit.delta_deg, 2),
-                    FmtFixed(paper_fit.dx_m * 100, 2),
-                    FmtFixed(paper_fit.dz_m * 100, 2),
+                    FixedCell(paper_fit.l_m * 100, 2),
+                    FixedCell(paper_fit.delta_deg, 2),
+                    FixedCell(paper_fit.dx_m * 100, 2),
+                    FixedCell(paper_fit.dz_m * 100, 2),
                     "-",
                     "-",
                     "-"});
     rows.push_back({"CAD expectation (paper)",
                     "-",
                     "-",
-                    FmtFixed(kCadDxCm, 2),
-                    FmtFixed(-kCadDzCm, 2),
+                    FixedCell(kCadDxCm, 2),
+                    FixedCell(-kCadDzCm, 2),
                     "-",
                     "-",
                     "-"});
     if (!report.displacements.empty()) {
       const ComDisplacement& t = report.displacements.front().truth;
       rows.push_back({"truth (simulator)",
-                      FmtFixed(t.l_m * 100, 2),
-                      FmtFixed(t.delta_deg, 2),
-                      FmtFixed(t.dx_m * 100, 2),
-                      FmtFixed(t.dz_m * 100, 2),
+                      FixedCell(t.l_m * 100, 2),
+                      FixedCell(t.delta_deg, 2),
+                      FixedCell(t.dx_m * 100, 2),
+                      FixedCell(t.dz_m * 100, 2),
                       "-",
                       "-",
                       "-"});
     }
     for (const auto& d : report.displacements) {
-      std::string dx = FmtFixed(d.estimate.dx_m * 100, 2);
-      std::string dz = FmtFixed(d.estimate.dz_m * 100, 2);
+      std::string dx = FixedCell(d.estimate.dx_m * 100, 2);
+      std::string dz = FixedCell(d.estimate.dz_m * 100, 2);
       if (std::isfinite(d.estimate.dx_stderr_m)) {
-        dx += " ± " + FmtFixed(d.estimate.dx_stderr_m * 100, 2);
-        dz += " ± " + FmtFixed(d.estimate.dz_stderr_m * 100, 2);
+        dx += " ± " + FixedCell(d.estimate.dx_stderr_m * 100, 2);
+        dz += " ± " + FixedCell(d.estimate.dz_stderr_m * 100, 2);
       }
       rows.push_back({d.model + " / " + d.estimator,
-                      FmtFixed(d.estimate.l_m * 100, 2),
-                      FmtFixed(d.estimate.delta_deg, 2),
+                      FixedCell(d.estimate.l_m * 100, 2),
+                      FixedCell(d.estimate.delta_deg, 2),
                       dx,
                       dz,
-                      FmtFixed(d.dx_error_m * 100, 2),
-                      FmtFixed(d.dz_error_m * 100, 2),
-                      FmtFixed(d.l_error_m * 100, 2)});
+                      FixedCell(d.dx_error_m * 100, 2),
+                      FixedCell(d.dz_error_m * 100, 2),
+                      FixedCell(d.l_error_m * 100, 2)});
     }
     out << MarkdownTable({"source",
                           "l cm",
@@ -1590,9 +1584,9 @@ std::string FormatMarkdown(const BenchReport& report) {
                     run.estimator,
                     run.log,
                     std::to_string(run.samples),
-                    FmtFixed(run.wall_ms_median, 2),
-                    FmtFixed(run.wall_ms_min, 2),
-                    FmtFixed(run.wall_ms_max, 2),
+                    FixedCell(run.wall_ms_median, 2),
+                    FixedCell(run.wall_ms_min, 2),
+                    FixedCell(run.wall_ms_max, 2),
                     std::to_string(run.result.cost_evaluations),
                     std::to_string(run.result.iterations),
                     TerminationToString(run.result.termination)});
@@ -1640,13 +1634,13 @@ std::string FormatMarkdown(const BenchReport& report) {
              i == 0 ? std::to_string(m.usable) + "/" + std::to_string(m.seeds)
                     : "",
              std::string(kParamNames[i]) + " " + kParamUnits[i],
-             Fmt(m.truth[i], 5),
-             Fmt(m.bias[i], 3),
-             Fmt(m.std_dev[i], 3),
-             Fmt(m.rmse[i], 3),
-             Fmt(m.crlb_sd[i], 3),
-             FmtFixed(m.efficiency[i], 2),
-             FmtFixed(m.coverage[i], 2)});
+             FormatNumber(m.truth[i], 5),
+             FormatNumber(m.bias[i], 3),
+             FormatNumber(m.std_dev[i], 3),
+             FormatNumber(m.rmse[i], 3),
+             FormatNumber(m.crlb_sd[i], 3),
+             FixedCell(m.efficiency[i], 2),
+             FixedCell(m.coverage[i], 2)});
       }
     }
     out << MarkdownTable({"scenario",

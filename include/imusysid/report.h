@@ -9,12 +9,10 @@
 #include <vector>
 
 #include "imusysid/estimator.h"
+#include "imusysid/format.h"
 #include "nlohmann/json.hpp"
 
 namespace imusysid {
-// Formats a double with `digits` significant digits (no exponent for
-// ordinary magnitudes), for tables.
-std::string FormatNumber(double value, int digits = 6);
 
 // Left-aligned text table with a header row.
 std::string FormatTable(const std::vector<std::string>& header,

@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 
+#include "imusysid/format.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
@@ -58,10 +59,7 @@ Status ApplyOverrides(SimulatorOptions* o) {
   auto set_if =
       [&](const char* flag, double value, const char* setting) -> Status {
     if (!FlagWasSet(flag)) return Status::Ok();
-    std::ostringstream text;
-    text.precision(17);
-    text << value;
-    return SetSimulatorSetting(o, setting, text.str())
+    return SetSimulatorSetting(o, setting, FormatShortest(value))
         .WithPrefix(std::string("--") + flag);
   };
   IMUSYSID_RETURN_IF_ERROR(set_if("r_m", FLAGS_r_m, "r_m"));

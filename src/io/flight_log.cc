@@ -12,6 +12,7 @@
 #include <system_error>
 
 #include "glog/logging.h"
+#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "src/io/csv_text.h"
 
@@ -68,14 +69,6 @@ LineKind Classify(std::string_view line) {
   const std::string_view trimmed = TrimBlanks(line);
   if (trimmed.empty()) return LineKind::kBlank;
   return trimmed.front() == '#' ? LineKind::kComment : LineKind::kContent;
-}
-
-// Numbers in messages: `digits` significant digits, so a median of
-// 0.010000000000000002 reads as 0.01.
-std::string FormatForMessage(double value, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
-  return buf;
 }
 
 // The text of the field that starts at `start`: up to the next comma or the
@@ -588,16 +581,15 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
       if (gap <= limit) continue;
       int line_number, column;
       LocateRowField(body, i, t_column, &line_number, &column);
-      return ErrorAt(
-          name,
-          line_number,
-          column,
-          "column 't': gap of " + FormatForMessage(gap, 6) +
-              " s from t=" + FormatForMessage(log.t_s[i - 1], 12) +
-              " to t=" + FormatForMessage(log.t_s[i], 12) + " exceeds " +
-              FormatForMessage(options.max_gap_factor, 6) +
-              " x the median interval " + FormatForMessage(median, 6) +
-              " s; the log has a hole");
+      return ErrorAt(name,
+                     line_number,
+                     column,
+                     "column 't': gap of " + FormatNumber(gap, 6) +
+                         " s from t=" + FormatNumber(log.t_s[i - 1], 12) +
+                         " to t=" + FormatNumber(log.t_s[i], 12) + " exceeds " +
+                         FormatNumber(options.max_gap_factor, 6) +
+                         " x the median interval " + FormatNumber(median, 6) +
+                         " s; the log has a hole");
     }
   }
 

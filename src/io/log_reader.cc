@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <optional>
+
+#include "imusysid/format.h"
 
 namespace imusysid {
 namespace {
@@ -24,12 +25,6 @@ constexpr double kArduEventDisarmed = 11;
 constexpr double kCoverageIntervals = 2.0;
 // Metadata values longer than this (crash dumps, boot logs) are left out.
 constexpr std::size_t kMaxMetadataValueChars = 200;
-
-std::string FormatDouble(double value, int digits = 9) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof(buffer), "%.*g", digits, value);
-  return buffer;
-}
 
 double Median(std::vector<double> values) {
   if (values.empty()) return 0;
@@ -153,9 +148,9 @@ void AddChannels(std::vector<Signal> signals, FlightLog* log) {
         signal.t.back() < last - tolerance) {
       log->metadata.emplace_back(
           "channel_" + signal.name + "_missing",
-          "source covers " + FormatDouble(signal.t.front(), 8) + ".." +
-              FormatDouble(signal.t.back(), 8) + " s, IMU " +
-              FormatDouble(first, 8) + ".." + FormatDouble(last, 8) + " s");
+          "source covers " + FormatNumber(signal.t.front(), 8) + ".." +
+              FormatNumber(signal.t.back(), 8) + " s, IMU " +
+              FormatNumber(first, 8) + ".." + FormatNumber(last, 8) + " s");
       continue;
     }
     log->extra.push_back({signal.name, Interpolate(signal, log->t_s)});
@@ -196,8 +191,8 @@ StatusOr<FlightLog> FinishImu(ImuSeries imu,
       if (imu.t[i] < previous) {
         return InvalidArgumentError(
             prefix + "byte " + std::to_string(imu.offsets[i]) + ": " + what +
-            " time " + FormatDouble(imu.t[i], 12) +
-            " s is before the previous sample's " + FormatDouble(previous, 12) +
+            " time " + FormatNumber(imu.t[i], 12) +
+            " s is before the previous sample's " + FormatNumber(previous, 12) +
             " s");
       }
     }
@@ -226,11 +221,11 @@ StatusOr<FlightLog> FinishImu(ImuSeries imu,
       if (gap <= limit) continue;
       return InvalidArgumentError(
           prefix + "byte " + std::to_string(clean.offsets[i]) + ": " + what +
-          " gap of " + FormatDouble(gap, 6) +
-          " s from t=" + FormatDouble(clean.t[i - 1], 12) +
-          " to t=" + FormatDouble(clean.t[i], 12) + " exceeds " +
-          FormatDouble(options.max_gap_factor, 6) + " x the median interval " +
-          FormatDouble(median, 6) +
+          " gap of " + FormatNumber(gap, 6) +
+          " s from t=" + FormatNumber(clean.t[i - 1], 12) +
+          " to t=" + FormatNumber(clean.t[i], 12) + " exceeds " +
+          FormatNumber(options.max_gap_factor, 6) + " x the median interval " +
+          FormatNumber(median, 6) +
           " s; the log has a hole (raise max_gap_factor, or 0 to accept it)");
     }
   }
@@ -444,7 +439,7 @@ Status ImuFromAccelGyro(const std::string& source,
   log->metadata.emplace_back("imu_unpaired_gyro_samples_dropped",
                              std::to_string(unpaired));
   log->metadata.emplace_back("imu_max_pairing_offset_s",
-                             FormatDouble(max_offset, 6));
+                             FormatNumber(max_offset, 6));
   return Status::Ok();
 }
 
@@ -710,7 +705,7 @@ LogSummary SummarizeUlog(const UlogData& ulog) {
                             std::to_string(ulog.parameters.size()));
   for (const UlogLoggedString& s : ulog.logged_strings) {
     if (summary.messages.size() >= kMaxSummaryMessages) break;
-    summary.messages.push_back(FormatDouble(s.timestamp_us * 1e-6, 9) + " s [" +
+    summary.messages.push_back(FormatNumber(s.timestamp_us * 1e-6, 9) + " s [" +
                                std::to_string(s.level) + "] " + s.text);
   }
   if (const UlogTopic* status = ulog.FindTopic("vehicle_status", 0)) {
@@ -886,7 +881,7 @@ StatusOr<FlightLog> UlogToFlightLog(const UlogData& ulog,
   log.metadata.emplace_back("ulog_version", std::to_string(ulog.version));
   log.metadata.emplace_back("dropouts", std::to_string(ulog.dropout_count));
   log.metadata.emplace_back("dropout_total_ms",
-                            FormatDouble(ulog.dropout_total_ms));
+                            FormatNumber(ulog.dropout_total_ms, 9));
   log.metadata.emplace_back("reader_warnings",
                             std::to_string(ulog.warnings.size()));
   for (const UlogInfo& info : ulog.info) {

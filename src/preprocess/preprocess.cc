@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <utility>
 
+#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "src/preprocess/signal.h"
 
@@ -67,15 +67,12 @@ constexpr double kMinManeuverS = 2.0;
 // an error: the same limit the CSV reader applies to a whole file.
 constexpr double kMaxSegmentGapFactor = 10.0;
 
+// Option values are quoted in messages as printf writes them ("nan").
+constexpr NonFiniteStyle kQuoted = NonFiniteStyle::kPrintf;
+
 // A sample-interval spread beyond this fraction of the median is reported:
 // the IIR low-pass treats samples as uniform.
 constexpr double kJitterNoteFraction = 0.1;
-
-std::string Num(double value, int precision = 3) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", precision, value);
-  return buffer;
-}
 
 std::size_t FirstAtOrAfter(const std::vector<double>& t, double time) {
   return static_cast<std::size_t>(std::lower_bound(t.begin(), t.end(), time) -
@@ -172,7 +169,7 @@ Status CheckLog(const FlightLog& log) {
 Status CheckOptionalTime(const char* name, double value) {
   if (std::isinf(value)) {
     return InvalidArgumentError(std::string(name) + " = " +
-                                std::to_string(value) +
+                                FormatFixed(value, 6, kQuoted) +
                                 " must be a finite time in s (or unset)");
   }
   return Status::Ok();
@@ -180,14 +177,16 @@ Status CheckOptionalTime(const char* name, double value) {
 
 Status CheckOptions(const PreprocessOptions& options, double sample_rate_hz) {
   if (!(std::isfinite(options.cutoff_hz) && options.cutoff_hz >= 0.0)) {
-    return InvalidArgumentError("cutoff_hz = " + Num(options.cutoff_hz) +
-                                " must be ≥ 0 (0 turns the low-pass off)");
+    return InvalidArgumentError(
+        "cutoff_hz = " + FormatFixed(options.cutoff_hz, 3, kQuoted) +
+        " must be ≥ 0 (0 turns the low-pass off)");
   }
   if (options.cutoff_hz > 0.0 && options.cutoff_hz >= 0.5 * sample_rate_hz) {
-    return InvalidArgumentError("cutoff_hz = " + Num(options.cutoff_hz) +
-                                " Hz must be below the Nyquist frequency " +
-                                Num(0.5 * sample_rate_hz, 1) + " Hz of this " +
-                                Num(sample_rate_hz, 1) + " Hz log");
+    return InvalidArgumentError(
+        "cutoff_hz = " + FormatFixed(options.cutoff_hz, 3, kQuoted) +
+        " Hz must be below the Nyquist frequency " +
+        FormatFixed(0.5 * sample_rate_hz, 1) + " Hz of this " +
+        FormatFixed(sample_rate_hz, 1) + " Hz log");
   }
   if (options.filter_order < 2 || options.filter_order > 8 ||
       options.filter_order % 2 != 0) {
@@ -198,7 +197,8 @@ Status CheckOptions(const PreprocessOptions& options, double sample_rate_hz) {
   if (!(std::isfinite(options.derivative_half_width_s) &&
         options.derivative_half_width_s > 0.0)) {
     return InvalidArgumentError(
-        "derivative_half_width_s = " + Num(options.derivative_half_width_s, 4) +
+        "derivative_half_width_s = " +
+        FormatFixed(options.derivative_half_width_s, 4, kQuoted) +
         " must be > 0");
   }
   if (options.derivative_degree < 1 || options.derivative_degree > 4) {
@@ -209,7 +209,8 @@ Status CheckOptions(const PreprocessOptions& options, double sample_rate_hz) {
   if (!(std::isfinite(options.reference_lead_s) &&
         options.reference_lead_s >= 0.0)) {
     return InvalidArgumentError(
-        "reference_lead_s = " + Num(options.reference_lead_s) + " must be ≥ 0");
+        "reference_lead_s = " +
+        FormatFixed(options.reference_lead_s, 3, kQuoted) + " must be ≥ 0");
   }
   IMUSYSID_RETURN_IF_ERROR(CheckOptionalTime("t_start", options.t_start));
   IMUSYSID_RETURN_IF_ERROR(CheckOptionalTime("t_end", options.t_end));
@@ -241,49 +242,54 @@ Status ResolveBias(const FlightLog& log,
       const std::size_t i0 = FirstAtOrAfter(t, still.t0);
       const std::size_t i1 = LastAtOrBefore(t, still.t1) + 1;
       d->bias = Mean(gyro, i0, i1);
-      d->notes.push_back("gyro bias " + Num(d->bias, 5) + " rad/s on " + axis +
-                         ": mean over the still segment " + Num(still.t0, 2) +
-                         "–" + Num(still.t1, 2) + " s (" +
+      d->notes.push_back("gyro bias " + FormatFixed(d->bias, 5) + " rad/s on " +
+                         axis + ": mean over the still segment " +
+                         FormatFixed(still.t0, 2) + "–" +
+                         FormatFixed(still.t1, 2) + " s (" +
                          std::to_string(i1 - i0) + " samples)");
       return Status::Ok();
     }
     case GyroBiasMode::kValue:
       if (!std::isfinite(options.gyro_bias_rad_s)) {
         return InvalidArgumentError(
-            "gyro_bias_rad_s = " + Num(options.gyro_bias_rad_s) +
+            "gyro_bias_rad_s = " +
+            FormatFixed(options.gyro_bias_rad_s, 3, kQuoted) +
             " must be finite");
       }
       d->bias = options.gyro_bias_rad_s;
-      d->notes.push_back("gyro bias " + Num(d->bias, 5) + " rad/s on " + axis +
-                         ": given");
+      d->notes.push_back("gyro bias " + FormatFixed(d->bias, 5) + " rad/s on " +
+                         axis + ": given");
       return Status::Ok();
     case GyroBiasMode::kWindow: {
       const double w0 = options.bias_window_t0;
       const double w1 = options.bias_window_t1;
       if (!(std::isfinite(w0) && std::isfinite(w1) && w1 > w0)) {
         return InvalidArgumentError(
-            "bias window [bias_window_t0, bias_window_t1] = [" + Num(w0) +
-            ", " + Num(w1) + "] s must be two finite times, t0 < t1");
+            "bias window [bias_window_t0, bias_window_t1] = [" +
+            FormatFixed(w0, 3, kQuoted) + ", " + FormatFixed(w1, 3, kQuoted) +
+            "] s must be two finite times, t0 < t1");
       }
       if (w0 < t.front() || w1 > t.back()) {
         return InvalidArgumentError(
-            "bias window [bias_window_t0, bias_window_t1] = [" + Num(w0) +
-            ", " + Num(w1) + "] s is not inside the log (" + Num(t.front()) +
-            "–" + Num(t.back()) + " s)");
+            "bias window [bias_window_t0, bias_window_t1] = [" +
+            FormatFixed(w0, 3, kQuoted) + ", " + FormatFixed(w1, 3, kQuoted) +
+            "] s is not inside the log (" + FormatFixed(t.front(), 3) + "–" +
+            FormatFixed(t.back(), 3) + " s)");
       }
       const std::size_t i0 = FirstAtOrAfter(t, w0);
       const std::size_t i1 = LastAtOrBefore(t, w1) + 1;
       if (i1 < i0 + 2) {
         return InvalidArgumentError(
-            "bias window [bias_window_t0, bias_window_t1] = [" + Num(w0) +
-            ", " + Num(w1) + "] s holds fewer than 2 samples");
+            "bias window [bias_window_t0, bias_window_t1] = [" +
+            FormatFixed(w0, 3, kQuoted) + ", " + FormatFixed(w1, 3, kQuoted) +
+            "] s holds fewer than 2 samples");
       }
       d->bias = Mean(gyro, i0, i1);
-      d->notes.push_back("gyro bias " + Num(d->bias, 5) + " rad/s on " + axis +
-                         ": mean over the given window " + Num(w0, 2) + "–" +
-                         Num(w1, 2) + " s (" + std::to_string(i1 - i0) +
-                         " samples, σ = " + Num(StdDev(gyro, i0, i1), 4) +
-                         " rad/s)");
+      d->notes.push_back(
+          "gyro bias " + FormatFixed(d->bias, 5) + " rad/s on " + axis +
+          ": mean over the given window " + FormatFixed(w0, 2, kQuoted) + "–" +
+          FormatFixed(w1, 2, kQuoted) + " s (" + std::to_string(i1 - i0) +
+          " samples, σ = " + FormatFixed(StdDev(gyro, i0, i1), 4) + " rad/s)");
       return Status::Ok();
     }
     case GyroBiasMode::kNone:
@@ -342,19 +348,20 @@ StatusOr<Detection> Detect(const FlightLog& log,
       if (gyro_std <= kMaxStillGyroStd) {
         seg.still = {true, t.front(), still_end};
       } else {
-        d.notes.push_back(
-            "the quiet start " + Num(t.front(), 2) + "–" + Num(still_end, 2) +
-            " s is not still (" + GyroAxisName(options.plane) +
-            " σ = " + Num(gyro_std, 4) + " rad/s): not used as still");
+        d.notes.push_back("the quiet start " + FormatFixed(t.front(), 2) + "–" +
+                          FormatFixed(still_end, 2) + " s is not still (" +
+                          GyroAxisName(options.plane) +
+                          " σ = " + FormatFixed(gyro_std, 4) +
+                          " rad/s): not used as still");
       }
     }
-    d.notes.push_back("motors on at " + Num(seg.motors_on.t, 2) +
-                      " s (vibration " + Num(e_head, 4) + " → " + Num(e_on, 4) +
-                      " m/s² RMS)");
+    d.notes.push_back("motors on at " + FormatFixed(seg.motors_on.t, 2) +
+                      " s (vibration " + FormatFixed(e_head, 4) + " → " +
+                      FormatFixed(e_on, 4) + " m/s² RMS)");
   } else {
     d.notes.push_back(
         "no motors-on edge in the accelerometer vibration (start " +
-        Num(e_head, 4) + ", flight " + Num(e_on, 4) +
+        FormatFixed(e_head, 4) + ", flight " + FormatFixed(e_on, 4) +
         " m/s² RMS): the log is taken to start with the motors running");
   }
   if (has_quiet && e_tail < vib_threshold) {
@@ -364,7 +371,8 @@ StatusOr<Detection> Detect(const FlightLog& log,
         (!seg.motors_on.found || t[i_last] > seg.motors_on.t)) {
       seg.motors_off = {true, t[i_last]};
       i_off_end = i_last + 1;
-      d.notes.push_back("motors off at " + Num(seg.motors_off.t, 2) + " s");
+      d.notes.push_back("motors off at " + FormatFixed(seg.motors_off.t, 2) +
+                        " s");
     }
   }
 
@@ -408,7 +416,7 @@ StatusOr<Detection> Detect(const FlightLog& log,
       }
     } else {
       d.notes.push_back("no take-off transient in a_z (band ±" +
-                        Num(accel_band, 2) +
+                        FormatFixed(accel_band, 2) +
                         " m/s²): airborne taken from motors-on");
     }
   }
@@ -474,16 +482,17 @@ StatusOr<Detection> Detect(const FlightLog& log,
         b = best.second;
       }
       seg.maneuver = {true, t[a], t[b]};
-      d.notes.push_back(
-          "maneuver " + Num(t[a], 2) + "–" + Num(t[b], 2) + " s (" +
-          GyroAxisName(options.plane) + " 1 s RMS above " + Num(threshold, 3) +
-          " rad/s; hover " + Num(seg.hover_omega_rms, 4) + " rad/s)");
+      d.notes.push_back("maneuver " + FormatFixed(t[a], 2) + "–" +
+                        FormatFixed(t[b], 2) + " s (" +
+                        GyroAxisName(options.plane) + " 1 s RMS above " +
+                        FormatFixed(threshold, 3) + " rad/s; hover " +
+                        FormatFixed(seg.hover_omega_rms, 4) + " rad/s)");
     } else {
-      d.notes.push_back("no maneuver: the " +
-                        std::string(GyroAxisName(options.plane)) +
-                        " 1 s RMS never stays above " + Num(threshold, 3) +
-                        " rad/s for " + Num(kMinManeuverS, 1) + " s (hover " +
-                        Num(seg.hover_omega_rms, 4) + " rad/s)");
+      d.notes.push_back(
+          "no maneuver: the " + std::string(GyroAxisName(options.plane)) +
+          " 1 s RMS never stays above " + FormatFixed(threshold, 3) +
+          " rad/s for " + FormatFixed(kMinManeuverS, 1) + " s (hover " +
+          FormatFixed(seg.hover_omega_rms, 4) + " rad/s)");
     }
   }
   return d;
@@ -569,8 +578,9 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
   PreprocessResult result;
   result.sample_rate_hz = fs;
   std::vector<std::string>& notes = result.notes;
-  notes.push_back("sample rate " + Num(fs, 1) + " Hz (median interval " +
-                  Num(1e3 * median_dt, 3) + " ms)");
+  notes.push_back("sample rate " + FormatFixed(fs, 1) +
+                  " Hz (median interval " + FormatFixed(1e3 * median_dt, 3) +
+                  " ms)");
   std::size_t irregular = 0;
   std::size_t longest = 1;
   for (std::size_t i = 1; i < n; ++i) {
@@ -582,9 +592,9 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
     notes.push_back(
         std::to_string(irregular) + " of " + std::to_string(n - 1) +
         " sample intervals differ from the median by more than " +
-        Num(100.0 * kJitterNoteFraction, 0) + " % (longest " +
-        Num(1e3 * (t[longest] - t[longest - 1]), 1) +
-        " ms at t = " + Num(t[longest - 1], 3) +
+        FormatFixed(100.0 * kJitterNoteFraction, 0) + " % (longest " +
+        FormatFixed(1e3 * (t[longest] - t[longest - 1]), 1) +
+        " ms at t = " + FormatFixed(t[longest - 1], 3) +
         " s): the low-pass runs on a uniform resampling of them; θ, v and "
         "ω̇ use the actual times");
   }
@@ -599,19 +609,21 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
   // The fit segment.
   const bool have_start = !std::isnan(options.t_start);
   const bool have_end = !std::isnan(options.t_end);
-  const std::string log_span =
-      "the log spans " + Num(t.front()) + "–" + Num(t.back()) + " s";
+  const std::string log_span = "the log spans " + FormatFixed(t.front(), 3) +
+                               "–" + FormatFixed(t.back(), 3) + " s";
   if (have_start &&
       (options.t_start < t.front() || options.t_start >= t.back())) {
     return InvalidArgumentError(
-        log.source + ": t_start = " + Num(options.t_start) + " s is " +
+        log.source + ": t_start = " + FormatFixed(options.t_start, 3, kQuoted) +
+        " s is " +
         (options.t_start < t.front() ? "before the log's start"
                                      : "at or after the log's end") +
         " (" + log_span + ")");
   }
   if (have_end && (options.t_end <= t.front() || options.t_end > t.back())) {
     return InvalidArgumentError(
-        log.source + ": t_end = " + Num(options.t_end) + " s is " +
+        log.source + ": t_end = " + FormatFixed(options.t_end, 3, kQuoted) +
+        " s is " +
         (options.t_end > t.back() ? "after the log's end"
                                   : "at or before the log's start") +
         " (" + log_span + ")");
@@ -619,9 +631,10 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
   if ((!have_start || !have_end) && !seg.maneuver.found) {
     return FailedPreconditionError(
         log.source + ": no maneuver found (the " + GyroAxisName(options.plane) +
-        " 1 s RMS never stays above " + Num(seg.maneuver_threshold_rad_s, 3) +
-        " rad/s for " + Num(kMinManeuverS, 1) +
-        " s inside the airborne part; hover " + Num(seg.hover_omega_rms, 4) +
+        " 1 s RMS never stays above " +
+        FormatFixed(seg.maneuver_threshold_rad_s, 3) + " rad/s for " +
+        FormatFixed(kMinManeuverS, 1) + " s inside the airborne part; hover " +
+        FormatFixed(seg.hover_omega_rms, 4) +
         " rad/s); give t_start and t_end to choose the fit segment");
   }
   double start = options.t_start;
@@ -629,28 +642,30 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
     start = seg.maneuver.t0 - options.reference_lead_s;
     if (start < t.front()) {
       notes.push_back("reference lead cut to the log start " +
-                      Num(t.front(), 2) + " s");
+                      FormatFixed(t.front(), 2) + " s");
       start = t.front();
     }
     if (seg.airborne.found && start < seg.airborne.t0) {
-      notes.push_back("the reference instant " + Num(start, 2) +
+      notes.push_back("the reference instant " + FormatFixed(start, 2) +
                       " s is before the airborne part (" +
-                      Num(seg.airborne.t0, 2) + " s): θ = v = 0 assumed there");
+                      FormatFixed(seg.airborne.t0, 2) +
+                      " s): θ = v = 0 assumed there");
     }
   }
   const double end = have_end ? options.t_end : seg.maneuver.t1;
   if (!(end > start)) {
-    return InvalidArgumentError(log.source + ": t_end = " + Num(end) +
-                                " s must be after t_start = " + Num(start) +
-                                " s");
+    return InvalidArgumentError(
+        log.source + ": t_end = " + FormatFixed(end, 3) +
+        " s must be after t_start = " + FormatFixed(start, 3) + " s");
   }
   const std::size_t i0 = FirstAtOrAfter(t, start);
   const std::size_t i1 = LastAtOrBefore(t, end) + 1;  // exclusive
   const std::size_t count = i1 > i0 ? i1 - i0 : 0;
   if (count < options.min_samples || count < 2) {
     return FailedPreconditionError(
-        log.source + ": the fit segment " + Num(start) + "–" + Num(end) +
-        " s holds " + std::to_string(count) + " samples; at least " +
+        log.source + ": the fit segment " + FormatFixed(start, 3) + "–" +
+        FormatFixed(end, 3) + " s holds " + std::to_string(count) +
+        " samples; at least " +
         std::to_string(std::max<std::size_t>(options.min_samples, 2)) +
         " are needed");
   }
@@ -665,10 +680,11 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
   const double gap = t[gap_at] - t[gap_at - 1];
   if (gap > kMaxSegmentGapFactor * median_dt) {
     return FailedPreconditionError(
-        log.source + ": the fit segment " + Num(t[i0]) + "–" + Num(t[i1 - 1]) +
-        " s has a " + Num(gap) + " s gap in the samples at t = " +
-        Num(t[gap_at - 1]) + " s (" + Num(gap / median_dt, 0) +
-        " median intervals; at most " + Num(kMaxSegmentGapFactor, 0) +
+        log.source + ": the fit segment " + FormatFixed(t[i0], 3) + "–" +
+        FormatFixed(t[i1 - 1], 3) + " s has a " + FormatFixed(gap, 3) +
+        " s gap in the samples at t = " + FormatFixed(t[gap_at - 1], 3) +
+        " s (" + FormatFixed(gap / median_dt, 0) +
+        " median intervals; at most " + FormatFixed(kMaxSegmentGapFactor, 0) +
         " allowed): choose a segment without it with t_start/t_end "
         "(--t_start/--t_end)");
   }
@@ -698,7 +714,7 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
   if (options.cutoff_hz > 0.0) {
     notes.push_back("low-pass: Butterworth order " +
                     std::to_string(options.filter_order) + " at " +
-                    Num(options.cutoff_hz, 2) +
+                    FormatFixed(options.cutoff_hz, 2, kQuoted) +
                     " Hz, forward-backward (zero phase)");
   } else {
     notes.push_back("low-pass: off (cutoff_hz = 0)");
@@ -748,7 +764,7 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
     data.v = CumulativeTrapezoid(data.t_s, sin_theta);
     for (double& v : data.v) v *= kGravity;
     notes.push_back("v from the gyro (equation 7): θ0 = v0 = 0 at " +
-                    Num(data.t_s.front(), 3) + " s");
+                    FormatFixed(data.t_s.front(), 3) + " s");
   } else {
     const Channel* vel_n = FindExtra(log, kChannelVelN);
     const Channel* vel_e = FindExtra(log, kChannelVelE);
@@ -784,7 +800,7 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
             log.source +
             ": velocity_source = log: vel_n/vel_e/yaw are not "
             "finite at t = " +
-            Num(t[i]) + " s inside the fit segment");
+            FormatFixed(t[i], 3) + " s inside the fit segment");
       }
     }
     // Filter over the segment plus whatever finite margin the log has, so
@@ -827,12 +843,14 @@ StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
     ex.max_abs_pitch_deg = std::max(ex.max_abs_pitch_deg, std::abs(th));
   }
   ex.max_abs_pitch_deg *= kRadToDeg;
-  notes.push_back("fit segment " + Num(data.t_s.front(), 3) + "–" +
-                  Num(data.t_s.back(), 3) + " s (" + std::to_string(count) +
-                  " samples, " + PlaneToString(options.plane) +
-                  " plane): " + "RMS ω " + Num(ex.rms_omega, 3) + " rad/s, ω̇ " +
-                  Num(ex.rms_omega_dot, 3) + " rad/s², v " + Num(ex.rms_v, 3) +
-                  " m/s, max |θ| " + Num(ex.max_abs_pitch_deg, 1) + " deg");
+  notes.push_back("fit segment " + FormatFixed(data.t_s.front(), 3) + "–" +
+                  FormatFixed(data.t_s.back(), 3) + " s (" +
+                  std::to_string(count) + " samples, " +
+                  PlaneToString(options.plane) + " plane): " + "RMS ω " +
+                  FormatFixed(ex.rms_omega, 3) + " rad/s, ω̇ " +
+                  FormatFixed(ex.rms_omega_dot, 3) + " rad/s², v " +
+                  FormatFixed(ex.rms_v, 3) + " m/s, max |θ| " +
+                  FormatFixed(ex.max_abs_pitch_deg, 1) + " deg");
   return result;
 }
 

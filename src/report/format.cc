@@ -1,4 +1,7 @@
+#include "imusysid/format.h"
+
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -6,13 +9,38 @@
 #include "imusysid/report.h"
 
 namespace imusysid {
+namespace {
 
-std::string FormatNumber(double value, int digits) {
-  if (std::isnan(value)) return "n/a";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+// printf with one precision argument; every number format below is one.
+std::string Printf(const char* format, int precision, double value) {
   char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
+  std::snprintf(buf, sizeof(buf), format, precision, value);
   return buf;
+}
+
+}  // namespace
+
+std::string FormatNumber(double value, int digits, NonFiniteStyle style) {
+  if (style == NonFiniteStyle::kNotAvailable) {
+    if (std::isnan(value)) return "n/a";
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  }
+  return Printf("%.*g", digits, value);
+}
+
+std::string FormatFixed(double value, int decimals, NonFiniteStyle style) {
+  if (style == NonFiniteStyle::kNotAvailable) {
+    if (std::isnan(value)) return "n/a";
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  }
+  return Printf("%.*f", decimals, value);
+}
+
+std::string FormatShortest(double value) {
+  char buf[64];
+  const std::to_chars_result result =
+      std::to_chars(buf, buf + sizeof(buf), value);
+  return std::string(buf, result.ptr);
 }
 
 std::string FormatTable(const std::vector<std::string>& header,

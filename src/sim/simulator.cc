@@ -9,6 +9,7 @@
 #include <utility>
 #include <variant>
 
+#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate.h"
 #include "nlohmann/json.hpp"
@@ -144,18 +145,11 @@ const std::vector<SettingDef>& SettingDefs() {
   return *defs;
 }
 
-std::string FormatDouble(double value) {
-  // Shortest text that parses back to the same double.
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
-}
-
 std::string FormatValue(const SimulatorOptions& options, const Member& member) {
   struct Visitor {
     const SimulatorOptions& o;
     std::string operator()(double SimulatorOptions::*m) const {
-      return FormatDouble(o.*m);
+      return FormatShortest(o.*m);
     }
     std::string operator()(int SimulatorOptions::*m) const {
       return std::to_string(o.*m);
@@ -198,7 +192,7 @@ bool ParseWhole(std::string_view text, T* out) {
 
 std::string Describe(const char* field, double value, const std::string& rule) {
   std::ostringstream msg;
-  msg << "SimulatorOptions::" << field << " = " << FormatDouble(value)
+  msg << "SimulatorOptions::" << field << " = " << FormatShortest(value)
       << "; required " << rule;
   return msg.str();
 }
@@ -220,8 +214,10 @@ Status CheckNonNegative(const char* field, double value) {
 
 Status CheckInRange(const char* field, double value, double lo, double hi) {
   if (std::isfinite(value) && value >= lo && value <= hi) return Status::Ok();
-  return InvalidArgumentError(Describe(
-      field, value, "in [" + FormatDouble(lo) + ", " + FormatDouble(hi) + "]"));
+  return InvalidArgumentError(
+      Describe(field,
+               value,
+               "in [" + FormatShortest(lo) + ", " + FormatShortest(hi) + "]"));
 }
 
 Status CheckAtLeast(const char* field,
@@ -512,7 +508,7 @@ Status SimulatorOptions::Validate() const {
         CheckAtLeast("max_thrust_to_weight",
                      max_thrust_to_weight,
                      needed,
-                     "1/cos(max_pitch_deg) = " + FormatDouble(needed)));
+                     "1/cos(max_pitch_deg) = " + FormatShortest(needed)));
   }
   IMUSYSID_RETURN_IF_ERROR(CheckPositive("max_torque_nm", max_torque_nm));
   IMUSYSID_RETURN_IF_ERROR(
@@ -537,18 +533,19 @@ Status SimulatorOptions::Validate() const {
       CheckAtLeast("hover_s",
                    hover_s,
                    takeoff_s + 1.5,
-                   "takeoff_s + 1.5 = " + FormatDouble(takeoff_s + 1.5)));
+                   "takeoff_s + 1.5 = " + FormatShortest(takeoff_s + 1.5)));
   IMUSYSID_RETURN_IF_ERROR(CheckInRange("maneuver_s", maneuver_s, 0.0, 3600.0));
   IMUSYSID_RETURN_IF_ERROR(CheckPositive("hover_altitude_m", hover_altitude_m));
   IMUSYSID_RETURN_IF_ERROR(CheckPositive("descent_rate_mps", descent_rate_mps));
   {
     // The descent must reach the ground before the motors are cut.
     const double needed = hover_altitude_m / descent_rate_mps + 0.5;
-    IMUSYSID_RETURN_IF_ERROR(CheckAtLeast(
-        "landing_s",
-        landing_s,
-        needed,
-        "hover_altitude_m / descent_rate_mps + 0.5 = " + FormatDouble(needed)));
+    IMUSYSID_RETURN_IF_ERROR(
+        CheckAtLeast("landing_s",
+                     landing_s,
+                     needed,
+                     "hover_altitude_m / descent_rate_mps + 0.5 = " +
+                         FormatShortest(needed)));
   }
   IMUSYSID_RETURN_IF_ERROR(
       CheckNonNegative("motors_off_end_s", motors_off_end_s));
@@ -746,7 +743,7 @@ StatusOr<SimulatedFlight> Simulate(const SimulatorOptions& o) {
   log.metadata = {{"scenario", o.scenario},
                   {"seed", std::to_string(o.seed)},
                   {"frame", "flu"},
-                  {"rate_hz", FormatDouble(o.rate_hz)},
+                  {"rate_hz", FormatShortest(o.rate_hz)},
                   {"generator", "imusysid simulator"}};
   const auto n = static_cast<std::size_t>(num_samples);
   for (auto* v : {&log.t_s,
