@@ -20,6 +20,7 @@
 #include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/registry.h"
 #include "imusysid/report.h"
@@ -1229,11 +1230,11 @@ std::string ReportJson(const BenchReport& report) {
       {"before", report.pair_before},
       {"after", report.pair_after},
       {"paper_experiment",
-       {{"dx_m", kPaperDxCm / 100},
-        {"dz_m", -kPaperDzCm / 100},
-        {"l_m", kPaperLM},
-        {"delta_deg", kPaperDeltaDeg}}},
-      {"cad", {{"dx_m", kCadDxCm / 100}, {"dz_m", -kCadDzCm / 100}}},
+       {{"dx_m", kPaperDisplacementDxCm / 100},
+        {"dz_m", kPaperDisplacementDzCm / 100},
+        {"l_m", kPaperDisplacementLM},
+        {"delta_deg", kPaperDisplacementDeltaDeg}}},
+      {"cad", {{"dx_m", kPaperCadDxCm / 100}, {"dz_m", kPaperCadDzCm / 100}}},
       {"fits", disp}};
   Json mc = Json::array();
   for (const auto& m : report.monte_carlo) mc.push_back(MonteCarloToJson(m));
@@ -1447,10 +1448,11 @@ std::string FormatMarkdown(const BenchReport& report) {
            "the paper identified on its real flights.\n\n";
     struct Paper {
       const char* name;
-      double r, beta, alpha, mu, of;
+      ImuParameters fit;
+      double of;
     };
-    const Paper papers[] = {{"test 1", 0.19, 56.299, -2.812, 0.0716, 0.677},
-                            {"test 2", 0.213, 66.066, -4.0132, 0.107, kNaN}};
+    const Paper papers[] = {{"test 1", kPaperTest1Fit, kPaperTest1OfMps2},
+                            {"test 2", kPaperTest2Fit, kNaN}};
     const std::string names[] = {report.pair_before, report.pair_after};
     rows.clear();
     for (int t = 0; t < 2; ++t) {
@@ -1462,10 +1464,10 @@ std::string FormatMarkdown(const BenchReport& report) {
       rows.push_back(
           {std::string(p.name) + " (" + names[t] + ")",
            "paper (published)",
-           FormatNumber(p.r, 4),
-           FormatNumber(p.beta, 5),
-           FormatNumber(p.alpha, 5),
-           FormatNumber(p.mu, 4),
+           FormatNumber(p.fit.r_m, 4),
+           FormatNumber(p.fit.beta_deg, 5),
+           FormatNumber(p.fit.alpha_deg, 5),
+           FormatNumber(p.fit.mu, 4),
            std::isfinite(p.of) ? FormatNumber(p.of, 3) : "not given"});
       if (pl != nullptr && pl->truth.known) {
         const Truth& tr = pl->truth;
@@ -1504,16 +1506,21 @@ std::string FormatMarkdown(const BenchReport& report) {
     out << "## CoM displacement " << report.pair_before << " → "
         << report.pair_after << " (equation 11, vector form)\n\n"
         << "d = p_before − p_after in FLU body axes: Δx > 0 the CoM moved "
-           "forward, Δz < 0 it moved down. The paper reports magnitudes "
-           "(1.90 cm, 3.66 cm); their signs follow from its two fits.\n\n";
+           "forward, Δz < 0 it moved down. The paper reports magnitudes ("
+        << FormatFixed(kPaperDisplacementDxCm, 2) << " cm, "
+        << FormatFixed(-kPaperDisplacementDzCm, 2)
+        << " cm); their signs follow from its two fits.\n\n";
     rows.clear();
     const ComDisplacement paper_fit =
-        ComputeDisplacement(0.19, 56.299, 0.213, 66.066);
+        ComputeDisplacement(kPaperTest1Fit.r_m,
+                            kPaperTest1Fit.beta_deg,
+                            kPaperTest2Fit.r_m,
+                            kPaperTest2Fit.beta_deg);
     rows.push_back({"paper's experiment (published)",
-                    FixedCell(kPaperLM * 100, 2),
-                    FixedCell(kPaperDeltaDeg, 2),
-                    FixedCell(kPaperDxCm, 2),
-                    FixedCell(-kPaperDzCm, 2),
+                    FixedCell(kPaperDisplacementLM * 100, 2),
+                    FixedCell(kPaperDisplacementDeltaDeg, 2),
+                    FixedCell(kPaperDisplacementDxCm, 2),
+                    FixedCell(kPaperDisplacementDzCm, 2),
                     "-",
                     "-",
                     "-"});
@@ -1528,8 +1535,8 @@ std::string FormatMarkdown(const BenchReport& report) {
     rows.push_back({"CAD expectation (paper)",
                     "-",
                     "-",
-                    FixedCell(kCadDxCm, 2),
-                    FixedCell(-kCadDzCm, 2),
+                    FixedCell(kPaperCadDxCm, 2),
+                    FixedCell(kPaperCadDzCm, 2),
                     "-",
                     "-",
                     "-"});

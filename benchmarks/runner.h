@@ -175,14 +175,6 @@ struct DisplacementRecord {
   double l_error_m = kNaN;
 };
 
-// The paper's published displacement and its CAD expectation (docs/model.md).
-inline constexpr double kPaperDxCm = 1.90;
-inline constexpr double kPaperDzCm = 3.66;
-inline constexpr double kPaperLM = 0.0413;
-inline constexpr double kPaperDeltaDeg = 297.44;
-inline constexpr double kCadDxCm = 1.68;
-inline constexpr double kCadDzCm = 4.45;
-
 // Monte Carlo statistics of one scenario × model × estimator, per parameter
 // (r, β, α, μ) in the paper's units.
 struct MonteCarloRecord {

@@ -10,6 +10,7 @@
 #include <variant>
 
 #include "imusysid/format.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate.h"
 #include "nlohmann/json.hpp"
@@ -596,11 +597,11 @@ StatusOr<SimulatorOptions> ScenarioOptions(std::string_view name) {
   if (name == "paper_test1") return o;
   if (name == "paper_test2") {
     // The paper's test 2 fit and vehicle (battery moved beneath).
-    o.r_m = 0.213;
-    o.beta_deg = 66.066;
-    o.alpha_deg = -4.0132;
-    o.mu = 0.107;
-    o.mass_kg = 1.633;
+    o.r_m = kPaperTest2Fit.r_m;
+    o.beta_deg = kPaperTest2Fit.beta_deg;
+    o.alpha_deg = kPaperTest2Fit.alpha_deg;
+    o.mu = kPaperTest2Fit.mu;
+    o.mass_kg = kPaperTest2MassKg;
     return o;
   }
   if (name == "model_exact") {
@@ -609,11 +610,12 @@ StatusOr<SimulatorOptions> ScenarioOptions(std::string_view name) {
     o.gyro_bias = false;
     o.accel_bias = false;
     o.vibration = false;
-    // White noise at the level of the paper's residual (its test 1 OF,
-    // 0.677 m/s², at the default 250 Hz): the fit then has the paper's
-    // signal-to-noise ratio, and MATLAB's absolute stall tolerance
-    // (5e-5 m/s² over 50 generations) means what it meant in the paper.
-    o.accel_noise_density_ug = 0.677 / (kGravity * 1e-6 * std::sqrt(125.0));
+    // White noise at the level of the paper's residual (its test 1 OF at the
+    // default 250 Hz): the fit then has the paper's signal-to-noise ratio,
+    // and MATLAB's absolute stall tolerance (5e-5 m/s² over 50 generations)
+    // means what it meant in the paper.
+    o.accel_noise_density_ug =
+        kPaperTest1OfMps2 / (kGravity * 1e-6 * std::sqrt(125.0));
     return o;
   }
   if (name == "hover_only") {
