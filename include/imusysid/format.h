@@ -35,6 +35,14 @@ std::string FormatFixed(double value,
 // "nan", "-nan", "inf" or "-inf", which from_chars reads back.
 std::string FormatShortest(double value);
 
+// Appends `value` to `out` as a file writer needs it: `digits` significant
+// digits (FormatNumber's "%.*g"; 17 reads back exactly), or FormatShortest's
+// text when digits <= 0. −0 is written as 0, so flipping the sign of an exact
+// zero does not print "-0"; non-finite values as printf writes them.
+// Appends rather than returns so that writing millions of values allocates
+// nothing per value.
+void AppendNumber(std::string* out, double value, int digits);
+
 }  // namespace imusysid
 
 #endif  // IMUSYSID_FORMAT_H_

@@ -3,12 +3,11 @@
 // numbers that read back to the same doubles at precision 17.
 
 #include <algorithm>
-#include <charconv>
 #include <string>
 #include <string_view>
-#include <system_error>
 
 #include "glog/logging.h"
+#include "imusysid/format.h"
 #include "imusysid/log.h"
 
 namespace imusysid {
@@ -17,21 +16,6 @@ namespace {
 // Digits for the time column: 1 kHz stamps over more than a day
 // (86400.001 s) need 9, so 12 leaves margin for sub-millisecond clocks.
 constexpr int kMinTimePrecision = 12;
-
-void AppendNumber(std::string* out, double value, int precision) {
-  char buf[64];
-  // Adding +0.0 turns -0.0 into 0.0, so an FRD flip of an exact zero does not
-  // print "-0".
-  value += 0.0;
-  const std::to_chars_result result =
-      precision > 0 ? std::to_chars(buf,
-                                    buf + sizeof(buf),
-                                    value,
-                                    std::chars_format::general,
-                                    precision)
-                    : std::to_chars(buf, buf + sizeof(buf), value);
-  out->append(buf, result.ptr);
-}
 
 // Names and metadata must stay on one line and, for names, inside one CSV
 // field, or the file would not read back.

@@ -39,4 +39,20 @@ std::string FormatShortest(double value) {
   return std::string(buf, result.ptr);
 }
 
+void AppendNumber(std::string* out, double value, int digits) {
+  char buf[64];
+  // Adding +0.0 turns -0.0 into 0.0.
+  value += 0.0;
+  // to_chars with a precision is printf's "%.*g", without the locale and
+  // several times faster.
+  const std::to_chars_result result =
+      digits > 0 ? std::to_chars(buf,
+                                 buf + sizeof(buf),
+                                 value,
+                                 std::chars_format::general,
+                                 digits)
+                 : std::to_chars(buf, buf + sizeof(buf), value);
+  out->append(buf, result.ptr);
+}
+
 }  // namespace imusysid
