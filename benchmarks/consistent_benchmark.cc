@@ -11,6 +11,7 @@
 
 #include "Eigen/Core"
 #include "benchmark/benchmark.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -24,7 +25,7 @@ constexpr double kDurationS = 70.0;
 // Truth: the paper's test-1 fit plus a small gyro drift.
 Eigen::VectorXd TruthVector() {
   Eigen::VectorXd x(kNumConsistentParameters);
-  x << 0.19, 56.299, -2.812, 0.0716, 0.8, 0.03;
+  x << kPaperTest1Fit.ToVector(), 0.8, 0.03;
   return x;
 }
 

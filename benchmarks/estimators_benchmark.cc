@@ -32,6 +32,7 @@
 #include "Eigen/Core"
 #include "benchmark/benchmark.h"
 #include "imusysid/estimator.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -50,7 +51,7 @@ std::shared_ptr<const ProblemData> MakeData(std::int64_t num_samples) {
   flight.samples = static_cast<int>(num_samples);
   flight.dt_s = 1.0 / kSampleRateHz;
   auto data = testing::MakeSyntheticPaperData(
-      Eigen::Vector4d(0.19, 56.299, -2.812, 0.0716), kNoiseSigma, 1, flight);
+      kPaperTest1Fit.ToVector(), kNoiseSigma, 1, flight);
   data->source = "synthetic " + std::to_string(num_samples) + " samples";
   return data;
 }

@@ -10,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 
 namespace imusysid {
@@ -66,14 +67,13 @@ std::size_t Stride(std::size_t n) {
 std::string Table(const std::vector<const std::vector<double>*>& columns,
                   std::size_t stride = 1) {
   std::ostringstream out;
-  out.precision(9);
   const std::size_t n = columns.empty() ? 0 : columns.front()->size();
   for (std::size_t k = 0; k < n; k += stride) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       const double v = k < columns[c]->size() ? (*columns[c])[k] : NAN;
       if (c > 0) out << ' ';
       if (std::isfinite(v)) {
-        out << v;
+        out << FormatNumber(v, 9);
       } else {
         out << "NaN";
       }
@@ -449,7 +449,7 @@ Status WriteFitFigures(const std::string& dir,
                " using 1:" + std::to_string(i + 3) + " with lines lw 1.5 lc " +
                std::to_string(i + 1) + " title " +
                Quote(Label(*shown[i]) + " (OF " +
-                     std::to_string(shown[i]->rmse).substr(0, 5) + ")");
+                     FormatFixed(shown[i]->rmse, 6).substr(0, 5) + ")");
     }
     const double zoom0 = std::min(t1, t0 + 10.0);
     const double zoom1 = std::min(t1, t0 + 20.0);
@@ -462,8 +462,8 @@ Status WriteFitFigures(const std::string& dir,
             Quote(name + ".svg") + "\nset multiplot layout 2,1 title " +
             Quote(title) +
             "\nset ylabel 'f_x (m/s²)'\nset xlabel 'time (s)'\nplot " + lines +
-            "\nset xrange [" + std::to_string(zoom0) + ":" +
-            std::to_string(zoom1) + "]\nset title 'zoom'\nplot " + lines +
+            "\nset xrange [" + FormatFixed(zoom0, 6) + ":" +
+            FormatFixed(zoom1, 6) + "]\nset title 'zoom'\nplot " + lines +
             "\nunset multiplot\n"));
     drawn.push_back(
         {name + ".svg",

@@ -9,6 +9,7 @@
 #include "benchmark/benchmark.h"
 #include "estimators/ga_estimator.h"
 #include "imusysid/estimator.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "src/models/paper_model.h"
@@ -21,12 +22,8 @@ std::shared_ptr<const ProblemData> MakePaperSizedData() {
   constexpr double kDurationS = 70.0;
   constexpr double kRateHz = 1000.0;
   constexpr double kNoiseSigma = 0.3;
-  auto data =
-      testing::MakeTwoToneFlight(Eigen::Vector4d(0.19, 56.299, -2.812, 0.0716),
-                                 kDurationS,
-                                 kRateHz,
-                                 kNoiseSigma,
-                                 3);
+  auto data = testing::MakeTwoToneFlight(
+      kPaperTest1Fit.ToVector(), kDurationS, kRateHz, kNoiseSigma, 3);
   data->source = "synthetic 70 s at 1 kHz";
   return data;
 }

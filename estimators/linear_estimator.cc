@@ -8,8 +8,8 @@
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
+#include "imusysid/format.h"
 #include "imusysid/parameters.h"
-#include "imusysid/report.h"
 #include "src/models/paper_model.h"
 
 namespace imusysid {

@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "imusysid/estimator.h"
-#include "imusysid/report.h"
+#include "imusysid/format.h"
 
 namespace imusysid {
 namespace {
@@ -102,7 +102,7 @@ std::string OptionValueToString(const OptionValue& value) {
   if (const std::int64_t* i = std::get_if<std::int64_t>(&value)) {
     return std::to_string(*i);
   }
-  if (const double* d = std::get_if<double>(&value)) return FormatRoundTrip(*d);
+  if (const double* d = std::get_if<double>(&value)) return FormatShortest(*d);
   return std::get<std::string>(value);
 }
 
@@ -208,9 +208,9 @@ OptionSpec NamedDoubleOption(std::string name,
       return InvalidArgumentError(name + " must be a number");
     }
     if (!(v >= min && v <= max)) {  // NaN fails too
-      return InvalidArgumentError(name + " = " + FormatRoundTrip(v) +
-                                  "; required in [" + FormatRoundTrip(min) +
-                                  ", " + FormatRoundTrip(max) + "]");
+      return InvalidArgumentError(name + " = " + FormatShortest(v) +
+                                  "; required in [" + FormatShortest(min) +
+                                  ", " + FormatShortest(max) + "]");
     }
     options->named[name] = v;
     return Status::Ok();

@@ -1,6 +1,6 @@
 // ResultDetails: the typed details of a result and their one formatter.
 
-#include "imusysid/report.h"
+#include "imusysid/format.h"
 #include "imusysid/result.h"
 
 namespace imusysid {
@@ -55,7 +55,7 @@ std::string FormatDetail(const ResultDetails::Value& value) {
   if (const std::int64_t* i = std::get_if<std::int64_t>(&value)) {
     return std::to_string(*i);
   }
-  if (const double* d = std::get_if<double>(&value)) return FormatRoundTrip(*d);
+  if (const double* d = std::get_if<double>(&value)) return FormatShortest(*d);
   return std::get<std::string>(value);
 }
 

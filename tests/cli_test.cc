@@ -7,6 +7,8 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/format.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/registry.h"
 #include "nlohmann/json.hpp"
 #include "tests/test_util.h"
@@ -59,10 +61,10 @@ TEST(Cli, SimulateWritesTheLogAndItsTruthSidecar) {
   std::ifstream truth(dir + "/FILE.truth.json");
   ASSERT_TRUE(truth.good());
   const auto j = nlohmann::json::parse(truth);
-  EXPECT_DOUBLE_EQ(j["r_m"].get<double>(), 0.19);
-  EXPECT_DOUBLE_EQ(j["beta_deg"].get<double>(), 56.299);
-  EXPECT_DOUBLE_EQ(j["alpha_deg"].get<double>(), -2.812);
-  EXPECT_DOUBLE_EQ(j["mu"].get<double>(), 0.0716);
+  EXPECT_DOUBLE_EQ(j["r_m"].get<double>(), kPaperTest1Fit.r_m);
+  EXPECT_DOUBLE_EQ(j["beta_deg"].get<double>(), kPaperTest1Fit.beta_deg);
+  EXPECT_DOUBLE_EQ(j["alpha_deg"].get<double>(), kPaperTest1Fit.alpha_deg);
+  EXPECT_DOUBLE_EQ(j["mu"].get<double>(), kPaperTest1Fit.mu);
   EXPECT_EQ(j["seed"].get<int>(), 1);
   std::ifstream csv(dir + "/FILE.csv");
   EXPECT_TRUE(csv.good());
@@ -104,15 +106,18 @@ TEST(Cli, InspectDescribesTheBundledLog) {
 }
 
 TEST(Cli, DisplacementReproducesThePaper) {
-  const auto r = RunCli(
-      "displacement --r0=0.19 --beta0_deg=56.299 --r1=0.213 "
-      "--beta1_deg=66.066 --format=json");
+  const auto r =
+      RunCli("displacement --r0=" + FormatShortest(kPaperTest1Fit.r_m) +
+             " --beta0_deg=" + FormatShortest(kPaperTest1Fit.beta_deg) +
+             " --r1=" + FormatShortest(kPaperTest2Fit.r_m) + " --beta1_deg=" +
+             FormatShortest(kPaperTest2Fit.beta_deg) + " --format=json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
-  EXPECT_NEAR(j["l_m"].get<double>(), 0.0413, 0.5e-4);
-  EXPECT_NEAR(j["delta_deg"].get<double>(), 297.44, 0.005);
-  EXPECT_NEAR(j["dx_m"].get<double>(), 0.0190, 0.5e-4);
-  EXPECT_NEAR(j["dz_m"].get<double>(), -0.0366, 0.5e-4);
+  // Half a unit of the paper's last printed digit (0.1 mm, 0.01°).
+  EXPECT_NEAR(j["l_m"].get<double>(), kPaperDisplacementLM, 0.5e-4);
+  EXPECT_NEAR(j["delta_deg"].get<double>(), kPaperDisplacementDeltaDeg, 0.005);
+  EXPECT_NEAR(j["dx_m"].get<double>(), kPaperDisplacementDxCm / 100, 0.5e-4);
+  EXPECT_NEAR(j["dz_m"].get<double>(), kPaperDisplacementDzCm / 100, 0.5e-4);
 }
 
 TEST(Cli, NanInLineFiveIsBadInputNamingLineFive) {

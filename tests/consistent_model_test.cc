@@ -9,6 +9,7 @@
 #include "Eigen/Core"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "tests/test_util.h"
@@ -243,7 +244,7 @@ TEST(ConsistentModel, LinearSystemReproducesPredictionAndDerivatives) {
 
 TEST(ConsistentModel, ParametersFromLinearInvertsLinearCoefficients) {
   Eigen::VectorXd x(6);
-  x << 0.213, 66.066, -4.0132, 0.107, -1.0, 0.05;
+  x << kPaperTest2Fit.ToVector(), -1.0, 0.05;
   const Eigen::Vector3d b = ConsistentModel::LinearCoefficients(x.data());
   auto back = ConsistentModel::ParametersFromLinear(b, x[kMu], x[kC0], x[kC1]);
   ASSERT_TRUE(back.ok()) << back.status().ToString();

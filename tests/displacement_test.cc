@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 
 namespace imusysid {
@@ -15,11 +16,14 @@ constexpr double kPaperAngleTol = 0.005;    // deg
 constexpr double kExact = 1e-12;
 
 TEST(Displacement, ReproducesThePapersNumbers) {
-  const ComDisplacement d = ComputeDisplacement(0.19, 56.299, 0.213, 66.066);
-  EXPECT_NEAR(d.l_m, 0.0413, kPaperLengthTol);
-  EXPECT_NEAR(d.delta_deg, 297.44, kPaperAngleTol);
-  EXPECT_NEAR(d.dx_m, 0.0190, kPaperLengthTol);
-  EXPECT_NEAR(d.dz_m, -0.0366, kPaperLengthTol);
+  const ComDisplacement d = ComputeDisplacement(kPaperTest1Fit.r_m,
+                                                kPaperTest1Fit.beta_deg,
+                                                kPaperTest2Fit.r_m,
+                                                kPaperTest2Fit.beta_deg);
+  EXPECT_NEAR(d.l_m, kPaperDisplacementLM, kPaperLengthTol);
+  EXPECT_NEAR(d.delta_deg, kPaperDisplacementDeltaDeg, kPaperAngleTol);
+  EXPECT_NEAR(d.dx_m, kPaperDisplacementDxCm / 100, kPaperLengthTol);
+  EXPECT_NEAR(d.dz_m, kPaperDisplacementDzCm / 100, kPaperLengthTol);
 }
 
 TEST(Displacement, ZeroWhenNothingMoved) {
@@ -68,10 +72,17 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(Displacement, PropagatesStandardErrors) {
   // With σ only on r0, d moves along (cos β0, sin β0): σ_dx = σ cos β0.
   const double s = 0.002;
-  const ComDisplacement d =
-      ComputeDisplacement(0.19, 56.299, 0.213, 66.066, s, 0.0, 0.0, 0.0);
-  EXPECT_NEAR(d.dx_stderr_m, s * std::cos(56.299 * kDegToRad), 1e-12);
-  EXPECT_NEAR(d.dz_stderr_m, s * std::sin(56.299 * kDegToRad), 1e-12);
+  const double beta0 = kPaperTest1Fit.beta_deg;
+  const ComDisplacement d = ComputeDisplacement(kPaperTest1Fit.r_m,
+                                                beta0,
+                                                kPaperTest2Fit.r_m,
+                                                kPaperTest2Fit.beta_deg,
+                                                s,
+                                                0.0,
+                                                0.0,
+                                                0.0);
+  EXPECT_NEAR(d.dx_stderr_m, s * std::cos(beta0 * kDegToRad), 1e-12);
+  EXPECT_NEAR(d.dz_stderr_m, s * std::sin(beta0 * kDegToRad), 1e-12);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "Eigen/Dense"
 #include "gtest/gtest.h"
 #include "imusysid/estimator.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -31,7 +32,7 @@ using testing::MakeSyntheticPaperData;
 using testing::SmallGaOptions;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
-const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
 // Recovery bound in standard deviations (σᵢ = σ·√diag((JᵀJ)⁻¹) at the truth):
 // a 4σ miss has probability ~6e-5 per parameter and the seed is fixed.

@@ -20,6 +20,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/estimator.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -32,7 +33,7 @@ namespace {
 using ::testing::HasSubstr;
 
 // The paper's test 1 fit, used as ground truth.
-const double kTruth[kNumPhysicalParameters] = {0.19, 56.299, -2.812, 0.0716};
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 
 // A synthetic log (tests/synthetic_flight.h): two pitch manoeuvres, v from
 // equation 7, f_x = equation 9 at kTruth plus white noise of σ `noise_sigma`.
@@ -41,7 +42,7 @@ std::shared_ptr<const ProblemData> MakeData(double duration_s,
                                             double noise_sigma,
                                             unsigned seed) {
   return testing::MakeTwoToneFlight(
-      Eigen::Vector4d(kTruth), duration_s, rate_hz, noise_sigma, seed);
+      kTruth, duration_s, rate_hz, noise_sigma, seed);
 }
 
 Problem MakeProblem(double noise_sigma, double rate_hz = 100.0) {
@@ -409,7 +410,7 @@ TEST(GaEstimator, HookImprovementIsKeptAndReturned) {
         for (int j = 0; j < kNumPhysicalParameters; ++j) {
           (*pop)(worst, j) = kTruth[j];
         }
-        (*scores)[worst] = problem.CostToRmse(problem.Cost(kTruth));
+        (*scores)[worst] = problem.CostToRmse(problem.Cost(kTruth.data()));
       };
   EstimateResult result;
   ASSERT_TRUE(RunGa(problem, options, hook, &result).ok());

@@ -13,6 +13,7 @@
 #include "estimators/ga_estimator.h"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "tests/test_util.h"
@@ -27,7 +28,7 @@ using testing::RunEstimator;
 using testing::SmallGaOptions;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
-const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
 // LM ends with a relative cost change ≤ 1e-12; near the optimum the OF error
 // is half the relative cost error, so 1e-9 is met with margin, while a GA

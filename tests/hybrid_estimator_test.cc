@@ -12,6 +12,7 @@
 #include "Eigen/Core"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "tests/test_util.h"
@@ -26,7 +27,7 @@ using testing::RunEstimator;
 using testing::SmallGaOptions;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
-const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
 // The final polish ends with a relative cost change ≤ 1e-12; the OF's
 // relative error is half the cost's, so 1e-9 holds with margin while the GA

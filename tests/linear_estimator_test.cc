@@ -13,6 +13,7 @@
 
 #include "Eigen/Dense"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "tests/test_util.h"
@@ -25,7 +26,7 @@ using testing::MakePaperProblem;
 using testing::MakeSyntheticPaperData;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
-const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 // Accelerometer noise of the noisy cases, m/s² (about half the paper's OF).
 constexpr double kSigma = 0.3;
 // Noise-free recovery: the QR solve of a 4-column problem with scaled

@@ -13,6 +13,7 @@
 #include "Eigen/Dense"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "tests/test_util.h"
@@ -25,7 +26,7 @@ using testing::MakeSyntheticPaperData;
 using testing::RunEstimator;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
-const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
 // LM on noise-free data converges quadratically to a zero-residual point;
 // 1e-8 relative is the project's standard for deterministic estimators.

@@ -9,6 +9,7 @@
 #include "Eigen/LU"
 #include "benchmarks/runner.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
 #include "tests/test_util.h"
@@ -52,8 +53,9 @@ TEST(MonteCarlo, ModelExactReachesTheCramerRaoBound) {
     SCOPED_TRACE(rec.estimator);
     EXPECT_EQ(rec.usable, kSeeds);
     EXPECT_NEAR(rec.noise_sigma, sigma, 1e-12);
-    EXPECT_DOUBLE_EQ(rec.truth[kR], 0.19);
-    EXPECT_DOUBLE_EQ(rec.truth[kAlpha], -2.812);  // no accelerometer bias
+    EXPECT_DOUBLE_EQ(rec.truth[kR], kPaperTest1Fit.r_m);
+    // No accelerometer bias: the reference is the true α.
+    EXPECT_DOUBLE_EQ(rec.truth[kAlpha], kPaperTest1Fit.alpha_deg);
     for (int i = 0; i < kNumPhysicalParameters; ++i) {
       SCOPED_TRACE(i);
       ASSERT_TRUE(std::isfinite(rec.crlb_sd[i]));

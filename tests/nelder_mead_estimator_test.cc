@@ -19,6 +19,7 @@
 #include "gtest/gtest.h"
 #include "imusysid/estimator.h"
 #include "imusysid/model.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -32,7 +33,7 @@ using testing::MakePaperProblem;
 using testing::MakeSyntheticPaperData;
 
 // The paper's test 1 fit (docs/model.md): r m, β deg, α deg, μ 1/m.
-const Eigen::Vector4d kTruth(0.19, 56.299, -2.812, 0.0716);
+const Eigen::Vector4d kTruth = kPaperTest1Fit.ToVector();
 constexpr double kSigma = 0.3;  // accelerometer noise, m/s²
 // Cost relative to the reference optimum. The simplex stops when its costs
 // agree to nm_f_tolerance = 1e-12 relative and a restart confirms it; 1e-9

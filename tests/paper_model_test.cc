@@ -8,6 +8,7 @@
 #include "Eigen/Core"
 #include "ceres/jet.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 
 namespace imusysid {
@@ -19,7 +20,7 @@ std::shared_ptr<ProblemData> MakeData(int n, double noise_sigma) {
   std::mt19937_64 rng(42);
   std::normal_distribution<double> noise(0.0, noise_sigma);
   const double dt = 0.004;
-  const double truth[4] = {0.19, 56.299, -2.812, 0.0716};
+  const Eigen::Vector4d truth = kPaperTest1Fit.ToVector();
   double theta = 0.0, v = 0.0;
   for (int k = 0; k < n; ++k) {
     const double t = k * dt;
@@ -34,7 +35,7 @@ std::shared_ptr<ProblemData> MakeData(int n, double noise_sigma) {
     d->omega_dot.push_back(wd);
     d->theta.push_back(theta);
     d->v.push_back(v);
-    d->f_x.push_back(PaperPrediction(truth, w, wd, v) + noise(rng));
+    d->f_x.push_back(PaperPrediction(truth.data(), w, wd, v) + noise(rng));
   }
   return d;
 }
@@ -157,9 +158,11 @@ TEST(PaperModel, JacobianMatchesJetsOfEquation9AndFiniteDifferences) {
 }
 
 TEST(ImuModel, CoefficientMapRoundTripsInEveryQuadrant) {
-  for (double beta : {-170.0, -95.0, -10.0, 0.0, 56.299, 100.0, 179.0}) {
-    for (double alpha : {-14.0, -2.812, 0.0, 9.0}) {
-      const ImuParameters p{0.19, beta, alpha, 0.0716};
+  const ImuParameters paper = kPaperTest1Fit;
+  for (double beta :
+       {-170.0, -95.0, -10.0, 0.0, paper.beta_deg, 100.0, 179.0}) {
+    for (double alpha : {-14.0, paper.alpha_deg, 0.0, 9.0}) {
+      const ImuParameters p{paper.r_m, beta, alpha, paper.mu};
       StatusOr<ImuParameters> back =
           CoefficientsToParameters(ParametersToCoefficients(p));
       ASSERT_TRUE(back.ok());

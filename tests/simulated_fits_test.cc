@@ -12,6 +12,7 @@
 #include "gtest/gtest.h"
 #include "imusysid/displacement.h"
 #include "imusysid/log.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -78,7 +79,7 @@ TEST_F(ModelExact, EveryEstimatorReachesTheLinearOptimumAndTheTruth) {
   ASSERT_NE(data_, nullptr);
   const EstimateResult linear = RunEstimator("linear", "paper", data_);
   ASSERT_TRUE(linear.IsUsable());
-  const double truth[4] = {0.19, 56.299, -2.812, 0.0716};
+  const Eigen::Vector4d truth = kPaperTest1Fit.ToVector();
   for (const char* name : {"linear", "lm", "ga+lm", "hybrid", "varpro", "ga"}) {
     const EstimateResult r = RunEstimator(name, "paper", data_);
     ASSERT_TRUE(r.IsUsable()) << name << ": " << r.message;
@@ -111,8 +112,10 @@ constexpr double kMuRelTol = 0.05;
 constexpr double kDisplacementTolM = 0.003;
 
 TEST(PaperScenarios, ConsistentModelRecoversTruthForTenSeeds) {
-  const ComDisplacement truth_d =
-      ComputeDisplacement(0.19, 56.299, 0.213, 66.066);
+  const ComDisplacement truth_d = ComputeDisplacement(kPaperTest1Fit.r_m,
+                                                      kPaperTest1Fit.beta_deg,
+                                                      kPaperTest2Fit.r_m,
+                                                      kPaperTest2Fit.beta_deg);
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     double fitted[2][2];  // [test][r, beta]
     int test = 0;

@@ -7,6 +7,7 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate.h"
 #include "nlohmann/json.hpp"
@@ -301,10 +302,10 @@ TEST(SimulatorProfile, HoverOnlyHasNoManeuver) {
 
 TEST(SimulatorProfile, PaperTest2FliesTheSameProfile) {
   const SimulatorOptions o = Scenario("paper_test2");
-  EXPECT_EQ(o.r_m, 0.213);
-  EXPECT_EQ(o.beta_deg, 66.066);
-  EXPECT_EQ(o.alpha_deg, -4.0132);
-  EXPECT_EQ(o.mu, 0.107);
+  EXPECT_EQ(o.r_m, kPaperTest2Fit.r_m);
+  EXPECT_EQ(o.beta_deg, kPaperTest2Fit.beta_deg);
+  EXPECT_EQ(o.alpha_deg, kPaperTest2Fit.alpha_deg);
+  EXPECT_EQ(o.mu, kPaperTest2Fit.mu);
   const SimulatedFlight f = Fly(o);
   EXPECT_GE(f.max_pitch_deg, 20.0);
   EXPECT_LE(f.max_pitch_deg, 27.0);
@@ -529,22 +530,22 @@ TEST(SimulatorTruth, SidecarHasTheTruthGeometryAndEverySetting) {
   const std::string text = TruthJson(o, f);
   const nlohmann::json j = nlohmann::json::parse(text);
   EXPECT_EQ(j["scenario"], "paper_test1");
-  EXPECT_EQ(j["r_m"].get<double>(), 0.19);
-  EXPECT_EQ(j["beta_deg"].get<double>(), 56.299);
-  EXPECT_EQ(j["alpha_deg"].get<double>(), -2.812);
-  EXPECT_EQ(j["mu"].get<double>(), 0.0716);
-  const double beta = 56.299 * kDegToRad;
+  EXPECT_EQ(j["r_m"].get<double>(), kPaperTest1Fit.r_m);
+  EXPECT_EQ(j["beta_deg"].get<double>(), kPaperTest1Fit.beta_deg);
+  EXPECT_EQ(j["alpha_deg"].get<double>(), kPaperTest1Fit.alpha_deg);
+  EXPECT_EQ(j["mu"].get<double>(), kPaperTest1Fit.mu);
+  const double r = kPaperTest1Fit.r_m;
+  const double beta = kPaperTest1Fit.beta_deg * kDegToRad;
+  const double alpha = kPaperTest1Fit.alpha_deg * kDegToRad;
   EXPECT_NEAR(
-      j["imu_position_frd_m"]["x"].get<double>(), 0.19 * std::cos(beta), 1e-15);
-  EXPECT_NEAR(j["imu_position_frd_m"]["z"].get<double>(),
-              -0.19 * std::sin(beta),
-              1e-15);
+      j["imu_position_frd_m"]["x"].get<double>(), r * std::cos(beta), 1e-15);
   EXPECT_NEAR(
-      j["imu_position_flu_m"]["z"].get<double>(), 0.19 * std::sin(beta), 1e-15);
+      j["imu_position_frd_m"]["z"].get<double>(), -r * std::sin(beta), 1e-15);
   EXPECT_NEAR(
-      j["alpha_effective_deg"].get<double>(),
-      std::asin(std::sin(-2.812 * kDegToRad) + 0.02 / kGravity) * kRadToDeg,
-      1e-12);
+      j["imu_position_flu_m"]["z"].get<double>(), r * std::sin(beta), 1e-15);
+  EXPECT_NEAR(j["alpha_effective_deg"].get<double>(),
+              std::asin(std::sin(alpha) + 0.02 / kGravity) * kRadToDeg,
+              1e-12);
   EXPECT_EQ(j["instants_s"]["reference"].get<double>(), 11.5);
   EXPECT_EQ(j["settings"].size(), ListSimulatorSettings(o).size());
   EXPECT_EQ(j["settings"]["laps"].get<int>(), 8);

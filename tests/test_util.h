@@ -10,6 +10,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/estimator.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/problem.h"
 #include "nlohmann/json.hpp"
 #include "src/sim/synthetic_flight.h"
@@ -68,12 +69,12 @@ EstimatorOptions SmallGaOptions();
 // formula of docs (header of src/models/consistent_model.h) written out
 // independently of the library.
 struct ConsistentTruth {
-  double r = 0.19;        // m
-  double beta = 56.299;   // deg
-  double alpha = -2.812;  // deg
-  double mu = 0.0716;     // 1/m
-  double c0 = 1.2;        // deg
-  double c1 = 0.04;       // deg/s
+  double r = kPaperTest1Fit.r_m;            // m
+  double beta = kPaperTest1Fit.beta_deg;    // deg
+  double alpha = kPaperTest1Fit.alpha_deg;  // deg
+  double mu = kPaperTest1Fit.mu;            // 1/m
+  double c0 = 1.2;                          // deg
+  double c1 = 0.04;                         // deg/s
   Eigen::VectorXd Vector() const;
 };
 

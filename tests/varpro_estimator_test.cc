@@ -9,6 +9,7 @@
 #include "Eigen/Dense"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -101,10 +102,10 @@ TEST(VarproEstimator, RecoversTruthFromNoiseFreeDataWithMeasuredFz) {
 
 TEST(VarproEstimator, NoisyEstimateIsWithinFourStandardErrors) {
   Truth truth;
-  truth.beta = 66.066;
-  truth.alpha = -4.0132;
-  truth.r = 0.213;
-  truth.mu = 0.107;
+  truth.beta = kPaperTest2Fit.beta_deg;
+  truth.alpha = kPaperTest2Fit.alpha_deg;
+  truth.r = kPaperTest2Fit.r_m;
+  truth.mu = kPaperTest2Fit.mu;
   SimOptions opt;
   opt.noise_sigma = 0.3;  // m/s², about the paper's OF scale
   opt.rate_hz = 250.0;
@@ -158,7 +159,7 @@ TEST(VarproEstimator, StopsAtTheEvaluationLimit) {
 }
 
 TEST(VarproEstimator, KeepsMuInsideItsBounds) {
-  const Truth truth;  // μ = 0.0716
+  const Truth truth;  // μ of the paper's test 1
   SimOptions opt;
   opt.duration_s = 10.0;
   Problem problem = MakeProblem(SimulateConsistent(truth, opt), "consistent");
@@ -241,10 +242,11 @@ TEST(VarproEstimator, PaperModelConstrainsNegativeMuToZero) {
   SimOptions opt;
   opt.noise_sigma = 0.2;
   opt.duration_s = 15.0;
-  auto data = SimulateConsistent(Truth(), opt);
+  const Truth truth;
+  auto data = SimulateConsistent(truth, opt);
   // Reverse the drag's sign in the data so the free fit wants μ < 0.
   for (std::size_t k = 0; k < data->size(); ++k) {
-    data->f_x[k] += 2.0 * 0.0716 * data->v[k] * std::abs(data->v[k]);
+    data->f_x[k] += 2.0 * truth.mu * data->v[k] * std::abs(data->v[k]);
   }
   const Problem problem = MakeProblem(data, "paper");
   const ClosedForm free_ls = PaperLeastSquares(*data, 4);

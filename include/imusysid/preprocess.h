@@ -115,7 +115,8 @@ struct TimeInstant {
 };
 
 // Flight phases found from the IMU alone. The heuristics and thresholds
-// (preprocess.cc, constants kVibration*, kTakeoff*, kManeuver*):
+// (src/preprocess/detect_segments.cc, constants kVibration*, kTakeoff*,
+// kManeuver*):
 // - vibration level e(t): RMS over max(0.1 s, 20 samples) of the norm of the
 //   accelerometer minus its zero-phase low-pass at min(8 Hz, fs/4);
 // - quiet level: the median e over the first and over the last

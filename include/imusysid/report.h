@@ -9,18 +9,11 @@
 #include <vector>
 
 #include "imusysid/estimator.h"
+#include "imusysid/format.h"
 #include "imusysid/identifiability.h"
 #include "nlohmann/json.hpp"
 
 namespace imusysid {
-// Formats a double with `digits` significant digits (no exponent for
-// ordinary magnitudes), for tables.
-std::string FormatNumber(double value, int digits = 6);
-
-// The shortest text that reads back as exactly `value` ("0.1", "1e-07",
-// "0.12345678901234566"), as JSON numbers are written; "nan", "inf", "-inf"
-// for non-finite values.
-std::string FormatRoundTrip(double value);
 
 // Left-aligned text table with a header row.
 std::string FormatTable(const std::vector<std::string>& header,

@@ -95,7 +95,7 @@ class ResultDetails {
 };
 
 // The one formatter for details: integers in decimal, doubles as the
-// shortest text that reads back exactly (FormatRoundTrip), text as it is.
+// shortest text that reads back exactly (FormatShortest), text as it is.
 std::string FormatDetail(const ResultDetails::Value& value);
 
 struct EstimateResult {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "imusysid/log.h"
+#include "imusysid/paper_reference.h"
 #include "imusysid/status.h"
 
 namespace imusysid {
@@ -29,13 +30,15 @@ struct SimulatorOptions {
   std::uint64_t seed = 1;
 
   // Ground truth of the identification (the paper's test 1 fit).
-  double r_m = 0.19;          // IMU distance from the CoM, m, >= 0
-  double beta_deg = 56.299;   // IMU direction from +x_b toward +z_b, deg
-  double alpha_deg = -2.812;  // sensor x-axis tilt toward +z_b, deg, |.| < 45
-  double mu = 0.0716;         // quadratic drag per unit mass, 1/m, >= 0
+  double r_m = kPaperTest1Fit.r_m;  // IMU distance from the CoM, m, >= 0
+  // IMU direction from +x_b toward +z_b, deg.
+  double beta_deg = kPaperTest1Fit.beta_deg;
+  // Sensor x-axis tilt toward +z_b, deg, |.| < 45.
+  double alpha_deg = kPaperTest1Fit.alpha_deg;
+  double mu = kPaperTest1Fit.mu;  // quadratic drag per unit mass, 1/m, >= 0
 
   // Vehicle.
-  double mass_kg = 1.636;       // the paper's test 1 vehicle, kg
+  double mass_kg = kPaperTest1MassKg;  // the paper's test 1 vehicle, kg
   double inertia_kg_m2 = 0.02;  // pitch inertia, kg m² (typical 450-size)
   double arm_length_m = 0.225;  // CoM to front/rear motor pair, m (vibration
                                 // split between the pairs only)

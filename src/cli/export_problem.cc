@@ -2,11 +2,11 @@
 // the samples the estimators see as a problem CSV (src/problem_io.h), for
 // `fit --problem`, for other pipelines and for the peers in benchmarks/peers.
 
-#include <charconv>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "imusysid/format.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem_io.h"
 #include "src/cli/common.h"
@@ -15,13 +15,6 @@
 namespace imusysid {
 namespace cli {
 namespace {
-
-// The shortest text that reads back as `value`.
-std::string Shortest(double value) {
-  char buf[64];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), value);
-  return std::string(buf, r.ptr);
-}
 
 int Run(const std::vector<std::string>& positional) {
   const std::string cmd = "export-problem";
@@ -45,12 +38,12 @@ int Run(const std::vector<std::string>& positional) {
       {"source", path},
       {"plane", PlaneToString(po->plane)},
       {"velocity", VelocitySourceToString(po->velocity_source)},
-      {"t_start_s", Shortest(data.t_s.front())},
-      {"t_end_s", Shortest(data.t_s.back())},
+      {"t_start_s", FormatShortest(data.t_s.front())},
+      {"t_end_s", FormatShortest(data.t_s.back())},
       {"samples", std::to_string(data.size())},
-      {"cutoff_hz", Shortest(po->cutoff_hz)},
-      {"gyro_bias_rad_s", Shortest(pre->gyro_bias_rad_s)},
-      {"sample_rate_hz", Shortest(pre->sample_rate_hz)},
+      {"cutoff_hz", FormatShortest(po->cutoff_hz)},
+      {"gyro_bias_rad_s", FormatShortest(pre->gyro_bias_rad_s)},
+      {"sample_rate_hz", FormatShortest(pre->sample_rate_hz)},
       {"model", "paper"},
   };
   Status s = EmitOutput(FormatProblemCsv(data, metadata), FLAGS_out);

@@ -9,6 +9,8 @@
 #include <limits>
 #include <sstream>
 
+#include "imusysid/format.h"
+#include "imusysid/paper_reference.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
@@ -58,10 +60,7 @@ Status ApplyOverrides(SimulatorOptions* o) {
   auto set_if =
       [&](const char* flag, double value, const char* setting) -> Status {
     if (!FlagWasSet(flag)) return Status::Ok();
-    std::ostringstream text;
-    text.precision(17);
-    text << value;
-    return SetSimulatorSetting(o, setting, text.str())
+    return SetSimulatorSetting(o, setting, FormatShortest(value))
         .WithPrefix(std::string("--") + flag);
   };
   IMUSYSID_RETURN_IF_ERROR(set_if("r_m", FLAGS_r_m, "r_m"));
@@ -176,13 +175,22 @@ const Command& SimulateCommand() {
       "Simulate a flight of the paper's profile; write the IMU log and its "
       "truth.",
       "imusysid simulate --scenario=NAME --out=FILE.csv [overrides]",
-      "Writes FILE.csv (docs/log-format.md) and FILE.truth.json (true r, beta, "
-      "alpha, mu,\nthe geometry, every simulator setting and the seed). "
-      "Deterministic for a seed.\nScenarios: paper_test1 (r 0.19 m, beta "
-      "56.299 deg, alpha -2.812 deg, mu 0.0716),\npaper_test2 (0.213 m, "
-      "66.066 deg, -4.0132 deg, 0.107), model_exact (f_x from equation 9\n"
-      "plus white noise: for estimator tests), hover_only (nothing to "
-      "identify).",
+      std::string(
+          "Writes FILE.csv (docs/log-format.md) and FILE.truth.json (true r, "
+          "beta, alpha, mu,\nthe geometry, every simulator setting and the "
+          "seed). ") +
+          "Deterministic for a seed.\nScenarios: paper_test1 (r " +
+          FormatNumber(kPaperTest1Fit.r_m) + " m, beta " +
+          FormatNumber(kPaperTest1Fit.beta_deg) + " deg, alpha " +
+          FormatNumber(kPaperTest1Fit.alpha_deg) + " deg, mu " +
+          FormatNumber(kPaperTest1Fit.mu) + "),\npaper_test2 (" +
+          FormatNumber(kPaperTest2Fit.r_m) + " m, " +
+          FormatNumber(kPaperTest2Fit.beta_deg) + " deg, " +
+          FormatNumber(kPaperTest2Fit.alpha_deg) + " deg, " +
+          FormatNumber(kPaperTest2Fit.mu) +
+          "), model_exact (f_x from equation 9\n"
+          "plus white noise: for estimator tests), hover_only (nothing to "
+          "identify).",
       {"scenario",
        "out",
        "seed",

@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "glog/logging.h"
+#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "src/io/csv_text.h"
 
@@ -121,14 +122,6 @@ std::string OneLine(std::string_view text) {
   return out;
 }
 
-void AppendNumber(std::string* out, double value) {
-  char buf[64];
-  // +0.0 turns -0.0 into 0.0 so no "-0" appears.
-  const std::to_chars_result r = std::to_chars(
-      buf, buf + sizeof(buf), value + 0.0, std::chars_format::general, kDigits);
-  out->append(buf, r.ptr);
-}
-
 }  // namespace
 
 const std::string* ProblemFile::FindMetadata(std::string_view key) const {
@@ -175,14 +168,14 @@ std::string FormatProblemCsv(const ProblemData& data,
     out += "# " + OneLine(entry.first) + ": " + OneLine(entry.second) + "\n";
   }
   out += "# gravity: ";
-  AppendNumber(&out, data.gravity);
+  AppendNumber(&out, data.gravity, kDigits);
   out += '\n';
   out += header;
   out += '\n';
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       if (c > 0) out += ',';
-      AppendNumber(&out, (*columns[c])[i]);
+      AppendNumber(&out, (*columns[c])[i], kDigits);
     }
     out += '\n';
   }

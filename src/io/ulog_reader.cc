@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "imusysid/ulog.h"
 
@@ -109,12 +110,6 @@ double DecodeBasic(BasicType type, const unsigned char* p) {
       return Load<double>(p);
   }
   return 0;
-}
-
-std::string FormatNumber(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.9g", value);
-  return buffer;
 }
 
 // One field of an `F` message: `type name` or `type[array_len] name`.
@@ -512,7 +507,7 @@ std::string RenderValue(const std::string& type, std::string_view raw) {
       out += std::to_string(Load<std::int64_t>(
           reinterpret_cast<const unsigned char*>(raw.data() + i)));
     } else {
-      out += FormatNumber(v);
+      out += FormatNumber(v, 9, NonFiniteStyle::kPrintf);
     }
   }
   return out;

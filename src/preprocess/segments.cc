@@ -1,9 +1,9 @@
 #include "imusysid/segments.h"
 
 #include <cmath>
-#include <cstdio>
 #include <string_view>
 
+#include "imusysid/format.h"
 #include "imusysid/log_reader.h"
 
 namespace imusysid {
@@ -88,11 +88,9 @@ StatusOr<std::string> ApplyFallbackSegment(const FlightLog& log,
   if (best_hi <= best_lo) return std::string();
   options->t_start = t[best_lo];
   options->t_end = t[best_hi];
-  char buffer[64];
-  std::snprintf(
-      buffer, sizeof(buffer), "%.3f-%.3f s", options->t_start, options->t_end);
   return "no maneuver detected: fitting the longest gap-free stretch of " +
-         where + ", " + buffer +
+         where + ", " + FormatFixed(options->t_start, 3) + "-" +
+         FormatFixed(options->t_end, 3) + " s" +
          ", as the segment; without a maneuver r and beta are not expected "
          "to be identifiable (give --t_start/--t_end to choose)";
 }

@@ -1,11 +1,11 @@
 #include "imusysid/autopilot.h"
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <sstream>
 
 #include "Eigen/Dense"
+#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
 
@@ -14,17 +14,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::string Fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, value);
-  return buffer;
-}
-
-std::string General(double value, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.*g", digits, value);
-  return buffer;
-}
+// The snippet quotes a missing standard error as printf writes it ("nan").
+constexpr NonFiniteStyle kQuoted = NonFiniteStyle::kPrintf;
 
 // The (r, β) block of the fit's covariance (the kind its standard errors
 // use), β in degrees. Falls back to the standard errors without correlation
@@ -137,7 +128,7 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
     out.trim_parameter = roll ? "SENS_BOARD_X_OFF" : "SENS_BOARD_Y_OFF";
     out.trim_value = offset_deg;
     out.trim_unit = "deg";
-    out.trim_note = "add " + General(offset_deg, 3) + " deg to " +
+    out.trim_note = "add " + FormatNumber(offset_deg, 3, kQuoted) + " deg to " +
                     out.trim_parameter +
                     " (PX4 logs sensor data after the board rotation, so "
                     "this is a correction to the current value)";
@@ -145,7 +136,8 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
     out.trim_parameter = roll ? "AHRS_TRIM_X" : "AHRS_TRIM_Y";
     out.trim_value = offset_deg * kDegToRad;
     out.trim_unit = "rad";
-    out.trim_note = out.trim_parameter + " = " + General(out.trim_value, 3) +
+    out.trim_note = out.trim_parameter + " = " +
+                    FormatNumber(out.trim_value, 3, kQuoted) +
                     " rad (radians; ArduPilot logs IMU data before the AHRS "
                     "trim, so this is the whole trim, not a change)";
   }
@@ -164,29 +156,31 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
   }
   s << "# from imusysid fit of " << source << ": " << plane << " plane, model "
     << result.model << ", estimator " << result.estimator << ", OF "
-    << General(result.rmse, 4) << " m/s^2\n";
+    << FormatNumber(result.rmse, 4, kQuoted) << " m/s^2\n";
   if (out.params.empty()) {
     s << "# IMU position NOT written: " << out.withheld_reason << "\n";
   } else {
     s << "# " << axis_frame << ":\n";
     for (std::size_t i = 0; i < out.params.size(); ++i) {
       s << "#   " << out.params[i].first << " = "
-        << Fixed(out.params[i].second, 4) << " +/- "
-        << General(out.stderrs[i].second, 2) << "\n";
+        << FormatFixed(out.params[i].second, 4, kQuoted) << " +/- "
+        << FormatNumber(out.stderrs[i].second, 2, kQuoted) << "\n";
     }
   }
   s << "# " << out.omitted_axis << ": " << out.omitted_note << "\n";
-  s << "# tilt alpha = " << General(out.tilt_deg, 4) << " +/- "
-    << General(out.tilt_stderr_deg, 2) << " deg: " << out.trim_note << "\n";
+  s << "# tilt alpha = " << FormatNumber(out.tilt_deg, 4, kQuoted) << " +/- "
+    << FormatNumber(out.tilt_stderr_deg, 2, kQuoted)
+    << " deg: " << out.trim_note << "\n";
   if (px4) {
     s << "#\n# Vehicle-Id\tComponent-Id\tName\tValue\tType\n";
     for (const auto& [name, value] : out.params) {
       // Type 9: MAV_PARAM_TYPE_REAL32.
-      s << "1\t1\t" << name << "\t" << Fixed(value, 4) << "\t9\n";
+      s << "1\t1\t" << name << "\t" << FormatFixed(value, 4, kQuoted)
+        << "\t9\n";
     }
   } else {
     for (const auto& [name, value] : out.params) {
-      s << name << "," << Fixed(value, 4) << "\n";
+      s << name << "," << FormatFixed(value, 4, kQuoted) << "\n";
     }
   }
   out.snippet = s.str();

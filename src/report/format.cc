@@ -1,59 +1,58 @@
-#include <algorithm>
+#include "imusysid/format.h"
+
+#include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <sstream>
-
-#include "imusysid/report.h"
 
 namespace imusysid {
+namespace {
 
-std::string FormatNumber(double value, int digits) {
-  if (std::isnan(value)) return "n/a";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+// printf with one precision argument; every number format below is one.
+std::string Printf(const char* format, int precision, double value) {
   char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
+  std::snprintf(buf, sizeof(buf), format, precision, value);
   return buf;
 }
 
-std::string FormatRoundTrip(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buf[40];
-  for (int digits = 1; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof(buf), "%.*g", digits, value);
-    if (std::strtod(buf, nullptr) == value) break;
+}  // namespace
+
+std::string FormatNumber(double value, int digits, NonFiniteStyle style) {
+  if (style == NonFiniteStyle::kNotAvailable) {
+    if (std::isnan(value)) return "n/a";
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   }
-  return buf;
+  return Printf("%.*g", digits, value);
 }
 
-std::string FormatTable(const std::vector<std::string>& header,
-                        const std::vector<std::vector<std::string>>& rows) {
-  std::vector<std::size_t> width(header.size(), 0);
-  for (std::size_t i = 0; i < header.size(); ++i) width[i] = header[i].size();
-  for (const auto& row : rows) {
-    for (std::size_t i = 0; i < row.size() && i < width.size(); ++i) {
-      width[i] = std::max(width[i], row[i].size());
-    }
+std::string FormatFixed(double value, int decimals, NonFiniteStyle style) {
+  if (style == NonFiniteStyle::kNotAvailable) {
+    if (std::isnan(value)) return "n/a";
+    if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   }
-  std::ostringstream out;
-  auto emit = [&](const std::vector<std::string>& row) {
-    std::string line;
-    for (std::size_t i = 0; i < width.size(); ++i) {
-      const std::string cell = i < row.size() ? row[i] : "";
-      line += cell;
-      if (i + 1 < width.size())
-        line += std::string(width[i] - cell.size() + 2, ' ');
-    }
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    out << line << "\n";
-  };
-  emit(header);
-  std::vector<std::string> rule;
-  for (std::size_t w : width) rule.push_back(std::string(w, '-'));
-  emit(rule);
-  for (const auto& row : rows) emit(row);
-  return out.str();
+  return Printf("%.*f", decimals, value);
+}
+
+std::string FormatShortest(double value) {
+  char buf[64];
+  const std::to_chars_result result =
+      std::to_chars(buf, buf + sizeof(buf), value);
+  return std::string(buf, result.ptr);
+}
+
+void AppendNumber(std::string* out, double value, int digits) {
+  char buf[64];
+  // Adding +0.0 turns -0.0 into 0.0.
+  value += 0.0;
+  // to_chars with a precision is printf's "%.*g", without the locale and
+  // several times faster.
+  const std::to_chars_result result =
+      digits > 0 ? std::to_chars(buf,
+                                 buf + sizeof(buf),
+                                 value,
+                                 std::chars_format::general,
+                                 digits)
+                 : std::to_chars(buf, buf + sizeof(buf), value);
+  out->append(buf, result.ptr);
 }
 
 }  // namespace imusysid

@@ -1,12 +1,18 @@
 // A downstream program: computes the paper's CoM displacement through the
-// installed package and exits 0 when it matches (l = 0.0413 m).
+// installed package and exits 0 when it matches the paper's l.
 #include <cmath>
 #include <cstdio>
 
 #include "imusysid/displacement.h"
+#include "imusysid/paper_reference.h"
 
 int main() {
-  const auto d = imusysid::ComputeDisplacement(0.19, 56.299, 0.213, 66.066);
+  using imusysid::kPaperTest1Fit;
+  using imusysid::kPaperTest2Fit;
+  const auto d = imusysid::ComputeDisplacement(kPaperTest1Fit.r_m,
+                                               kPaperTest1Fit.beta_deg,
+                                               kPaperTest2Fit.r_m,
+                                               kPaperTest2Fit.beta_deg);
   std::printf("l = %.4f m, delta = %.2f deg\n", d.l_m, d.delta_deg);
-  return std::abs(d.l_m - 0.0413) < 5e-5 ? 0 : 1;
+  return std::abs(d.l_m - imusysid::kPaperDisplacementLM) < 5e-5 ? 0 : 1;
 }

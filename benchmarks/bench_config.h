@@ -1,0 +1,84 @@
+// What `imusysid bench` runs: the configuration (logs, models, estimators,
+// repeats, seeds, threads), the two presets, and which estimators run on a
+// model.
+
+#ifndef IMUSYSID_BENCHMARKS_BENCH_CONFIG_H_
+#define IMUSYSID_BENCHMARKS_BENCH_CONFIG_H_
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "imusysid/estimator.h"
+#include "imusysid/log.h"
+#include "imusysid/preprocess.h"
+#include "imusysid/status.h"
+
+namespace imusysid {
+namespace bench {
+
+struct BenchConfig {
+  std::string preset = "paper";
+  std::vector<std::string> logs;    // log paths
+  std::vector<std::string> models;  // "paper", "consistent"
+  // Estimator names; empty: every estimator that supports the model. Names
+  // a model does not support are skipped for that model.
+  std::vector<std::string> estimators;
+  // Per-model lists used when `estimators` is empty (the ci preset's
+  // consistent model runs only varpro and lm).
+  std::vector<std::pair<std::string, std::vector<std::string>>>
+      model_estimators;
+  int repeats = 1;  // timed repetitions of each run
+  int seeds = 0;    // Monte Carlo seeds per scenario; 0: none
+  // Monte Carlo runs only these estimators when not empty (else the above).
+  std::vector<std::string> monte_carlo_estimators;
+  int threads = 1;  // workers for independent runs
+  // Before/after pair, by log name (file stem or sidecar scenario).
+  std::string pair_before = "paper_test1";
+  std::string pair_after = "paper_test2";
+  // Runtime-versus-samples sweep: sizes; a size is skipped for an estimator
+  // whose predicted time exceeds scaling_budget_s.
+  std::vector<std::size_t> scaling_sizes;
+  double scaling_budget_s = 2.0;
+  EstimatorOptions options;  // seed, GA/LM settings; GA threads set per run
+  // How a log without a truth sidecar is read and preprocessed; empty: the
+  // CSV/ULog/DataFlash reader with its defaults and Preprocess's defaults.
+  // `imusysid bench` passes fit's own --imu/--frame/--t_start/... handling,
+  // so a real log is fitted in bench as `fit` would fit it. Simulated logs
+  // (with a sidecar) always use the experiment's settings.
+  std::function<StatusOr<FlightLog>(const std::string& path)> read_log;
+  // Returns the options and appends notes (e.g. a fallback segment).
+  std::function<StatusOr<PreprocessOptions>(const FlightLog& log,
+                                            std::vector<std::string>* notes)>
+      preprocess_options;
+  // Receives one progress line per finished run (may be called from worker
+  // threads, serialised by the runner). May be empty.
+  std::function<void(const std::string&)> progress;
+};
+
+// The configuration of a preset ("ci" or "paper"), logs under data_dir.
+StatusOr<BenchConfig> PresetConfig(const std::string& preset,
+                                   const std::string& data_dir);
+
+// Errors for a configuration RunBench cannot run: no logs, repeats < 1, one
+// Monte Carlo seed, an unknown model or estimator, invalid options.
+Status ValidateBenchConfig(const BenchConfig& config);
+
+// The estimators to run on `model`: `requested` (those that support the
+// model) or, when empty, the model's entry of `per_model`, or every estimator
+// that supports it.
+std::vector<std::string> EstimatorsFor(
+    const std::string& model,
+    const std::vector<std::string>& requested,
+    const std::vector<std::pair<std::string, std::vector<std::string>>>&
+        per_model);
+
+// Splits "a,b,c" (empty items dropped).
+std::vector<std::string> SplitList(const std::string& text);
+
+}  // namespace bench
+}  // namespace imusysid
+
+#endif  // IMUSYSID_BENCHMARKS_BENCH_CONFIG_H_

@@ -1,0 +1,36 @@
+#include "benchmarks/bench_internal.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include "imusysid/format.h"
+
+namespace imusysid {
+namespace bench {
+namespace internal {
+
+void ParallelFor(std::size_t n,
+                 int threads,
+                 const std::function<void(std::size_t)>& task) {
+  const int workers = std::max(
+      1, std::min(threads, static_cast<int>(std::max<std::size_t>(n, 1))));
+  std::atomic<std::size_t> next{0};
+  auto work = [&]() {
+    for (std::size_t i = next++; i < n; i = next++) task(i);
+  };
+  if (workers == 1) {
+    work();
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+  for (auto& t : pool) t.join();
+}
+
+std::string FormatSeconds(double s) { return FormatFixed(s, 1) + " s"; }
+
+}  // namespace internal
+}  // namespace bench
+}  // namespace imusysid

@@ -1,0 +1,43 @@
+// Everything one bench run produced: the prepared logs, the runs, the
+// displacement, Monte Carlo and scaling records, and the context. The report
+// writers (report_json.h, report_markdown.h) turn it into output.
+
+#ifndef IMUSYSID_BENCHMARKS_BENCH_REPORT_H_
+#define IMUSYSID_BENCHMARKS_BENCH_REPORT_H_
+
+#include <string>
+#include <vector>
+
+#include "benchmarks/bench_config.h"
+#include "benchmarks/bench_context.h"
+#include "benchmarks/displacement_pairs.h"
+#include "benchmarks/gbench_scaling.h"
+#include "benchmarks/monte_carlo.h"
+#include "benchmarks/prepared_log.h"
+#include "benchmarks/run_matrix.h"
+#include "benchmarks/scaling_sweep.h"
+
+namespace imusysid {
+namespace bench {
+
+struct BenchReport {
+  BenchConfig config;
+  BenchContext context;
+  std::vector<PreparedLog> logs;
+  std::vector<RunRecord> runs;
+  std::vector<DisplacementRecord> displacements;
+  bool has_pair = false;  // the before/after logs were both present
+  std::string pair_before;
+  std::string pair_after;
+  std::vector<MonteCarloRecord> monte_carlo;
+  std::vector<ScalingPoint> scaling;
+  // Google Benchmark's scaling results (1e3 … 1e7 samples), when the caller
+  // read them (`imusysid bench --scaling=...`); they feed the
+  // runtime-versus-samples figure and the Markdown scaling table.
+  GbenchScaling gbench;
+};
+
+}  // namespace bench
+}  // namespace imusysid
+
+#endif  // IMUSYSID_BENCHMARKS_BENCH_REPORT_H_

@@ -1,0 +1,152 @@
+#include "benchmarks/prepared_log.h"
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <utility>
+
+#include "benchmarks/bench_internal.h"
+#include "imusysid/log_reader.h"
+
+namespace imusysid {
+namespace bench {
+namespace {
+
+std::string Stem(const std::string& path) {
+  return std::filesystem::path(path).stem().string();
+}
+
+// Preprocesses pl->log: a log with a sidecar with the experiment's settings,
+// another as config.preprocess_options says (as `fit` would), its notes
+// first.
+StatusOr<PreprocessResult> PreprocessPrepared(const BenchConfig& config,
+                                              PreparedLog* pl) {
+  if (!config.preprocess_options || pl->truth.known) {
+    return PreprocessForBench(*pl->log, pl->truth);
+  }
+  std::vector<std::string> notes;
+  StatusOr<PreprocessOptions> po = config.preprocess_options(*pl->log, &notes);
+  if (!po.ok()) return po.status();
+  pl->plane = PlaneToString(po->plane);
+  pl->velocity = VelocitySourceToString(po->velocity_source);
+  StatusOr<PreprocessResult> result = Preprocess(*pl->log, *po);
+  if (result.ok()) {
+    result->notes.insert(result->notes.begin(), notes.begin(), notes.end());
+  }
+  return result;
+}
+
+// Reads the log at `path` and its sidecar, and preprocesses it into `pl`; the
+// first failure is left in pl->status.
+void PrepareLog(const BenchConfig& config,
+                const std::string& path,
+                PreparedLog* pl) {
+  pl->path = path;
+  pl->name = Stem(pl->path);
+  StatusOr<Truth> truth = ReadTruthSidecar(pl->path);
+  if (!truth.ok()) {
+    pl->status = truth.status();
+    return;
+  }
+  pl->truth = *truth;
+  StatusOr<FlightLog> log = config.read_log && !pl->truth.known
+                                ? config.read_log(pl->path)
+                                : ReadFlightLog(pl->path);
+  if (!log.ok()) {
+    pl->status = log.status();
+    return;
+  }
+  pl->log = std::make_shared<const FlightLog>(std::move(*log));
+  StatusOr<PreprocessResult> pre = PreprocessPrepared(config, pl);
+  if (!pre.ok()) {
+    pl->status = pre.status();
+    return;
+  }
+  pl->data = std::make_shared<const ProblemData>(std::move(pre->data));
+  pl->preprocess = std::move(*pre);
+  pl->preprocess.data = ProblemData();
+}
+
+}  // namespace
+
+PreprocessOptions BenchPreprocessOptions(const Truth& truth) {
+  PreprocessOptions o;
+  if (truth.known && truth.model_exact && std::isfinite(truth.reference_t_s)) {
+    o.t_start = truth.reference_t_s;
+    o.cutoff_hz = 0.0;
+  }
+  return o;
+}
+
+StatusOr<ProblemData> ExactRegressorProblem(const SimulatedFlight& flight) {
+  ProblemData data;
+  data.source = "model_exact (true regressors)";
+  const auto& t = flight.t_s;
+  const double t0 = flight.reference_t_s - 1e-9;
+  const double t1 = flight.maneuver_end_t_s + 1e-9;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k] < t0 || t[k] > t1) continue;
+    if (!data.t_s.empty()) {
+      const std::size_t m = data.t_s.size() - 1;
+      data.theta.push_back(data.theta[m] +
+                           0.5 * (t[k] - data.t_s[m]) *
+                               (flight.omega[k] + data.omega[m]));
+    } else {
+      data.theta.push_back(0.0);
+    }
+    data.t_s.push_back(t[k]);
+    data.f_x.push_back(flight.log.ax[k]);
+    data.f_z.push_back(flight.log.az[k]);
+    data.omega.push_back(flight.omega[k]);
+    data.omega_dot.push_back(flight.omega_dot[k]);
+    data.v.push_back(flight.v_eq7[k]);
+  }
+  if (data.size() < 10) {
+    return FailedPreconditionError(
+        "ExactRegressorProblem: fewer than 10 samples between the reference "
+        "instant and the maneuver's end");
+  }
+  IMUSYSID_RETURN_IF_ERROR(data.Validate());
+  return data;
+}
+
+StatusOr<PreprocessResult> PreprocessForBench(const FlightLog& log,
+                                              const Truth& truth) {
+  PreprocessOptions po = BenchPreprocessOptions(truth);
+  StatusOr<PreprocessResult> pre = Preprocess(log, po);
+  if (!pre.ok() && pre.status().code() == StatusCode::kFailedPrecondition &&
+      std::isfinite(truth.reference_t_s) &&
+      std::isfinite(truth.maneuver_end_t_s)) {
+    // No maneuver detected (hover_only): fit the window the truth names, so
+    // the estimators' identifiability diagnostics are exercised.
+    po.t_start = truth.reference_t_s;
+    po.t_end = truth.maneuver_end_t_s;
+    pre = Preprocess(log, po);
+    if (pre.ok()) {
+      pre->notes.push_back(
+          "no maneuver detected; fitted the truth sidecar's window");
+    }
+  }
+  return pre;
+}
+
+std::vector<PreparedLog> PrepareLogs(const BenchConfig& config) {
+  std::vector<PreparedLog> logs(config.logs.size());
+  internal::ParallelFor(config.logs.size(), config.threads, [&](std::size_t i) {
+    PrepareLog(config, config.logs[i], &logs[i]);
+  });
+  return logs;
+}
+
+const PreparedLog* FindLog(const std::vector<PreparedLog>& logs,
+                           const std::string& name) {
+  for (const auto& pl : logs) {
+    if (pl.name == name || (pl.truth.known && pl.truth.scenario == name)) {
+      return &pl;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace bench
+}  // namespace imusysid
