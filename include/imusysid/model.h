@@ -1,14 +1,16 @@
 // The measurement-model side: the preprocessed samples a fit consumes
 // (ProblemData), the Model interface that turns a parameter vector into
-// residuals, and the factory that builds a model by name.
+// residuals and the registry that builds a model by name.
 
 #ifndef IMUSYSID_MODEL_H_
 #define IMUSYSID_MODEL_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "Eigen/Core"
@@ -58,7 +60,7 @@ class Model {
   Model(const Model&) = delete;
   Model& operator=(const Model&) = delete;
 
-  // Registry key: "paper", "consistent".
+  // Registry key (ModelRegistry).
   virtual std::string_view name() const = 0;
   // The first four parameters are always (r, β, α, μ) at kR..kMu.
   virtual const std::vector<ParameterInfo>& parameter_info() const = 0;
@@ -106,11 +108,64 @@ struct ModelOptions {
   bool use_measured_fz = false;
 };
 
-// Names of the built-in models, in a fixed order.
+// What a front end needs to know about a model before it has data to build
+// one on.
+struct ModelDescription {
+  std::string summary;  // one line for --help
+  // True when the prediction uses ProblemData::v (the velocity preprocessing
+  // made, or the log's); false when the model integrates its own from the IMU
+  // and so needs the raw log behind the data.
+  bool uses_data_velocity = true;
+};
+
+// Builds a model over valid data (the registry validates them first).
+// FailedPrecondition if the data lack what the model needs.
+using ModelFactory = std::function<StatusOr<std::unique_ptr<Model>>(
+    std::shared_ptr<const ProblemData> data, const ModelOptions& options)>;
+
+// Model names → factories, like EstimatorRegistry (registry.h) for
+// estimators. Declared here rather than in registry.h so that the model side
+// does not depend on the estimators (src/ never includes estimators/).
+// Built-in models are registered explicitly in RegisterBuiltinModels.
+class ModelRegistry {
+ public:
+  // Adds a model. Registering a name twice is a programmer error (CHECK).
+  void Register(std::string name,
+                ModelDescription description,
+                ModelFactory factory);
+  // InvalidArgument when `data` is null or fails ProblemData::Validate;
+  // NotFound, listing the valid names, for an unknown name; else the
+  // factory's result.
+  StatusOr<std::unique_ptr<Model>> Create(
+      std::string_view name,
+      std::shared_ptr<const ProblemData> data,
+      const ModelOptions& options = {}) const;
+  // Names in registration order.
+  std::vector<std::string> Names() const;
+  // NotFound, listing the valid names, for an unknown name.
+  StatusOr<ModelDescription> Describe(std::string_view name) const;
+
+ private:
+  struct Entry {
+    std::string name;
+    ModelDescription description;
+    ModelFactory factory;
+  };
+  Status UnknownName(std::string_view name) const;
+
+  std::vector<Entry> entries_;
+};
+
+// Registers paper and consistent (src/models/models.cc).
+void RegisterBuiltinModels(ModelRegistry* registry);
+
+// A registry holding the built-in models, built once (thread-safe).
+const ModelRegistry& BuiltinModels();
+
+// BuiltinModels().Names().
 std::vector<std::string> ModelNames();
 
-// Builds the named model over `data`. NotFound lists the valid names;
-// FailedPrecondition if the data lack what the model needs.
+// BuiltinModels().Create(name, data, options).
 StatusOr<std::unique_ptr<Model>> CreateModel(
     std::string_view name,
     std::shared_ptr<const ProblemData> data,
