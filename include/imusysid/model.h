@@ -1,6 +1,7 @@
 // The measurement-model side: the preprocessed samples a fit consumes
 // (ProblemData), the Model interface that turns a parameter vector into
-// residuals and the registry that builds a model by name.
+// residuals, the capabilities a model may declare (LinearStructure,
+// compressed residuals) and the registry that builds a model by name.
 
 #ifndef IMUSYSID_MODEL_H_
 #define IMUSYSID_MODEL_H_
@@ -49,6 +50,68 @@ struct ParameterInfo {
   bool nuisance = false;  // not one of the four physical parameters
 };
 
+// A capability a model may declare (Model::linear_structure()): once its few
+// nonlinear parameters p are fixed, the prediction is linear in m
+// coefficients b. Separable least squares, the setting of variable
+// projection:
+//   residuals(x) = target(p) − A(p) b,   target = f_x − offset(p),
+//   x = ParametersFromCoefficients(b, p).
+// Estimators that exploit it (linear, varpro) ask for the capability instead
+// of naming models. The paper model has no nonlinear parameters (b is the a
+// of docs/model.md, "linear in disguise"); the consistent model's are
+// (μ, c0, c1). Immutable and thread-safe like the Model that owns it.
+class LinearStructure {
+ public:
+  virtual ~LinearStructure() = default;
+
+  // Indices into the model's parameter vector of p, in the order the methods
+  // below take them. Empty when the prediction is linear in b outright; the
+  // `p` arguments may then be null.
+  virtual const std::vector<int>& nonlinear_parameters() const = 0;
+  int num_nonlinear() const {
+    return static_cast<int>(nonlinear_parameters().size());
+  }
+  // m, the number of linear coefficients.
+  virtual int num_coefficients() const = 0;
+
+  // Fills A(p) (n × m) and target(p) (n). With `d_a` and `d_target` (both or
+  // neither), also their derivatives with respect to p: (*d_a)[j] (n × m) is
+  // ∂A/∂p_j and column j of *d_target (n × q) is ∂target/∂p_j, exact for the
+  // model's discretisation. Outputs are resized only when their size differs,
+  // so callers may reuse them across calls without allocating. Returns false
+  // where the model's residuals would (non-finite values).
+  virtual bool LinearSystem(const double* p,
+                            Eigen::MatrixXd* a,
+                            Eigen::VectorXd* target,
+                            std::vector<Eigen::MatrixXd>* d_a = nullptr,
+                            Eigen::MatrixXd* d_target = nullptr) const = 0;
+
+  // The (m+1) × (m+1) upper-triangular factor R of [A target] at p, so that
+  // ‖target − A b‖² = ‖R₁₁ b − z‖² + R(m, m)² with R₁₁ = R(0:m, 0:m) and
+  // z = R(0:m, m): the least squares in b on an (m+1)-square system, with
+  // the column norms of A in those of R₁₁. False as LinearSystem.
+  virtual bool TriangularFactor(const double* p, Eigen::MatrixXd* r) const = 0;
+
+  // b at the full parameter vector x.
+  virtual Eigen::VectorXd CoefficientsFromParameters(const double* x) const = 0;
+  // The full parameter vector for coefficients b at p. FailedPrecondition,
+  // with the model's explanation, when no parameter vector gives b (an offset
+  // no sensor tilt explains: the "a1_exceeds_g" case) or b is not finite.
+  virtual StatusOr<Eigen::VectorXd> ParametersFromCoefficients(
+      const Eigen::VectorXd& b, const double* p) const = 0;
+  // The index of the coefficient that is parameter `parameter` itself (so a
+  // bound on that parameter is a bound on the coefficient: the paper model's
+  // μ), or −1.
+  virtual int CoefficientOfParameter(int parameter) const = 0;
+};
+
+// TriangularFactor by one Householder QR of [A target] formed by
+// LinearSystem: for structures without a cheaper streamed form. O(n m²) time
+// and O(n m) memory.
+bool DenseTriangularFactor(const LinearStructure& structure,
+                           const double* p,
+                           Eigen::MatrixXd* r);
+
 // A measurement model bound to one ProblemData. Residuals are
 // r_k = f_x,k − prediction_k(x) for k = 0..num_residuals()−1, and the cost is
 // ½ Σ r_k² (the Ceres convention; the paper's OF is sqrt(2·cost/n)).
@@ -89,6 +152,10 @@ class Model {
   virtual bool CompressedResiduals(const double* x,
                                    double* residuals,
                                    double* jacobian) const;
+
+  // The model's separable form (LinearStructure), or null when it has none
+  // (the default).
+  virtual const LinearStructure* linear_structure() const { return nullptr; }
 
   const ProblemData& data() const { return *data_; }
   const std::shared_ptr<const ProblemData>& shared_data() const {

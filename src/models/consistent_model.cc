@@ -469,6 +469,48 @@ bool ConsistentModel::LinearSystem(double mu,
                                                   doff);
 }
 
+bool ConsistentModel::LinearSystem(const double* p,
+                                   Eigen::MatrixXd* a,
+                                   Eigen::VectorXd* target,
+                                   std::vector<Eigen::MatrixXd>* d_a,
+                                   Eigen::MatrixXd* d_target) const {
+  CHECK(p != nullptr);
+  CHECK((d_a == nullptr) == (d_target == nullptr))
+      << "d_a and d_target go together";
+  if (d_a == nullptr) return LinearSystem(p[0], p[1], p[2], a, target);
+  Eigen::MatrixXd d_fz;
+  Eigen::MatrixXd d_offset;
+  if (!LinearSystem(p[0], p[1], p[2], a, target, &d_fz, &d_offset)) {
+    return false;
+  }
+  const Eigen::Index n = a->rows();
+  d_a->resize(static_cast<std::size_t>(d_fz.cols()));
+  for (Eigen::Index j = 0; j < d_fz.cols(); ++j) {
+    Eigen::MatrixXd& d = (*d_a)[static_cast<std::size_t>(j)];
+    d.setZero(n, a->cols());
+    d.col(0) = d_fz.col(j);
+  }
+  *d_target = -d_offset;  // target = f_x − offset
+  return true;
+}
+
+bool ConsistentModel::TriangularFactor(const double* p,
+                                       Eigen::MatrixXd* r) const {
+  return DenseTriangularFactor(*this, p, r);
+}
+
+Eigen::VectorXd ConsistentModel::CoefficientsFromParameters(
+    const double* x) const {
+  return LinearCoefficients(x);
+}
+
+StatusOr<Eigen::VectorXd> ConsistentModel::ParametersFromCoefficients(
+    const Eigen::VectorXd& b, const double* p) const {
+  CHECK_EQ(b.size(), 3);
+  CHECK(p != nullptr);
+  return ParametersFromLinear(Eigen::Vector3d(b), p[0], p[1], p[2]);
+}
+
 Eigen::Vector3d ConsistentModel::LinearCoefficients(const double* x) {
   const double bma = (x[kBeta] - x[kAlpha]) * kDegToRad;
   return {std::sin(x[kAlpha] * kDegToRad),

@@ -1,10 +1,12 @@
 #include "imusysid/problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <utility>
 
+#include "Eigen/QR"
 #include "glog/logging.h"
 
 namespace imusysid {
@@ -47,6 +49,27 @@ Status ProblemData::Validate() const {
     }
   }
   return Status::Ok();
+}
+
+bool DenseTriangularFactor(const LinearStructure& structure,
+                           const double* p,
+                           Eigen::MatrixXd* r) {
+  CHECK(r != nullptr);
+  Eigen::MatrixXd a;
+  Eigen::VectorXd target;
+  if (!structure.LinearSystem(p, &a, &target)) return false;
+  const Eigen::Index m = a.cols();
+  Eigen::MatrixXd augmented(a.rows(), m + 1);
+  augmented << a, target;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(augmented);
+  // Fewer samples than columns leave the bottom rows of R zero.
+  const Eigen::Index rows = std::min(augmented.rows(), m + 1);
+  r->setZero(m + 1, m + 1);
+  r->topRows(rows) = qr.matrixQR()
+                         .topRows(rows)
+                         .triangularView<Eigen::Upper>()
+                         .toDenseMatrix();
+  return r->allFinite();
 }
 
 Model::Model(std::shared_ptr<const ProblemData> data) : data_(std::move(data)) {
