@@ -180,6 +180,51 @@ bool Problem::CompressedResiduals(const double* x,
   return model_->CompressedResiduals(x, residuals, jacobian);
 }
 
+SeparableOutcome Problem::SeparablePoint(const double* p,
+                                         const CoefficientSolve& solve,
+                                         Eigen::VectorXd* x) const {
+  const LinearStructure* structure = model_->linear_structure();
+  CHECK(structure != nullptr)
+      << "model '" << model_->name() << "' has no linear structure";
+  CHECK(x != nullptr);
+  Eigen::VectorXd b;
+  if (!solve(*structure, p, &b)) return SeparableOutcome::kNotEvaluable;
+  StatusOr<Eigen::VectorXd> full = structure->ParametersFromCoefficients(b, p);
+  if (!full.ok()) return SeparableOutcome::kNoParameters;
+  *x = std::move(full).value();
+  return SeparableOutcome::kOk;
+}
+
+SeparableOutcome Problem::SeparableResiduals(const double* p,
+                                             const CoefficientSolve& solve,
+                                             Eigen::VectorXd* x,
+                                             double* residuals,
+                                             double* jacobian) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  const SeparableOutcome outcome = SeparablePoint(p, solve, x);
+  if (outcome != SeparableOutcome::kOk) return outcome;
+  if (jacobian != nullptr) {
+    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
+  }
+  return model_->Residuals(x->data(), residuals, jacobian)
+             ? SeparableOutcome::kOk
+             : SeparableOutcome::kNotEvaluable;
+}
+
+SeparableOutcome Problem::SeparableCost(const double* p,
+                                        const CoefficientSolve& solve,
+                                        Eigen::VectorXd* x,
+                                        double* cost) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  CHECK(cost != nullptr);
+  *cost = std::numeric_limits<double>::infinity();
+  const SeparableOutcome outcome = SeparablePoint(p, solve, x);
+  if (outcome != SeparableOutcome::kOk) return outcome;
+  double value = 0.0;
+  if (model_->Cost(x->data(), &value) && std::isfinite(value)) *cost = value;
+  return SeparableOutcome::kOk;
+}
+
 double Problem::CostToRmse(double cost) const {
   const int n = num_residuals();
   if (n <= 0 || !std::isfinite(cost)) {
