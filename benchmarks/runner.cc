@@ -47,13 +47,16 @@ double Median(std::vector<double> v) {
 }
 
 // Relative cost of a run, to start the long ones first (measured on
-// paper_test1: the GA family on the consistent model takes tens of seconds,
-// everything on the paper model well under one).
-double ExpectedCost(const std::string& model, const std::string& estimator) {
-  const bool consistent = model == "consistent";
-  if (estimator == "ga" || estimator == "ga+lm") return consistent ? 100 : 0.5;
-  if (estimator == "hybrid") return consistent ? 10 : 1;
-  return consistent ? 0.2 : 0.05;
+// paper_test1: the GA family on the consistent model, whose every cost is an
+// O(n) integration, takes tens of seconds; everything on the paper model,
+// whose compressed residuals and Gram-form cost are O(1), well under one).
+// `model` may be null (it could not be built: the run fails at once).
+double ExpectedCost(const Model* model, const std::string& estimator) {
+  const bool costly =
+      model != nullptr && model->num_compressed_residuals() == 0;
+  if (estimator == "ga" || estimator == "ga+lm") return costly ? 100 : 0.5;
+  if (estimator == "hybrid") return costly ? 10 : 1;
+  return costly ? 0.2 : 0.05;
 }
 
 // Runs task(i) for i in [0, n) on `threads` workers; tasks start in index
@@ -115,19 +118,23 @@ std::string MarkdownTable(const std::vector<std::string>& header,
   return out.str();
 }
 
-// The estimators to run on `model`: the configured list (those that support
-// the model) or, when empty, all that support it.
+// The estimators to run on the model named `model_name`: the configured list
+// (those that support the model) or, when empty, all that support it. With
+// `model` null (it could not be built, so support is unknown) the configured
+// list, or every estimator: each run then reports why the model failed.
 std::vector<std::string> EstimatorsFor(
-    const std::string& model,
+    const std::string& model_name,
+    const Model* model,
     const std::vector<std::string>& requested,
     const std::vector<std::pair<std::string, std::vector<std::string>>>&
         per_model) {
   const EstimatorRegistry& registry = BuiltinEstimators();
-  const std::vector<std::string> supported = registry.NamesSupporting(model);
+  const std::vector<std::string> supported =
+      model != nullptr ? registry.NamesSupporting(*model) : registry.Names();
   std::vector<std::string> wanted = requested;
   if (wanted.empty()) {
     for (const auto& entry : per_model) {
-      if (entry.first == model) wanted = entry.second;
+      if (entry.first == model_name) wanted = entry.second;
     }
   }
   if (wanted.empty()) return supported;
@@ -363,7 +370,7 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
                                    const std::string& data_dir) {
   BenchConfig c;
   c.preset = preset;
-  c.models = {"paper", "consistent"};
+  c.models = ModelNames();
   c.threads = std::max(1u, std::thread::hardware_concurrency());
   if (preset == "paper") {
     c.logs = {data_dir + "/paper_test1.csv", data_dir + "/paper_test2.csv"};
@@ -374,7 +381,15 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
          {"paper_test1", "paper_test2", "model_exact", "hover_only"}) {
       c.logs.push_back(data_dir + "/" + name + ".csv");
     }
-    c.model_estimators = {{"consistent", {"varpro", "lm"}}};
+    // Models that integrate their own velocity pay an O(n) integration per
+    // cost, which makes the GA family take tens of seconds per log: only
+    // varpro and lm on them.
+    for (const std::string& model : c.models) {
+      StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
+      if (description.ok() && !description->uses_data_velocity) {
+        c.model_estimators.push_back({model, {"varpro", "lm"}});
+      }
+    }
     c.seeds = 10;
     c.scaling_sizes = {1000, 10000, 100000};
     c.scaling_budget_s = 1.0;
@@ -445,11 +460,33 @@ StatusOr<std::vector<MonteCarloRecord>> RunMonteCarlo(
                                 std::to_string(config.seeds));
   }
   const EstimatorRegistry& registry = BuiltinEstimators();
-  // The (model, estimator) combinations, in order.
+  // The (model, estimator) combinations, in order. Which estimators fit a
+  // model is asked of the model itself, built on the first scenario's seed-1
+  // problem (what a model can do does not depend on the samples).
+  std::shared_ptr<const ProblemData> first_data;
+  if (!config.scenarios.empty()) {
+    StatusOr<SimulatorOptions> o =
+        TruthToSimulatorOptions(config.scenarios.front(), 1);
+    StatusOr<SimulatedFlight> flight =
+        o.ok() ? Simulate(*o) : StatusOr<SimulatedFlight>(o.status());
+    if (flight.ok()) {
+      StatusOr<ProblemData> pre =
+          MonteCarloProblem(*flight, config.scenarios.front(), config);
+      if (pre.ok()) {
+        first_data = std::make_shared<const ProblemData>(std::move(*pre));
+      }
+    }
+  }
   std::vector<std::pair<std::string, std::string>> combos;
   for (const auto& model : config.models) {
-    for (const auto& name :
-         EstimatorsFor(model, config.estimators, config.model_estimators)) {
+    StatusOr<std::unique_ptr<Model>> built =
+        first_data != nullptr ? CreateModel(model, first_data)
+                              : StatusOr<std::unique_ptr<Model>>(
+                                    FailedPreconditionError("no data"));
+    for (const auto& name : EstimatorsFor(model,
+                                          built.ok() ? built->get() : nullptr,
+                                          config.estimators,
+                                          config.model_estimators)) {
       combos.emplace_back(model, name);
     }
   }
@@ -759,8 +796,10 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
           status = m.status();
         }
       }
-      for (const auto& name :
-           EstimatorsFor(model, config.estimators, config.model_estimators)) {
+      for (const auto& name : EstimatorsFor(model,
+                                            built.get(),
+                                            config.estimators,
+                                            config.model_estimators)) {
         jobs.push_back({i, model, name, built, status});
       }
     }
@@ -770,8 +809,8 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(
       order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return ExpectedCost(jobs[a].model, jobs[a].estimator) >
-               ExpectedCost(jobs[b].model, jobs[b].estimator);
+        return ExpectedCost(jobs[a].built.get(), jobs[a].estimator) >
+               ExpectedCost(jobs[b].built.get(), jobs[b].estimator);
       });
   const int workers =
       std::max(1, std::min<int>(config.threads, static_cast<int>(jobs.size())));
