@@ -248,6 +248,31 @@ TEST(ConsistentModel, LinearSystemReproducesPredictionAndDerivatives) {
   }
 }
 
+TEST(ConsistentModel, VelocityIntegratesTheDragEquation) {
+  // θ constant at 10°, no drift, μ = 0.1: v̇ = g tan θ − μ v|v| tends to the
+  // terminal speed sqrt(g tan θ / μ).
+  auto data = std::make_shared<ProblemData>();
+  const double theta = 10.0 * kDegToRad;
+  for (int k = 0; k < 6000; ++k) {
+    data->t_s.push_back(0.01 * k);
+    data->theta.push_back(theta);
+    data->omega.push_back(0.0);
+    data->omega_dot.push_back(0.0);
+    data->f_x.push_back(0.0);
+    data->v.push_back(0.0);
+  }
+  auto model = MakeModel(data, false);
+  Eigen::VectorXd x(6);
+  x << 0.19, 56.0, -2.0, 0.1, 0.0, 0.0;
+  std::vector<double> v(data->size());
+  ASSERT_TRUE(model->Velocity(x.data(), v.data()));
+  const double terminal = std::sqrt(kGravity * std::tan(theta) / 0.1);
+  EXPECT_NEAR(v.back(), terminal, 1e-6 * terminal);
+  // Early on, before drag matters: v ≈ g tan θ · t.
+  EXPECT_NEAR(v[10], kGravity * std::tan(theta) * 0.1, 2e-3);
+  EXPECT_EQ(v[0], 0.0);
+}
+
 TEST(ConsistentModel, ParametersFromLinearInvertsLinearCoefficients) {
   Eigen::VectorXd x(6);
   x << 0.213, 66.066, -4.0132, 0.107, -1.0, 0.05;

@@ -139,6 +139,12 @@ class Model {
                          double* residuals,
                          double* jacobian) const = 0;
 
+  // Writes the horizontal velocity v_k (m/s) the prediction uses at x, one
+  // per sample, for plots and diagnostics. The default copies ProblemData::v
+  // (models that read the data's velocity); a model that integrates its own
+  // overrides it. Returns false where Residuals would.
+  virtual bool Velocity(const double* x, double* v) const;
+
   // ½ Σ r². The default evaluates the residuals; a model with a cheaper exact
   // path (the paper model's O(1) Gram form) overrides it.
   virtual bool Cost(const double* x, double* cost) const;

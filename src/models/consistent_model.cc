@@ -19,6 +19,7 @@ struct SampleState {
   double sin_theta = 0.0;
   double cos_theta = 1.0;
   double inv_cos_theta = 1.0;  // altitude held only
+  double v = 0.0;              // horizontal velocity, m/s
   double q = 0.0;              // v|v|
   double dq_dv = 0.0;          // 2|v|
   double v_p[3] = {0.0, 0.0, 0.0};
@@ -223,6 +224,7 @@ bool Integrate(const ProblemData& d,
     st.sin_theta = p0.s;
     st.cos_theta = p0.c;
     st.inv_cos_theta = p0.inv_c;
+    st.v = v;
     st.q = v * abs_v;
     st.dq_dv = 2.0 * abs_v;
     if (kSensitivities) st.theta_p[2] = kDegToRad * tau[k];
@@ -492,6 +494,16 @@ bool ConsistentModel::LinearSystem(const double* p,
   }
   *d_target = -d_offset;  // target = f_x − offset
   return true;
+}
+
+bool ConsistentModel::Velocity(const double* x, double* v) const {
+  CHECK(v != nullptr);
+  auto sink = [v](const SampleState& st) { v[st.k] = st.v; };
+  const double c0_rad = x[kC0] * kDegToRad;
+  const double c1_rad_s = x[kC1] * kDegToRad;
+  return use_measured_fz_
+             ? IntegrateOverGrid<true, false>(x[kMu], c0_rad, c1_rad_s, sink)
+             : IntegrateOverGrid<false, false>(x[kMu], c0_rad, c1_rad_s, sink);
 }
 
 bool ConsistentModel::TriangularFactor(const double* p,

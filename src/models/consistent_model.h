@@ -84,6 +84,8 @@ class ConsistentModel : public Model, public LinearStructure {
                  double* jacobian) const override;
   // Same pass as Residuals without storing them.
   bool Cost(const double* x, double* cost) const override;
+  // The velocity of the integration above (Heun, from v_0 = 0).
+  bool Velocity(const double* x, double* v) const override;
 
   bool use_measured_fz() const { return use_measured_fz_; }
 

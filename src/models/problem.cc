@@ -85,6 +85,12 @@ bool Model::Cost(const double* x, double* cost) const {
   return std::isfinite(*cost);
 }
 
+bool Model::Velocity(const double* /*x*/, double* v) const {
+  CHECK(v != nullptr);
+  std::copy(data_->v.begin(), data_->v.end(), v);
+  return true;
+}
+
 bool Model::CompressedResiduals(const double* /*x*/,
                                 double* /*residuals*/,
                                 double* /*jacobian*/) const {
