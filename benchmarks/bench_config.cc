@@ -15,7 +15,7 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
                                    const std::string& data_dir) {
   BenchConfig c;
   c.preset = preset;
-  c.models = {"paper", "consistent"};
+  c.models = ModelNames();
   c.threads = std::max(1u, std::thread::hardware_concurrency());
   if (preset == "paper") {
     c.logs = {data_dir + "/paper_test1.csv", data_dir + "/paper_test2.csv"};
@@ -26,7 +26,15 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
          {"paper_test1", "paper_test2", "model_exact", "hover_only"}) {
       c.logs.push_back(data_dir + "/" + name + ".csv");
     }
-    c.model_estimators = {{"consistent", {"varpro", "lm"}}};
+    // Models that integrate their own velocity pay an O(n) integration per
+    // cost, which makes the GA family take tens of seconds per log: only
+    // varpro and lm on them.
+    for (const std::string& model : c.models) {
+      StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
+      if (description.ok() && !description->uses_data_velocity) {
+        c.model_estimators.push_back({model, {"varpro", "lm"}});
+      }
+    }
     c.seeds = 10;
     c.scaling_sizes = {1000, 10000, 100000};
     c.scaling_budget_s = 1.0;
@@ -64,16 +72,18 @@ Status ValidateBenchConfig(const BenchConfig& config) {
 }
 
 std::vector<std::string> EstimatorsFor(
-    const std::string& model,
+    const std::string& model_name,
+    const Model* model,
     const std::vector<std::string>& requested,
     const std::vector<std::pair<std::string, std::vector<std::string>>>&
         per_model) {
   const EstimatorRegistry& registry = BuiltinEstimators();
-  const std::vector<std::string> supported = registry.NamesSupporting(model);
+  const std::vector<std::string> supported =
+      model != nullptr ? registry.NamesSupporting(*model) : registry.Names();
   std::vector<std::string> wanted = requested;
   if (wanted.empty()) {
     for (const auto& entry : per_model) {
-      if (entry.first == model) wanted = entry.second;
+      if (entry.first == model_name) wanted = entry.second;
     }
   }
   if (wanted.empty()) return supported;

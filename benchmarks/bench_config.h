@@ -13,6 +13,7 @@
 
 #include "imusysid/estimator.h"
 #include "imusysid/log.h"
+#include "imusysid/model.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/status.h"
 
@@ -66,11 +67,14 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
 // Monte Carlo seed, an unknown model or estimator, invalid options.
 Status ValidateBenchConfig(const BenchConfig& config);
 
-// The estimators to run on `model`: `requested` (those that support the
-// model) or, when empty, the model's entry of `per_model`, or every estimator
-// that supports it.
+// The estimators to run on the model named `model_name`: `requested` (those
+// that support the model) or, when empty, the model's entry of `per_model`,
+// or every estimator that supports it. With `model` null (it could not be
+// built, so support is unknown) the requested list, or every estimator: each
+// run then reports why the model failed.
 std::vector<std::string> EstimatorsFor(
-    const std::string& model,
+    const std::string& model_name,
+    const Model* model,
     const std::vector<std::string>& requested,
     const std::vector<std::pair<std::string, std::vector<std::string>>>&
         per_model);

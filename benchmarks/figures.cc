@@ -211,12 +211,17 @@ Status DrawRunnerScaling(const std::string& gnuplot,
     const std::string file = "runtime_" + std::to_string(i) + ".dat";
     IMUSYSID_RETURN_IF_ERROR(
         WriteText(dir, file, Table({&series[key].first, &series[key].second})));
-    const bool consistent = key.rfind("consistent", 0) == 0;
+    // One point type per model (registry order) and alternating dashes, so
+    // a model's series look alike.
+    const std::vector<std::string> models = ModelNames();
+    const std::string model = key.substr(0, key.find(" / "));
+    const auto model_index = static_cast<int>(
+        std::find(models.begin(), models.end(), model) - models.begin());
     plot += std::string(plot.empty() ? "plot " : ", ") + Quote(file) +
             " using 1:2 with linespoints lw 1.5 pt " +
-            std::to_string(consistent ? 7 : 5) + " dt " +
-            (consistent ? "1" : "2") + " lc " + std::to_string(i % 8 + 1) +
-            " title " + Quote(key);
+            std::to_string(5 + 2 * model_index) + " dt " +
+            (model_index % 2 == 0 ? "2" : "1") + " lc " +
+            std::to_string(i % 8 + 1) + " title " + Quote(key);
     ++i;
   }
   IMUSYSID_RETURN_IF_ERROR(RunGnuplot(
@@ -257,38 +262,6 @@ std::string FindGnuplot() {
     if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
   }
   return "";
-}
-
-std::vector<double> ConsistentVelocity(const ProblemData& data,
-                                       const Eigen::VectorXd& x) {
-  const std::size_t n = data.size();
-  std::vector<double> v(n, 0.0);
-  if (n == 0 || x.size() < 6) return v;
-  // θ: the data's integrated gyro (trapezoid when absent) plus the drift.
-  std::vector<double> theta_gyro = data.theta;
-  if (theta_gyro.size() != n) {
-    theta_gyro.assign(n, 0.0);
-    for (std::size_t k = 1; k < n; ++k) {
-      theta_gyro[k] =
-          theta_gyro[k - 1] + 0.5 * (data.t_s[k] - data.t_s[k - 1]) *
-                                  (data.omega[k] + data.omega[k - 1]);
-    }
-  }
-  const double mu = x[kMu];
-  const double c0 = x[4] * kDegToRad;
-  const double c1 = x[5] * kDegToRad;
-  const double g = data.gravity;
-  auto forcing = [&](std::size_t k, double vk) {
-    const double theta = theta_gyro[k] + c0 + c1 * (data.t_s[k] - data.t_s[0]);
-    return g * std::tan(theta) - mu * vk * std::abs(vk);
-  };
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    const double h = data.t_s[k + 1] - data.t_s[k];
-    const double fk = forcing(k, v[k]);
-    const double predicted = v[k] + h * fk;
-    v[k + 1] = v[k] + 0.5 * h * (fk + forcing(k + 1, predicted));
-  }
-  return v;
 }
 
 Status WriteFitFigures(const std::string& dir,
@@ -496,23 +469,38 @@ Status WriteFitFigures(const std::string& dir,
                              "model error, not noise)."});
   }
 
-  // Velocity: equation 7 (what the paper model uses), the consistent
-  // model's, and the simulator's truth.
+  // Velocity: equation 7 (what the models that read the data's velocity
+  // use), the velocity of each model that integrates its own (at its best
+  // fit), and the simulator's truth.
   {
     std::vector<const std::vector<double>*> cols = {&data->t_s, &data->v};
     std::string plot = "plot " + Quote(p + "velocity.dat") +
                        " using 1:2 with lines lw 1.5 lc 1 title 'equation 7 "
                        "(g∫sin θ)'";
-    std::vector<double> v_consistent, v_truth;
+    std::vector<std::vector<double>> v_models;
+    v_models.reserve(best_per_model.size());
+    std::vector<double> v_truth;
     int column = 3;
-    auto it = best_per_model.find("consistent");
-    if (it != best_per_model.end() && it->second->parameters.size() >= 6) {
-      v_consistent = ConsistentVelocity(*data, it->second->parameters);
-      cols.push_back(&v_consistent);
+    for (const auto& entry : best_per_model) {
+      StatusOr<ModelDescription> description =
+          BuiltinModels().Describe(entry.first);
+      if (!description.ok() || description->uses_data_velocity) continue;
+      StatusOr<std::unique_ptr<Model>> model = CreateModel(entry.first, data);
+      if (!model.ok() ||
+          entry.second->parameters.size() != (*model)->num_parameters()) {
+        continue;
+      }
+      std::vector<double> v(n);
+      if (!(*model)->Velocity(entry.second->parameters.data(), v.data())) {
+        continue;
+      }
+      v_models.push_back(std::move(v));
+      cols.push_back(&v_models.back());
       plot += ", " + Quote(p + "velocity.dat") +
-              " using 1:" + std::to_string(column++) +
-              " with lines lw 1.5 lc 2 title 'consistent model (" +
-              it->second->estimator + " fit)'";
+              " using 1:" + std::to_string(column) + " with lines lw 1.5 lc " +
+              std::to_string(column - 1) + " title '" + entry.first +
+              " model (" + entry.second->estimator + " fit)'";
+      ++column;
     }
     if (options.truth != nullptr && !options.truth->t_s.empty()) {
       const auto& tt = options.truth->t_s;

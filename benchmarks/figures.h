@@ -56,13 +56,6 @@ Status WriteFitFigures(const std::string& dir,
                        const FitFigureOptions& options,
                        std::vector<Figure>* figures = nullptr);
 
-// The velocity the consistent model integrates for parameters x (its
-// equation with altitude held, v̇ = g tan θ − μ v|v|, θ = θ_gyro + c0 +
-// c1 (t − t0), Heun's method from v = 0 at sample 0). ConsistentModel does
-// not expose its velocity, so this repeats its scheme.
-std::vector<double> ConsistentVelocity(const ProblemData& data,
-                                       const Eigen::VectorXd& x);
-
 // The bench's figures: the per-log figures of the before/after logs, and
 // runtime versus samples (log-log) from report.scaling; then index.html.
 Status WriteBenchFigures(const BenchReport& report,

@@ -33,18 +33,6 @@ struct Sample {
   double wall_ms = kNaN;
 };
 
-// The (model, estimator) combinations, in order.
-std::vector<Combo> CombosFor(const MonteCarloConfig& config) {
-  std::vector<Combo> combos;
-  for (const auto& model : config.models) {
-    for (const auto& name :
-         EstimatorsFor(model, config.estimators, config.model_estimators)) {
-      combos.emplace_back(model, name);
-    }
-  }
-  return combos;
-}
-
 StatusOr<ProblemData> MonteCarloProblem(const SimulatedFlight& flight,
                                         const Truth& truth,
                                         const MonteCarloConfig& config) {
@@ -54,6 +42,40 @@ StatusOr<ProblemData> MonteCarloProblem(const SimulatedFlight& flight,
   StatusOr<PreprocessResult> pre = PreprocessForBench(flight.log, truth);
   if (!pre.ok()) return pre.status();
   return std::move(pre->data);
+}
+
+// The (model, estimator) combinations, in order. Which estimators fit a
+// model is asked of the model itself, built on the first scenario's seed-1
+// problem (what a model can do does not depend on the samples).
+std::vector<Combo> CombosFor(const MonteCarloConfig& config) {
+  std::shared_ptr<const ProblemData> first_data;
+  if (!config.scenarios.empty()) {
+    StatusOr<SimulatorOptions> o =
+        TruthToSimulatorOptions(config.scenarios.front(), 1);
+    StatusOr<SimulatedFlight> flight =
+        o.ok() ? Simulate(*o) : StatusOr<SimulatedFlight>(o.status());
+    if (flight.ok()) {
+      StatusOr<ProblemData> pre =
+          MonteCarloProblem(*flight, config.scenarios.front(), config);
+      if (pre.ok()) {
+        first_data = std::make_shared<const ProblemData>(std::move(*pre));
+      }
+    }
+  }
+  std::vector<Combo> combos;
+  for (const auto& model : config.models) {
+    StatusOr<std::unique_ptr<Model>> built =
+        first_data != nullptr ? CreateModel(model, first_data)
+                              : StatusOr<std::unique_ptr<Model>>(
+                                    FailedPreconditionError("no data"));
+    for (const auto& name : EstimatorsFor(model,
+                                          built.ok() ? built->get() : nullptr,
+                                          config.estimators,
+                                          config.model_estimators)) {
+      combos.emplace_back(model, name);
+    }
+  }
+  return combos;
 }
 
 // Fits every combo on the flight of one scenario and noise seed; one sample

@@ -115,9 +115,6 @@ class CmaesEstimator : public Estimator {
   CmaesEstimator() = default;
 
   std::string_view name() const override { return "cmaes"; }
-  std::vector<std::string> SupportedModels() const override {
-    return ModelNames();
-  }
   // cmaes_population, cmaes_sigma0, cmaes_max_generations,
   // cmaes_f_tolerance, cmaes_x_tolerance, cmaes_max_restarts (named options;
   // see the .cc for ranges and defaults).

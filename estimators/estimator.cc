@@ -8,7 +8,6 @@
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
-#include "imusysid/registry.h"
 
 namespace imusysid {
 namespace {
@@ -158,6 +157,10 @@ std::string EstimateResult::BriefReport() const {
   return out.str();
 }
 
+bool Estimator::Supports(const Model& /*model*/) const { return true; }
+
+std::string Estimator::Requirement() const { return "any model"; }
+
 StatusOr<EstimateResult> Estimator::Estimate(
     const Problem& problem, const EstimatorOptions& options) const {
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
@@ -169,15 +172,10 @@ StatusOr<EstimateResult> Estimator::Estimate(
     IMUSYSID_RETURN_IF_ERROR(spec.apply(it->second, &scratch));
   }
   const std::string model_name(problem.model().name());
-  const auto supported = SupportedModels();
-  if (std::find(supported.begin(), supported.end(), model_name) ==
-      supported.end()) {
+  if (!Supports(problem.model())) {
     std::ostringstream msg;
     msg << "estimator '" << name() << "' cannot fit model '" << model_name
-        << "'; estimators that can:";
-    for (const auto& n : BuiltinEstimators().NamesSupporting(model_name)) {
-      msg << " " << n;
-    }
+        << "': it needs " << Requirement();
     return FailedPreconditionError(msg.str());
   }
 

@@ -139,9 +139,6 @@ class GaEstimator : public Estimator {
   GaEstimator() = default;
   std::string_view name() const override { return "ga"; }
   std::vector<OptionSpec> options() const override { return GaOptionSpecs(); }
-  std::vector<std::string> SupportedModels() const override {
-    return {"paper", "consistent"};
-  }
 
  protected:
   // RunGa without a hook.

@@ -41,9 +41,6 @@ class GaLmEstimator : public Estimator {
 
   std::string_view name() const override { return "ga+lm"; }
   std::vector<OptionSpec> options() const override;
-  std::vector<std::string> SupportedModels() const override {
-    return {"paper", "consistent"};
-  }
 
  protected:
   Status Solve(const Problem& problem,

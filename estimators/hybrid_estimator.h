@@ -53,9 +53,6 @@ class HybridEstimator : public Estimator {
 
   std::string_view name() const override { return "hybrid"; }
   std::vector<OptionSpec> options() const override;
-  std::vector<std::string> SupportedModels() const override {
-    return {"paper", "consistent"};
-  }
 
  protected:
   Status Solve(const Problem& problem,

@@ -74,9 +74,6 @@ class LmEstimator : public Estimator {
 
   std::string_view name() const override { return "lm"; }
   std::vector<OptionSpec> options() const override { return LmOptionSpecs(); }
-  std::vector<std::string> SupportedModels() const override {
-    return {"paper", "consistent"};
-  }
 
  protected:
   // RunLm from problem.initial_guess() with options.lm, max_wall_time_s and

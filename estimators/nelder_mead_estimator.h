@@ -103,9 +103,6 @@ class NelderMeadEstimator : public Estimator {
   NelderMeadEstimator() = default;
 
   std::string_view name() const override { return "nelder-mead"; }
-  std::vector<std::string> SupportedModels() const override {
-    return ModelNames();
-  }
   // nm_max_iterations, nm_initial_step, nm_x_tolerance, nm_f_tolerance,
   // nm_max_restarts (named options; see the .cc for ranges and defaults).
   std::vector<OptionSpec> options() const override;

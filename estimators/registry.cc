@@ -1,6 +1,5 @@
 #include "imusysid/registry.h"
 
-#include <algorithm>
 #include <sstream>
 
 #include "estimators/cmaes_estimator.h"
@@ -40,13 +39,10 @@ std::vector<std::string> EstimatorRegistry::Names() const {
 }
 
 std::vector<std::string> EstimatorRegistry::NamesSupporting(
-    std::string_view model) const {
+    const Model& model) const {
   std::vector<std::string> names;
   for (const auto& entry : entries_) {
-    const auto models = entry.second()->SupportedModels();
-    if (std::find(models.begin(), models.end(), model) != models.end()) {
-      names.push_back(entry.first);
-    }
+    if (entry.second()->Supports(model)) names.push_back(entry.first);
   }
   return names;
 }

@@ -3,27 +3,31 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "Eigen/Dense"
 #include "ceres/ceres.h"
 #include "glog/logging.h"
 #include "imusysid/parameters.h"
-#include "src/models/consistent_model.h"
-#include "src/models/paper_model.h"
 
 namespace imusysid {
 namespace {
 
-constexpr int kNumNonlinear = 3;  // (μ, c0, c1)
-constexpr int kNonlinearIndex[kNumNonlinear] = {kMu, kC0, kC1};
 // Fractions of μ's box tried as starting points (see the header).
 constexpr double kMuGridFractions[] = {0.0, 1.0 / 16, 1.0 / 8, 0.25, 0.5};
 
 using RowMajorMatrix =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Size of a fixed-size dimension plus one, Dynamic staying Dynamic.
+constexpr int PlusOne(int size) {
+  return size == Eigen::Dynamic ? Eigen::Dynamic : size + 1;
+}
 
 // Least squares min ‖y − M a‖ with the columns scaled to unit norm first, so
 // the pivoting and the rank decision see the geometry and not the units.
@@ -37,6 +41,15 @@ Eigen::VectorXd ScaledLeastSquares(const Eigen::MatrixXd& m,
   return scaled.colPivHouseholderQr().solve(y).cwiseQuotient(norm);
 }
 
+// m without column j.
+Eigen::MatrixXd WithoutColumn(const Eigen::MatrixXd& m, Eigen::Index j) {
+  Eigen::MatrixXd out(m.rows(), m.cols() - 1);
+  for (Eigen::Index i = 0, k = 0; i < m.cols(); ++i) {
+    if (i != j) out.col(k++) = m.col(i);
+  }
+  return out;
+}
+
 // Scaled condition number of A up to which the inner solve uses the normal
 // equations: their relative error is ≈ κ²ε ≤ 2e-10 at κ = 1e3, and one step
 // of iterative refinement brings b to the accuracy of a QR solve. Beyond it
@@ -44,40 +57,53 @@ Eigen::VectorXd ScaledLeastSquares(const Eigen::MatrixXd& m,
 // rank.
 constexpr double kMaxNormalEquationsCondition = 1e3;
 
-// The inner (linear) solve of the consistent model for fixed p = (μ, c0, c1),
-// with buffers kept between calls so an evaluation does not allocate O(n).
+// The inner (linear) solve for fixed nonlinear parameters p, with buffers
+// kept between calls so an evaluation does not allocate O(n). kM and kQ are
+// the numbers of coefficients and of nonlinear parameters when known at
+// compile time (Eigen::Dynamic otherwise).
+template <int kM, int kQ>
 class InnerSolver {
  public:
-  explicit InnerSolver(const ConsistentModel& model)
-      : model_(model),
-        n_(model.num_residuals()),
-        a_(n_, 3),
-        y_(n_),
-        work_(n_) {}
+  using SquareM = Eigen::Matrix<double, kM, kM>;
+  using VectorM = Eigen::Matrix<double, kM, 1>;
+
+  InnerSolver(const LinearStructure& structure, Eigen::Index n)
+      : structure_(structure),
+        m_(structure.num_coefficients()),
+        q_(structure.num_nonlinear()),
+        a_(n, m_),
+        y_(n),
+        work_(n),
+        p_(Eigen::VectorXd::Zero(q_)),
+        scale_(VectorM::Ones(m_)),
+        z_(VectorM::Zero(m_)),
+        b_(VectorM::Zero(m_)) {
+    gram_.resize(m_, m_);
+  }
 
   // False when the model cannot be evaluated at p or the solve is not finite.
   // Repeating the last p reuses its solve (Ceres asks for the Jacobian at the
   // point whose residuals it has just accepted).
   bool Solve(const double* p) {
-    if (valid_ && p[0] == p_[0] && p[1] == p_[1] && p[2] == p_[2]) return true;
+    if (valid_ && std::equal(p, p + q_, p_.data())) return true;
     valid_ = false;
-    p_ = Eigen::Vector3d(p[0], p[1], p[2]);
-    if (!model_.LinearSystem(p[0], p[1], p[2], &a_, &y_)) return false;
-    for (int j = 0; j < 3; ++j) {
+    for (int j = 0; j < q_; ++j) p_[j] = p[j];
+    if (!structure_.LinearSystem(p, &a_, &y_)) return false;
+    for (int j = 0; j < m_; ++j) {
       const double norm = a_.col(j).norm();
       scale_[j] = norm > 0.0 ? norm : 1.0;
       a_.col(j) /= scale_[j];
     }
     // Normal equations of the scaled A (unit diagonal), O(n) and cheap.
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < m_; ++i) {
       for (int j = 0; j <= i; ++j) {
         gram_(i, j) = gram_(j, i) = a_.col(i).dot(a_.col(j));
       }
     }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(
-        gram_, Eigen::EigenvaluesOnly);
+    const Eigen::SelfAdjointEigenSolver<SquareM> eig(gram_,
+                                                     Eigen::EigenvaluesOnly);
     const double lmin = eig.eigenvalues()[0];
-    const double lmax = eig.eigenvalues()[2];
+    const double lmax = eig.eigenvalues()[m_ - 1];
     use_qr_ = !(lmin > 0.0) || lmax > kMaxNormalEquationsCondition *
                                           kMaxNormalEquationsCondition * lmin;
     if (use_qr_) {
@@ -95,7 +121,14 @@ class InnerSolver {
     return valid_;
   }
 
-  const Eigen::Vector3d& b() const { return b_; }
+  const VectorM& b() const { return b_; }
+
+  // The CoefficientSolve the Problem's separable evaluations call.
+  bool SolveInto(const double* p, Eigen::VectorXd* b) {
+    if (!Solve(p)) return false;
+    *b = b_;
+    return true;
+  }
 
   // m ← (I − A A⁺) m: removes the component in range(A) from each column.
   void Project(Eigen::MatrixXd* m) const {
@@ -105,83 +138,62 @@ class InnerSolver {
       m->applyOnTheLeft(qr_.householderQ());
       return;
     }
-    const Eigen::Matrix3d coef = llt_.solve(a_.transpose() * (*m));
+    const Eigen::Matrix<double, kM, kQ> coef =
+        llt_.solve(a_.transpose() * (*m));
     m->noalias() -= a_ * coef;
   }
 
  private:
-  const ConsistentModel& model_;
-  Eigen::Index n_;
+  const LinearStructure& structure_;
+  int m_;
+  int q_;
   Eigen::MatrixXd a_;  // A with unit-norm columns
   Eigen::VectorXd y_;
   Eigen::VectorXd work_;
-  Eigen::Matrix3d gram_;
-  Eigen::LLT<Eigen::Matrix3d> llt_;
+  SquareM gram_;
+  Eigen::LLT<SquareM> llt_;
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr_;
   bool use_qr_ = false;
   bool valid_ = false;  // b_ holds the solve at p_
-  Eigen::Vector3d p_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d scale_ = Eigen::Vector3d::Ones();
-  Eigen::Vector3d z_ = Eigen::Vector3d::Zero();
-  Eigen::Vector3d b_ = Eigen::Vector3d::Zero();
+  Eigen::VectorXd p_;
+  VectorM scale_;
+  VectorM z_;
+  VectorM b_;
 };
 
-// Outcome of building the full parameter vector at p.
-enum class FullPoint { kOk, kModelFailed, kSinAlphaBeyondOne };
-
-// Inner solve at p and the full parameter vector x(p). On failure, still
-// counts one evaluation through the Problem at a stand-in point, because the
-// integration was paid for: with the model failing at p the model fails at any
-// b (the same θ and v), and with |sin α| > 1 the clamped b is used.
-FullPoint BuildFullPoint(const Problem& problem,
-                         InnerSolver* inner,
-                         const double* p,
-                         Eigen::VectorXd* x) {
-  if (!inner->Solve(p)) {
-    Eigen::VectorXd stand_in = Eigen::VectorXd::Zero(kNumConsistentParameters);
-    for (int j = 0; j < kNumNonlinear; ++j) stand_in[kNonlinearIndex[j]] = p[j];
-    problem.Cost(stand_in.data());
-    return FullPoint::kModelFailed;
-  }
-  StatusOr<Eigen::VectorXd> full =
-      ConsistentModel::ParametersFromLinear(inner->b(), p[0], p[1], p[2]);
-  if (!full.ok()) {
-    Eigen::Vector3d clamped = inner->b();
-    clamped[0] = std::clamp(clamped[0], -1.0, 1.0);
-    const StatusOr<Eigen::VectorXd> stand_in =
-        ConsistentModel::ParametersFromLinear(clamped, p[0], p[1], p[2]);
-    if (stand_in.ok()) problem.Cost(stand_in->data());
-    return FullPoint::kSinAlphaBeyondOne;
-  }
-  *x = std::move(full).value();
-  return FullPoint::kOk;
-}
-
-// Ceres sees the projected problem compressed to four residuals r̃ with a
-// 4 × 3 Jacobian J̃ chosen so that ‖r̃‖² = ‖r‖², J̃ᵀJ̃ = JᵀJ and J̃ᵀr̃ = Jᵀr:
-// everything LM uses (cost, gradient, Gauss-Newton matrix, model decrease) is
-// then that of the full n-residual problem, while Ceres's own O(n) buffers,
-// copies and factorizations disappear.
-constexpr int kCompressedResiduals = kNumNonlinear + 1;
-
+// Ceres sees the projected problem compressed to q + 1 residuals r̃ with a
+// (q + 1) × q Jacobian J̃ chosen so that ‖r̃‖² = ‖r‖², J̃ᵀJ̃ = JᵀJ and
+// J̃ᵀr̃ = Jᵀr: everything LM uses (cost, gradient, Gauss-Newton matrix, model
+// decrease) is then that of the full n-residual problem, while Ceres's own
+// O(n) buffers, copies and factorizations disappear.
+//
 // r(p) = y' − A b(p), evaluated as the model's residuals at x(p) through the
-// Problem (so it is counted), with the Kaufman Jacobian J = P⊥ ∂r/∂p|_b.
-// Compression (G = JᵀJ = V Λ Vᵀ, g = Jᵀr, s = rᵀr):
+// Problem's separable evaluation (so it is counted), with the Kaufman
+// Jacobian J = P⊥ ∂r/∂p|_b. Compression (G = JᵀJ = V Λ Vᵀ, g = Jᵀr, s = rᵀr):
 //   with Jacobian:    J̃ = [Λ^½ Vᵀ; 0],  r̃ = [Λ^-½ Vᵀ g; √(s − ‖Λ^-½ Vᵀ g‖²)]
-//   residuals only:   r̃ = (√s, 0, 0, 0)
+//   residuals only:   r̃ = (√s, 0, …, 0)
 // (eigenvalues below ε·λ_max count as zero: g has no component there).
+template <int kM, int kQ>
 class ProjectedResidual final : public ceres::CostFunction {
  public:
-  ProjectedResidual(const Problem& problem, const ConsistentModel& model)
+  using SquareQ = Eigen::Matrix<double, kQ, kQ>;
+  using VectorQ = Eigen::Matrix<double, kQ, 1>;
+
+  ProjectedResidual(const Problem& problem, const LinearStructure& structure)
       : problem_(problem),
-        n_(model.num_residuals()),
-        inner_(model),
-        x_(kNumConsistentParameters),
+        nonlinear_(structure.nonlinear_parameters()),
+        q_(structure.num_nonlinear()),
+        n_(problem.num_residuals()),
+        inner_(structure, n_),
+        solve_([this](const LinearStructure& /*structure*/,
+                      const double* p,
+                      Eigen::VectorXd* b) { return inner_.SolveInto(p, b); }),
+        x_(problem.num_parameters()),
         residuals_(n_),
-        full_jacobian_(n_, kNumConsistentParameters),
-        nonlinear_jacobian_(n_, kNumNonlinear) {
-    set_num_residuals(kCompressedResiduals);
-    mutable_parameter_block_sizes()->push_back(kNumNonlinear);
+        full_jacobian_(n_, problem.num_parameters()),
+        nonlinear_jacobian_(n_, q_) {
+    set_num_residuals(q_ + 1);
+    mutable_parameter_block_sizes()->push_back(q_);
   }
 
   bool Evaluate(double const* const* parameters,
@@ -191,49 +203,47 @@ class ProjectedResidual final : public ceres::CostFunction {
     double* jacobian = jacobians != nullptr && jacobians[0] != nullptr
                            ? jacobians[0]
                            : nullptr;
-    if (BuildFullPoint(problem_, &inner_, p, &x_) != FullPoint::kOk) {
-      return false;
-    }
-    if (!problem_.Residuals(
-            x_.data(),
+    if (problem_.SeparableResiduals(
+            p,
+            solve_,
+            &x_,
             residuals_.data(),
-            jacobian != nullptr ? full_jacobian_.data() : nullptr)) {
+            jacobian != nullptr ? full_jacobian_.data() : nullptr) !=
+        SeparableOutcome::kOk) {
       return false;
     }
     const double sum_sq = residuals_.squaredNorm();
     if (jacobian == nullptr) {
       residuals[0] = std::sqrt(sum_sq);
-      for (int i = 1; i < kCompressedResiduals; ++i) residuals[i] = 0.0;
+      for (int i = 1; i <= q_; ++i) residuals[i] = 0.0;
       return true;
     }
-    for (int j = 0; j < kNumNonlinear; ++j) {
-      nonlinear_jacobian_.col(j) = full_jacobian_.col(kNonlinearIndex[j]);
+    for (int j = 0; j < q_; ++j) {
+      nonlinear_jacobian_.col(j) =
+          full_jacobian_.col(nonlinear_[static_cast<std::size_t>(j)]);
     }
     inner_.Project(&nonlinear_jacobian_);
-    Eigen::Matrix3d gram;
-    Eigen::Vector3d grad;
-    for (int i = 0; i < kNumNonlinear; ++i) {
+    SquareQ gram(q_, q_);
+    VectorQ grad(q_);
+    for (int i = 0; i < q_; ++i) {
       grad[i] = nonlinear_jacobian_.col(i).dot(residuals_);
       for (int j = 0; j <= i; ++j) {
         gram(i, j) = gram(j, i) =
             nonlinear_jacobian_.col(i).dot(nonlinear_jacobian_.col(j));
       }
     }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(gram);
+    const Eigen::SelfAdjointEigenSolver<SquareQ> eig(gram);
     if (eig.info() != Eigen::Success) return false;
-    const Eigen::Vector3d lambda = eig.eigenvalues();
-    const Eigen::Matrix3d& v = eig.eigenvectors();
+    const VectorQ lambda = eig.eigenvalues();
+    const SquareQ& v = eig.eigenvectors();
     const double floor = std::numeric_limits<double>::epsilon() *
                          std::max(lambda.maxCoeff(), 0.0);
-    const Eigen::Vector3d vt_grad = v.transpose() * grad;
-    Eigen::Map<Eigen::Matrix<double,
-                             kCompressedResiduals,
-                             kNumNonlinear,
-                             Eigen::RowMajor>>
-        jac(jacobian);
+    const VectorQ vt_grad = v.transpose() * grad;
+    Eigen::Map<Eigen::Matrix<double, PlusOne(kQ), kQ, Eigen::RowMajor>> jac(
+        jacobian, q_ + 1, q_);
     jac.setZero();
     double top_sq = 0.0;
-    for (int i = 0; i < kNumNonlinear; ++i) {
+    for (int i = 0; i < q_; ++i) {
       if (lambda[i] > floor) {
         const double root = std::sqrt(lambda[i]);
         jac.row(i) = root * v.col(i).transpose();
@@ -243,15 +253,18 @@ class ProjectedResidual final : public ceres::CostFunction {
         residuals[i] = 0.0;
       }
     }
-    residuals[kNumNonlinear] = std::sqrt(std::max(sum_sq - top_sq, 0.0));
-    return std::isfinite(residuals[kNumNonlinear]) && jac.allFinite();
+    residuals[q_] = std::sqrt(std::max(sum_sq - top_sq, 0.0));
+    return std::isfinite(residuals[q_]) && jac.allFinite();
   }
 
  private:
   const Problem& problem_;
+  const std::vector<int>& nonlinear_;
+  int q_;
   Eigen::Index n_;
   // Scratch: Ceres calls Evaluate from one thread (num_threads = 1).
-  mutable InnerSolver inner_;
+  mutable InnerSolver<kM, kQ> inner_;
+  CoefficientSolve solve_;
   mutable Eigen::VectorXd x_;
   mutable Eigen::VectorXd residuals_;
   mutable RowMajorMatrix full_jacobian_;
@@ -318,44 +331,53 @@ class Monitor final : public ceres::IterationCallback {
   StopReason reason_ = StopReason::kNone;
 };
 
-Status SolvePaper(const Problem& problem,
-                  const EstimatorOptions& options,
-                  EstimateResult* result) {
-  const auto* model = dynamic_cast<const PaperModel*>(&problem.model());
-  if (model == nullptr) {
-    return InternalError("model 'paper' is not a PaperModel");
-  }
+// A model whose prediction is linear in its coefficients outright: one
+// least-squares solve on the (m+1)-square triangular factor.
+Status SolveLinear(const Problem& problem,
+                   const LinearStructure& structure,
+                   const EstimatorOptions& options,
+                   EstimateResult* result) {
   const ProblemData& d = problem.data();
-  if (d.size() < kNumPhysicalParameters) {
+  if (d.size() < static_cast<std::size_t>(problem.num_parameters())) {
     std::ostringstream msg;
-    msg << d.source << ": varpro on model 'paper' needs at least "
-        << kNumPhysicalParameters << " samples, got " << d.size();
+    msg << d.source << ": varpro on model '" << problem.model().name()
+        << "' needs at least " << problem.num_parameters() << " samples, got "
+        << d.size();
     return FailedPreconditionError(msg.str());
   }
-  // Φ = Q R₁₁ with Q orthonormal, so min ‖Φa − y‖ is min ‖R₁₁a − z‖, and
-  // dropping a column of Φ drops the same column of R₁₁: the scaled solves
-  // run on 4 × 4 instead of n × 4 (column norms are those of Φ).
-  const Eigen::Matrix<double, 5, 5> r = model->TriangularFactor();
-  const Eigen::MatrixXd r11 = r.topLeftCorner<4, 4>();
-  const Eigen::VectorXd z = r.block<4, 1>(0, 4);
-  Eigen::Vector4d a = ScaledLeastSquares(r11, z);
+  // A = Q R₁₁ with Q orthonormal, so min ‖A b − y‖ is min ‖R₁₁ b − z‖, and
+  // dropping a column of A drops the same column of R₁₁: the scaled solves
+  // run on m × m instead of n × m (column norms are those of A).
+  Eigen::MatrixXd r;
+  result->iterations = 1;
+  if (!structure.TriangularFactor(nullptr, &r)) {
+    result->termination = Termination::kFailure;
+    result->message = "the model's regressors are not finite";
+    return Status::Ok();
+  }
+  const Eigen::Index m = structure.num_coefficients();
+  const Eigen::MatrixXd r11 = r.topLeftCorner(m, m);
+  const Eigen::VectorXd z = r.block(0, m, m, 1);
+  Eigen::VectorXd b = ScaledLeastSquares(r11, z);
+  const int mu = structure.CoefficientOfParameter(kMu);
   bool mu_constrained = false;
-  if (options.linear.enforce_nonnegative_mu && a[3] < 0.0) {
+  if (options.linear.enforce_nonnegative_mu && mu >= 0 && b[mu] < 0.0) {
     // One bound: when the free optimum violates it the KKT point lies on it.
-    a.head<3>() = ScaledLeastSquares(r11.leftCols(3), z);
-    a[3] = 0.0;
+    const Eigen::VectorXd rest = ScaledLeastSquares(WithoutColumn(r11, mu), z);
+    for (Eigen::Index j = 0, k = 0; j < m; ++j)
+      b[j] = j == mu ? 0.0 : rest[k++];
     mu_constrained = true;
   }
   result->details.SetYesNo("mu_constrained", mu_constrained);
-  result->iterations = 1;
-  StatusOr<ImuParameters> params = CoefficientsToParameters(a, d.gravity);
+  StatusOr<Eigen::VectorXd> params =
+      structure.ParametersFromCoefficients(b, nullptr);
   if (!params.ok()) {
     result->termination = Termination::kFailure;
     result->message = params.status().message();
     result->warnings.push_back({"a1_exceeds_g", params.status().message()});
     return Status::Ok();
   }
-  result->parameters = params->ToVector();
+  result->parameters = std::move(params).value();
   const double cost = problem.Cost(result->parameters.data());
   if (options.record_trace) {
     TracePoint point;
@@ -372,47 +394,68 @@ Status SolvePaper(const Problem& problem,
   return Status::Ok();
 }
 
-Status SolveConsistent(const Problem& problem,
-                       const EstimatorOptions& options,
-                       EstimateResult* result) {
+// Variable projection over the structure's nonlinear parameters (see the
+// header). kM and kQ as for InnerSolver.
+template <int kM, int kQ>
+Status SolveSeparable(const Problem& problem,
+                      const LinearStructure& structure,
+                      const EstimatorOptions& options,
+                      EstimateResult* result) {
   const auto start = std::chrono::steady_clock::now();
-  const auto* model = dynamic_cast<const ConsistentModel*>(&problem.model());
-  if (model == nullptr) {
-    return InternalError("model 'consistent' is not a ConsistentModel");
-  }
   const ProblemData& d = problem.data();
-  if (d.size() < static_cast<std::size_t>(kNumConsistentParameters)) {
+  const std::string model_name(problem.model().name());
+  if (d.size() < static_cast<std::size_t>(problem.num_parameters())) {
     std::ostringstream msg;
-    msg << d.source << ": varpro on model 'consistent' needs at least "
-        << kNumConsistentParameters << " samples, got " << d.size();
+    msg << d.source << ": varpro on model '" << model_name
+        << "' needs at least " << problem.num_parameters() << " samples, got "
+        << d.size();
     return FailedPreconditionError(msg.str());
   }
   const std::int64_t evaluations_before = problem.cost_evaluations();
-  double lower[kNumNonlinear];
-  double upper[kNumNonlinear];
-  for (int j = 0; j < kNumNonlinear; ++j) {
-    lower[j] = problem.lower_bounds()[kNonlinearIndex[j]];
-    upper[j] = problem.upper_bounds()[kNonlinearIndex[j]];
+  const std::vector<int>& nonlinear = structure.nonlinear_parameters();
+  const int q = structure.num_nonlinear();
+  std::vector<double> lower(static_cast<std::size_t>(q));
+  std::vector<double> upper(static_cast<std::size_t>(q));
+  for (std::size_t j = 0; j < lower.size(); ++j) {
+    lower[j] = problem.lower_bounds()[nonlinear[j]];
+    upper[j] = problem.upper_bounds()[nonlinear[j]];
   }
 
-  // Start: c0 = c1 = 0 (clamped), μ from the grid.
-  InnerSolver inner(*model);
-  double p[kNumNonlinear] = {lower[0],
-                             std::clamp(0.0, lower[1], upper[1]),
-                             std::clamp(0.0, lower[2], upper[2])};
+  // Start: every nonlinear parameter at 0 (clamped), μ from the grid when it
+  // is one of them.
+  std::vector<double> p(static_cast<std::size_t>(q));
+  for (std::size_t j = 0; j < p.size(); ++j) {
+    p[j] = std::clamp(0.0, lower[j], upper[j]);
+  }
+  const auto mu_it = std::find(nonlinear.begin(), nonlinear.end(), kMu);
+  const bool grid_over_mu = mu_it != nonlinear.end();
+  const auto g = static_cast<std::size_t>(mu_it - nonlinear.begin());
+  const std::vector<double> fractions =
+      grid_over_mu ? std::vector<double>(std::begin(kMuGridFractions),
+                                         std::end(kMuGridFractions))
+                   : std::vector<double>{0.0};
+  InnerSolver<kM, kQ> inner(structure, problem.num_residuals());
+  const CoefficientSolve solve = [&inner](const LinearStructure& /*structure*/,
+                                          const double* point,
+                                          Eigen::VectorXd* b) {
+    return inner.SolveInto(point, b);
+  };
   double best_cost = std::numeric_limits<double>::infinity();
-  double best_mu = lower[0];
+  double best_mu = grid_over_mu ? lower[g] : 0.0;
   bool sin_alpha_beyond_one = false;
   Eigen::VectorXd x;
-  for (double fraction : kMuGridFractions) {
-    p[0] = lower[0] + fraction * (upper[0] - lower[0]);
-    const FullPoint point = BuildFullPoint(problem, &inner, p, &x);
-    if (point == FullPoint::kSinAlphaBeyondOne) sin_alpha_beyond_one = true;
-    if (point != FullPoint::kOk) continue;
-    const double cost = problem.Cost(x.data());
+  for (double fraction : fractions) {
+    if (grid_over_mu) p[g] = lower[g] + fraction * (upper[g] - lower[g]);
+    double cost = 0.0;
+    const SeparableOutcome outcome =
+        problem.SeparableCost(p.data(), solve, &x, &cost);
+    if (outcome == SeparableOutcome::kNoParameters) {
+      sin_alpha_beyond_one = true;
+    }
+    if (outcome != SeparableOutcome::kOk) continue;
     if (cost < best_cost) {
       best_cost = cost;
-      best_mu = p[0];
+      if (grid_over_mu) best_mu = p[g];
     }
     if (options.record_trace) {
       TracePoint trace_point;
@@ -435,32 +478,36 @@ Status SolveConsistent(const Problem& problem,
           "starting mu: no tilt explains the x specific-force offset";
       result->warnings.push_back({"a1_exceeds_g", result->message});
     } else {
-      result->message =
-          "the consistent model cannot be evaluated at any starting mu "
-          "(non-finite velocity or |theta| >= 90 deg)";
+      result->message = "the " + model_name +
+                        " model cannot be evaluated at any starting mu "
+                        "(non-finite velocity or |theta| >= 90 deg)";
     }
     return Status::Ok();
   }
-  p[0] = best_mu;
   result->initial_cost = best_cost;
-  result->details.Set("start_mu", best_mu);
+  if (grid_over_mu) {
+    p[g] = best_mu;
+    result->details.Set("start_mu", best_mu);
+  }
   result->details.Set("jacobian", "kaufman");
 
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
-  ProjectedResidual cost_function(problem, *model);
-  ceres_problem.AddResidualBlock(&cost_function, nullptr, p);
-  for (int j = 0; j < kNumNonlinear; ++j) {
-    ceres_problem.SetParameterLowerBound(p, j, lower[j]);
-    ceres_problem.SetParameterUpperBound(p, j, upper[j]);
+  ProjectedResidual<kM, kQ> cost_function(problem, structure);
+  ceres_problem.AddResidualBlock(&cost_function, nullptr, p.data());
+  for (int j = 0; j < q; ++j) {
+    ceres_problem.SetParameterLowerBound(
+        p.data(), j, lower[static_cast<std::size_t>(j)]);
+    ceres_problem.SetParameterUpperBound(
+        p.data(), j, upper[static_cast<std::size_t>(j)]);
   }
   Monitor monitor(
       problem, options, start, evaluations_before, best_cost, result);
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;  // 4 × 3: any is cheap
+  solver_options.linear_solver_type = ceres::DENSE_QR;  // (q+1) × q: cheap
   solver_options.max_num_iterations = options.lm.max_iterations;
   solver_options.function_tolerance = options.lm.function_tolerance;
   solver_options.gradient_tolerance = options.lm.gradient_tolerance;
@@ -496,15 +543,22 @@ Status SolveConsistent(const Problem& problem,
   result->message = "ceres: " + summary.message;
 
   // Bookkeeping, not search: the inner solve at the returned p is repeated
-  // directly on the model (uncounted), like FinalizeResult's evaluation.
-  if (!inner.Solve(p)) {
+  // directly on the structure (uncounted), like FinalizeResult's evaluation.
+  if (!inner.Solve(p.data())) {
+    std::string names;
+    for (int index : nonlinear) {
+      names += (names.empty() ? "" : ", ") +
+               problem.model()
+                   .parameter_info()[static_cast<std::size_t>(index)]
+                   .name;
+    }
     result->termination = Termination::kFailure;
     result->message =
-        "the model cannot be evaluated at the returned (mu, c0, c1)";
+        "the model cannot be evaluated at the returned (" + names + ")";
     return Status::Ok();
   }
   StatusOr<Eigen::VectorXd> full =
-      ConsistentModel::ParametersFromLinear(inner.b(), p[0], p[1], p[2]);
+      structure.ParametersFromCoefficients(inner.b(), p.data());
   if (!full.ok()) {
     result->termination = Termination::kFailure;
     result->message = full.status().message();
@@ -520,11 +574,28 @@ Status SolveConsistent(const Problem& problem,
 Status VarproEstimator::Solve(const Problem& problem,
                               const EstimatorOptions& options,
                               EstimateResult* result) const {
-  const std::string_view model = problem.model().name();
-  if (model == "paper") return SolvePaper(problem, options, result);
-  if (model == "consistent") return SolveConsistent(problem, options, result);
-  return FailedPreconditionError("varpro cannot fit model '" +
-                                 std::string(model) + "'");
+  const LinearStructure* structure = problem.model().linear_structure();
+  CHECK(structure != nullptr) << "Estimate checks Supports() first";
+  if (structure->num_nonlinear() == 0) {
+    return SolveLinear(problem, *structure, options, result);
+  }
+  // The consistent model's shape (3 coefficients, 3 nonlinear parameters)
+  // with fixed-size Eigen types: small solves without allocation, and the
+  // arithmetic this estimator has always had; any other shape runs the same
+  // code with dynamic sizes.
+  if (structure->num_coefficients() == 3 && structure->num_nonlinear() == 3) {
+    return SolveSeparable<3, 3>(problem, *structure, options, result);
+  }
+  return SolveSeparable<Eigen::Dynamic, Eigen::Dynamic>(
+      problem, *structure, options, result);
+}
+
+bool VarproEstimator::Supports(const Model& model) const {
+  return model.linear_structure() != nullptr;
+}
+
+std::string VarproEstimator::Requirement() const {
+  return "a model with a linear structure (separable least squares)";
 }
 
 std::unique_ptr<Estimator> NewVarproEstimator() {

@@ -385,25 +385,6 @@ TEST(BenchFigures, FitFiguresNeedOnlyTheProblemData) {
   EXPECT_NE(ReadAll(dir + "/index.html").find("fx_fit.svg"), std::string::npos);
 }
 
-TEST(BenchFigures, ConsistentVelocityIntegratesTheDragEquation) {
-  // θ constant at 10°, no drift, μ = 0.1: v̇ = g tan θ − μ v|v| tends to the
-  // terminal speed sqrt(g tan θ / μ).
-  ProblemData data;
-  const double theta = 10.0 * kDegToRad;
-  for (int k = 0; k < 6000; ++k) {
-    data.t_s.push_back(0.01 * k);
-    data.theta.push_back(theta);
-    data.omega.push_back(0.0);
-  }
-  Eigen::VectorXd x(6);
-  x << 0.19, 56.0, -2.0, 0.1, 0.0, 0.0;
-  const std::vector<double> v = ConsistentVelocity(data, x);
-  const double terminal = std::sqrt(kGravity * std::tan(theta) / 0.1);
-  EXPECT_NEAR(v.back(), terminal, 1e-6 * terminal);
-  // Early on, before drag matters: v ≈ g tan θ · t.
-  EXPECT_NEAR(v[10], kGravity * std::tan(theta) * 0.1, 2e-3);
-}
-
 }  // namespace
 }  // namespace bench
 }  // namespace imusysid

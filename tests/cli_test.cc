@@ -2,12 +2,14 @@
 // scripts depend on, exit codes, --help, and errors that name the problem.
 
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/format.h"
+#include "imusysid/model.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/registry.h"
 #include "nlohmann/json.hpp"
@@ -145,8 +147,13 @@ TEST(Cli, FitAllOnThePaperModelGivesOneObjectPerEstimator) {
   ASSERT_TRUE(j.is_array());
   // One object per registered estimator that fits the paper model, in
   // registration order: adding an estimator needs no edit here.
+  StatusOr<std::unique_ptr<Model>> paper =
+      CreateModel("paper",
+                  testing::MakeSyntheticPaperData(
+                      Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.0, 1));
+  ASSERT_TRUE(paper.ok()) << paper.status().ToString();
   const std::vector<std::string> names =
-      BuiltinEstimators().NamesSupporting("paper");
+      BuiltinEstimators().NamesSupporting(**paper);
   ASSERT_EQ(j.size(), names.size());
   for (std::size_t i = 0; i < names.size(); ++i) {
     EXPECT_EQ(j[i]["estimator"], names[i]);

@@ -174,10 +174,15 @@ Problem SmallConsistentProblem(double noise_sigma) {
   return Problem(std::shared_ptr<const Model>(std::move(model).value()));
 }
 
-TEST(CmaesEstimator, IsRegisteredForEveryModel) {
+TEST(CmaesEstimator, IsRegisteredAndFitsEveryModel) {
   const std::unique_ptr<Estimator> estimator = Create("cmaes");
   EXPECT_EQ(estimator->name(), "cmaes");
-  EXPECT_EQ(estimator->SupportedModels(), ModelNames());
+  for (const std::string& model_name : ModelNames()) {
+    StatusOr<std::unique_ptr<Model>> model = CreateModel(
+        model_name, testing::MakeSyntheticPaperData(kTruth, 0.0, 1));
+    ASSERT_TRUE(model.ok()) << model.status().ToString();
+    EXPECT_TRUE(estimator->Supports(**model)) << model_name;
+  }
 }
 
 TEST(CmaesEstimator, DeclaresItsOptionsAndSolveReadsTheSameDefaults) {

@@ -191,29 +191,35 @@ TEST(ConsistentModel, LinearSystemReproducesPredictionAndDerivatives) {
     SimOptions opt;
     opt.duration_s = 6.0;
     opt.measured_fz = measured_fz;
-    auto model_ptr = MakeModel(SimulateConsistent(Truth(), opt), measured_fz);
-    const auto& model = dynamic_cast<const ConsistentModel&>(*model_ptr);
+    auto model = MakeModel(SimulateConsistent(Truth(), opt), measured_fz);
+    const LinearStructure* structure = model->linear_structure();
+    ASSERT_NE(structure, nullptr);
+    EXPECT_THAT(structure->nonlinear_parameters(),
+                ::testing::ElementsAre(kMu, kC0, kC1));
+    EXPECT_EQ(structure->num_coefficients(), 3);
     Eigen::VectorXd x(6);
     x << 0.22, 70.0, -3.5, 0.15, 0.4, -0.02;
-    const int n = model.num_residuals();
+    const int n = model->num_residuals();
     Eigen::VectorXd res(n);
-    ASSERT_TRUE(model.Residuals(x.data(), res.data(), nullptr));
-    Eigen::MatrixXd a, d_fz, d_off;
+    ASSERT_TRUE(model->Residuals(x.data(), res.data(), nullptr));
+    Eigen::MatrixXd a, d_target;
     Eigen::VectorXd y;
-    ASSERT_TRUE(
-        model.LinearSystem(x[kMu], x[kC0], x[kC1], &a, &y, &d_fz, &d_off));
+    std::vector<Eigen::MatrixXd> d_a;
+    const double p0[3] = {x[kMu], x[kC0], x[kC1]};
+    ASSERT_TRUE(structure->LinearSystem(p0, &a, &y, &d_a, &d_target));
     ASSERT_EQ(a.rows(), n);
     ASSERT_EQ(a.cols(), 3);
+    ASSERT_EQ(d_a.size(), 3u);
     // b written out here, not through LinearCoefficients.
     const double bma = (x[kBeta] - x[kAlpha]) * kDegToRad;
     const Eigen::Vector3d b(std::sin(x[kAlpha] * kDegToRad),
                             x[kR] * std::cos(bma),
                             x[kR] * std::sin(bma));
-    EXPECT_LT((model.LinearCoefficients(x.data()) - b).norm(), 1e-15);
+    EXPECT_LT((structure->CoefficientsFromParameters(x.data()) - b).norm(),
+              1e-15);
     EXPECT_LT((y - a * b - res).cwiseAbs().maxCoeff(), 1e-12);
 
     // Derivatives against central differences (see kJacobianTolerance).
-    const double p0[3] = {x[kMu], x[kC0], x[kC1]};
     for (int j = 0; j < 3; ++j) {
       const double step = kFdStepScale * std::max(1.0, std::abs(p0[j]));
       double pp[3] = {p0[0], p0[1], p0[2]};
@@ -222,24 +228,50 @@ TEST(ConsistentModel, LinearSystemReproducesPredictionAndDerivatives) {
       pm[j] -= step;
       Eigen::MatrixXd ap, am;
       Eigen::VectorXd yp, ym;
-      ASSERT_TRUE(model.LinearSystem(pp[0], pp[1], pp[2], &ap, &yp));
-      ASSERT_TRUE(model.LinearSystem(pm[0], pm[1], pm[2], &am, &ym));
-      // offset = f_x − y, so d offset = −d y.
-      const Eigen::VectorXd fd_off = -(yp - ym) / (2.0 * step);
-      const Eigen::VectorXd fd_fz = (ap.col(0) - am.col(0)) / (2.0 * step);
+      ASSERT_TRUE(structure->LinearSystem(pp, &ap, &yp));
+      ASSERT_TRUE(structure->LinearSystem(pm, &am, &ym));
+      const Eigen::VectorXd fd_target = (yp - ym) / (2.0 * step);
+      const Eigen::MatrixXd fd_a = (ap - am) / (2.0 * step);
       for (int k = 0; k < n; ++k) {
-        EXPECT_NEAR(d_off(k, j),
-                    fd_off[k],
-                    kJacobianTolerance * std::max(1.0, std::abs(fd_off[k])));
-        EXPECT_NEAR(d_fz(k, j),
-                    fd_fz[k],
-                    kJacobianTolerance * std::max(1.0, std::abs(fd_fz[k])));
+        EXPECT_NEAR(d_target(k, j),
+                    fd_target[k],
+                    kJacobianTolerance * std::max(1.0, std::abs(fd_target[k])));
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(d_a[j](k, c),
+                      fd_a(k, c),
+                      kJacobianTolerance * std::max(1.0, std::abs(fd_a(k, c))));
+        }
       }
       if (measured_fz) {
-        EXPECT_EQ(d_fz.col(j).cwiseAbs().maxCoeff(), 0.0);
+        EXPECT_EQ(d_a[j].cwiseAbs().maxCoeff(), 0.0);
       }
     }
   }
+}
+
+TEST(ConsistentModel, VelocityIntegratesTheDragEquation) {
+  // θ constant at 10°, no drift, μ = 0.1: v̇ = g tan θ − μ v|v| tends to the
+  // terminal speed sqrt(g tan θ / μ).
+  auto data = std::make_shared<ProblemData>();
+  const double theta = 10.0 * kDegToRad;
+  for (int k = 0; k < 6000; ++k) {
+    data->t_s.push_back(0.01 * k);
+    data->theta.push_back(theta);
+    data->omega.push_back(0.0);
+    data->omega_dot.push_back(0.0);
+    data->f_x.push_back(0.0);
+    data->v.push_back(0.0);
+  }
+  auto model = MakeModel(data, false);
+  Eigen::VectorXd x(6);
+  x << 0.19, 56.0, -2.0, 0.1, 0.0, 0.0;
+  std::vector<double> v(data->size());
+  ASSERT_TRUE(model->Velocity(x.data(), v.data()));
+  const double terminal = std::sqrt(kGravity * std::tan(theta) / 0.1);
+  EXPECT_NEAR(v.back(), terminal, 1e-6 * terminal);
+  // Early on, before drag matters: v ≈ g tan θ · t.
+  EXPECT_NEAR(v[10], kGravity * std::tan(theta) * 0.1, 2e-3);
+  EXPECT_EQ(v[0], 0.0);
 }
 
 TEST(ConsistentModel, ParametersFromLinearInvertsLinearCoefficients) {

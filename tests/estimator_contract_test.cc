@@ -1,7 +1,8 @@
 // The contract every registered estimator keeps, run over
 // BuiltinEstimators().Names() × ModelNames(): the name round-trips through
-// the registry, default options validate, an unsupported model is refused with
-// the list of estimators that can fit it, the same seed gives identical
+// the registry, default options validate, an unsupported model is refused
+// with a message that says what the estimator needs (and NamesSupporting
+// agrees with Supports), the same seed gives identical
 // parameters, the trace's best cost never increases within a phase, the
 // problem counts evaluations, the solve is timed, and (paper model) the truth
 // is recovered on the standard synthetic problem. Small GA settings
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "Eigen/Dense"
+#include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/estimator.h"
 #include "imusysid/paper_reference.h"
@@ -77,22 +79,26 @@ class EstimatorContractTest
     problem_ = std::make_unique<Problem>(
         std::shared_ptr<const Model>(std::move(model).value()));
 
-    const auto models = estimator_->SupportedModels();
-    if (std::find(models.begin(), models.end(), model_name()) == models.end()) {
-      // The refusal is part of the contract; the rest does not apply.
+    if (!estimator_->Supports(problem_->model())) {
+      // The refusal is part of the contract; the rest does not apply. It
+      // names the estimator and the model and says what the estimator needs.
       StatusOr<EstimateResult> refused =
           estimator_->Estimate(*problem_, SmallGaOptions());
       ASSERT_FALSE(refused.ok());
       EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition);
       const std::string& message = refused.status().message();
-      for (const std::string& able :
-           BuiltinEstimators().NamesSupporting(model_name())) {
-        EXPECT_NE(message.find(" " + able), std::string::npos)
-            << "'" << able << "' missing from: " << message;
-      }
+      EXPECT_THAT(
+          message,
+          ::testing::HasSubstr("estimator '" + estimator_name() +
+                               "' cannot fit model '" + model_name() + "'"));
+      EXPECT_THAT(message, ::testing::HasSubstr(estimator_->Requirement()));
+      EXPECT_THAT(BuiltinEstimators().NamesSupporting(problem_->model()),
+                  ::testing::Not(::testing::Contains(estimator_name())));
       GTEST_SKIP() << estimator_name() << " does not fit " << model_name()
                    << " (refusal checked)";
     }
+    EXPECT_THAT(BuiltinEstimators().NamesSupporting(problem_->model()),
+                ::testing::Contains(estimator_name()));
   }
 
   EstimateResult Run(const EstimatorOptions& options) const {

@@ -154,10 +154,15 @@ std::shared_ptr<const Model> PaperModelOver(std::shared_ptr<ProblemData> data) {
   return MakePaperProblem(std::move(data)).shared_model();
 }
 
-TEST(NelderMeadEstimator, IsRegisteredForEveryModel) {
+TEST(NelderMeadEstimator, IsRegisteredAndFitsEveryModel) {
   const std::unique_ptr<Estimator> estimator = Create("nelder-mead");
   EXPECT_EQ(estimator->name(), "nelder-mead");
-  EXPECT_EQ(estimator->SupportedModels(), ModelNames());
+  for (const std::string& model_name : ModelNames()) {
+    StatusOr<std::unique_ptr<Model>> model = CreateModel(
+        model_name, testing::MakeSyntheticPaperData(kTruth, 0.0, 1));
+    ASSERT_TRUE(model.ok()) << model.status().ToString();
+    EXPECT_TRUE(estimator->Supports(**model)) << model_name;
+  }
 }
 
 TEST(NelderMeadEstimator, DeclaresItsOptionsAndSolveReadsTheSameDefaults) {

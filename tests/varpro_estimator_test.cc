@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "Eigen/Dense"
@@ -72,13 +73,23 @@ void ExpectNoiseFreeRecovery(const EstimateResult& result, const Truth& truth) {
   EXPECT_NEAR(x[kC1], truth.c1, kNoiseFreeC1);
 }
 
-TEST(VarproEstimator, IsRegisteredForPaperAndConsistent) {
+TEST(VarproEstimator, SupportsEveryModelWithALinearStructure) {
   auto estimator = BuiltinEstimators().Create("varpro");
   ASSERT_TRUE(estimator.ok());
   EXPECT_EQ((*estimator)->name(), "varpro");
-  EXPECT_THAT((*estimator)->SupportedModels(),
-              ::testing::UnorderedElementsAre("paper", "consistent"));
-  EXPECT_THAT(BuiltinEstimators().NamesSupporting("consistent"),
+  SimOptions opt;
+  opt.duration_s = 2.0;
+  const auto data = SimulateConsistent(Truth(), opt);
+  for (const std::string& name : ModelNames()) {
+    auto model = CreateModel(name, data);
+    ASSERT_TRUE(model.ok()) << model.status().ToString();
+    EXPECT_EQ((*estimator)->Supports(**model),
+              (*model)->linear_structure() != nullptr)
+        << name;
+  }
+  const Problem consistent = MakeProblem(data, "consistent");
+  EXPECT_TRUE((*estimator)->Supports(consistent.model()));
+  EXPECT_THAT(BuiltinEstimators().NamesSupporting(consistent.model()),
               ::testing::Contains("varpro"));
 }
 

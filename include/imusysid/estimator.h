@@ -175,7 +175,7 @@ OptionSpec NamedDoubleOption(std::string name,
 // options.seed inside Estimate, so the same inputs give the same result.
 //
 // Estimate() is the one entry point (non-virtual): it validates the options,
-// rejects a model the estimator cannot fit (listing the ones it can), times
+// rejects a model the estimator cannot fit (saying what it needs), times
 // Solve() with a steady clock, takes the evaluation counts from the Problem's
 // counters, and then computes what every result reports the same way
 // (cost, OF, standard errors, condition number, warnings). Implementations
@@ -187,8 +187,14 @@ class Estimator {
   Estimator& operator=(const Estimator&) = delete;
 
   virtual std::string_view name() const = 0;
-  // Model names this estimator can fit.
-  virtual std::vector<std::string> SupportedModels() const = 0;
+  // Whether this estimator can fit `model`, judged from the capabilities the
+  // model declares (Model::linear_structure(), ...), never from its name. The
+  // default, for estimators that only evaluate residuals and costs: any
+  // model. Estimate() rejects a model this returns false for.
+  virtual bool Supports(const Model& model) const;
+  // What Supports() asks of a model, as the end of "it needs ..." in the
+  // rejection message; "any model" for the default.
+  virtual std::string Requirement() const;
   // The tuning options this estimator reads, declared once here; front ends
   // make their flags from them. Options shared by several estimators (the GA's
   // for ga, ga+lm and hybrid) are declared by each, with the same name.

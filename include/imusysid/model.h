@@ -1,14 +1,17 @@
 // The measurement-model side: the preprocessed samples a fit consumes
 // (ProblemData), the Model interface that turns a parameter vector into
-// residuals, and the factory that builds a model by name.
+// residuals, the capabilities a model may declare (LinearStructure,
+// compressed residuals) and the registry that builds a model by name.
 
 #ifndef IMUSYSID_MODEL_H_
 #define IMUSYSID_MODEL_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "Eigen/Core"
@@ -47,6 +50,68 @@ struct ParameterInfo {
   bool nuisance = false;  // not one of the four physical parameters
 };
 
+// A capability a model may declare (Model::linear_structure()): once its few
+// nonlinear parameters p are fixed, the prediction is linear in m
+// coefficients b. Separable least squares, the setting of variable
+// projection:
+//   residuals(x) = target(p) − A(p) b,   target = f_x − offset(p),
+//   x = ParametersFromCoefficients(b, p).
+// Estimators that exploit it (linear, varpro) ask for the capability instead
+// of naming models. The paper model has no nonlinear parameters (b is the a
+// of docs/model.md, "linear in disguise"); the consistent model's are
+// (μ, c0, c1). Immutable and thread-safe like the Model that owns it.
+class LinearStructure {
+ public:
+  virtual ~LinearStructure() = default;
+
+  // Indices into the model's parameter vector of p, in the order the methods
+  // below take them. Empty when the prediction is linear in b outright; the
+  // `p` arguments may then be null.
+  virtual const std::vector<int>& nonlinear_parameters() const = 0;
+  int num_nonlinear() const {
+    return static_cast<int>(nonlinear_parameters().size());
+  }
+  // m, the number of linear coefficients.
+  virtual int num_coefficients() const = 0;
+
+  // Fills A(p) (n × m) and target(p) (n). With `d_a` and `d_target` (both or
+  // neither), also their derivatives with respect to p: (*d_a)[j] (n × m) is
+  // ∂A/∂p_j and column j of *d_target (n × q) is ∂target/∂p_j, exact for the
+  // model's discretisation. Outputs are resized only when their size differs,
+  // so callers may reuse them across calls without allocating. Returns false
+  // where the model's residuals would (non-finite values).
+  virtual bool LinearSystem(const double* p,
+                            Eigen::MatrixXd* a,
+                            Eigen::VectorXd* target,
+                            std::vector<Eigen::MatrixXd>* d_a = nullptr,
+                            Eigen::MatrixXd* d_target = nullptr) const = 0;
+
+  // The (m+1) × (m+1) upper-triangular factor R of [A target] at p, so that
+  // ‖target − A b‖² = ‖R₁₁ b − z‖² + R(m, m)² with R₁₁ = R(0:m, 0:m) and
+  // z = R(0:m, m): the least squares in b on an (m+1)-square system, with
+  // the column norms of A in those of R₁₁. False as LinearSystem.
+  virtual bool TriangularFactor(const double* p, Eigen::MatrixXd* r) const = 0;
+
+  // b at the full parameter vector x.
+  virtual Eigen::VectorXd CoefficientsFromParameters(const double* x) const = 0;
+  // The full parameter vector for coefficients b at p. FailedPrecondition,
+  // with the model's explanation, when no parameter vector gives b (an offset
+  // no sensor tilt explains: the "a1_exceeds_g" case) or b is not finite.
+  virtual StatusOr<Eigen::VectorXd> ParametersFromCoefficients(
+      const Eigen::VectorXd& b, const double* p) const = 0;
+  // The index of the coefficient that is parameter `parameter` itself (so a
+  // bound on that parameter is a bound on the coefficient: the paper model's
+  // μ), or −1.
+  virtual int CoefficientOfParameter(int parameter) const = 0;
+};
+
+// TriangularFactor by one Householder QR of [A target] formed by
+// LinearSystem: for structures without a cheaper streamed form. O(n m²) time
+// and O(n m) memory.
+bool DenseTriangularFactor(const LinearStructure& structure,
+                           const double* p,
+                           Eigen::MatrixXd* r);
+
 // A measurement model bound to one ProblemData. Residuals are
 // r_k = f_x,k − prediction_k(x) for k = 0..num_residuals()−1, and the cost is
 // ½ Σ r_k² (the Ceres convention; the paper's OF is sqrt(2·cost/n)).
@@ -58,7 +123,7 @@ class Model {
   Model(const Model&) = delete;
   Model& operator=(const Model&) = delete;
 
-  // Registry key: "paper", "consistent".
+  // Registry key (ModelRegistry).
   virtual std::string_view name() const = 0;
   // The first four parameters are always (r, β, α, μ) at kR..kMu.
   virtual const std::vector<ParameterInfo>& parameter_info() const = 0;
@@ -74,6 +139,12 @@ class Model {
                          double* residuals,
                          double* jacobian) const = 0;
 
+  // Writes the horizontal velocity v_k (m/s) the prediction uses at x, one
+  // per sample, for plots and diagnostics. The default copies ProblemData::v
+  // (models that read the data's velocity); a model that integrates its own
+  // overrides it. Returns false where Residuals would.
+  virtual bool Velocity(const double* x, double* v) const;
+
   // ½ Σ r². The default evaluates the residuals; a model with a cheaper exact
   // path (the paper model's O(1) Gram form) overrides it.
   virtual bool Cost(const double* x, double* cost) const;
@@ -87,6 +158,10 @@ class Model {
   virtual bool CompressedResiduals(const double* x,
                                    double* residuals,
                                    double* jacobian) const;
+
+  // The model's separable form (LinearStructure), or null when it has none
+  // (the default).
+  virtual const LinearStructure* linear_structure() const { return nullptr; }
 
   const ProblemData& data() const { return *data_; }
   const std::shared_ptr<const ProblemData>& shared_data() const {
@@ -106,11 +181,64 @@ struct ModelOptions {
   bool use_measured_fz = false;
 };
 
-// Names of the built-in models, in a fixed order.
+// What a front end needs to know about a model before it has data to build
+// one on.
+struct ModelDescription {
+  std::string summary;  // one line for --help
+  // True when the prediction uses ProblemData::v (the velocity preprocessing
+  // made, or the log's); false when the model integrates its own from the IMU
+  // and so needs the raw log behind the data.
+  bool uses_data_velocity = true;
+};
+
+// Builds a model over valid data (the registry validates them first).
+// FailedPrecondition if the data lack what the model needs.
+using ModelFactory = std::function<StatusOr<std::unique_ptr<Model>>(
+    std::shared_ptr<const ProblemData> data, const ModelOptions& options)>;
+
+// Model names → factories, like EstimatorRegistry (registry.h) for
+// estimators. Declared here rather than in registry.h so that the model side
+// does not depend on the estimators (src/ never includes estimators/).
+// Built-in models are registered explicitly in RegisterBuiltinModels.
+class ModelRegistry {
+ public:
+  // Adds a model. Registering a name twice is a programmer error (CHECK).
+  void Register(std::string name,
+                ModelDescription description,
+                ModelFactory factory);
+  // InvalidArgument when `data` is null or fails ProblemData::Validate;
+  // NotFound, listing the valid names, for an unknown name; else the
+  // factory's result.
+  StatusOr<std::unique_ptr<Model>> Create(
+      std::string_view name,
+      std::shared_ptr<const ProblemData> data,
+      const ModelOptions& options = {}) const;
+  // Names in registration order.
+  std::vector<std::string> Names() const;
+  // NotFound, listing the valid names, for an unknown name.
+  StatusOr<ModelDescription> Describe(std::string_view name) const;
+
+ private:
+  struct Entry {
+    std::string name;
+    ModelDescription description;
+    ModelFactory factory;
+  };
+  Status UnknownName(std::string_view name) const;
+
+  std::vector<Entry> entries_;
+};
+
+// Registers paper and consistent (src/models/models.cc).
+void RegisterBuiltinModels(ModelRegistry* registry);
+
+// A registry holding the built-in models, built once (thread-safe).
+const ModelRegistry& BuiltinModels();
+
+// BuiltinModels().Names().
 std::vector<std::string> ModelNames();
 
-// Builds the named model over `data`. NotFound lists the valid names;
-// FailedPrecondition if the data lack what the model needs.
+// BuiltinModels().Create(name, data, options).
 StatusOr<std::unique_ptr<Model>> CreateModel(
     std::string_view name,
     std::shared_ptr<const ProblemData> data,

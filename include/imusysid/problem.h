@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -19,9 +20,30 @@
 
 namespace imusysid {
 
+// How far one evaluation through the model's LinearStructure got
+// (Problem::SeparableResiduals and SeparableCost).
+enum class SeparableOutcome {
+  kOk,
+  // The coefficient solve or the model failed at p (non-finite values).
+  kNotEvaluable,
+  // The coefficients have no parameter vector
+  // (LinearStructure::ParametersFromCoefficients failed: an offset no tilt
+  // explains).
+  kNoParameters,
+};
+
+// A variable-projection estimator's inner solve: fills the linear
+// coefficients b at the nonlinear parameters p of `structure`, evaluating
+// structure.LinearSystem (or TriangularFactor) or reusing its previous solve
+// when p repeats. False when the structure cannot be evaluated at p or the
+// solve is not finite.
+using CoefficientSolve = std::function<bool(
+    const LinearStructure& structure, const double* p, Eigen::VectorXd* b)>;
+
 // A Model plus bounds, an initial guess and evaluation counters. Estimators
-// must evaluate the objective only through Cost() and Residuals() so that the
-// counts mean the same thing for every estimator (pagmo's problem::fitness).
+// must evaluate the objective only through Cost(), Residuals() and the other
+// counted entry points below so that the counts mean the same thing for
+// every estimator (pagmo's problem::fitness).
 class Problem {
  public:
   // Bounds default to the model's; the initial guess to the centre of the box.
@@ -57,6 +79,27 @@ class Problem {
                            double* residuals,
                            double* jacobian) const;
 
+  // One evaluation of the objective at the nonlinear parameters p of the
+  // model's LinearStructure (variable projection): `solve` gives the
+  // coefficients b at p, the structure maps (b, p) to the full parameter
+  // vector *x, and the model's residuals (and Jacobian when not null) are
+  // evaluated at *x. Counts one cost evaluation however far it gets (the
+  // inner solve is part of the evaluation) and, when a Jacobian is asked,
+  // one Jacobian evaluation once the model is reached. CHECKs that the model
+  // has a linear structure.
+  SeparableOutcome SeparableResiduals(const double* p,
+                                      const CoefficientSolve& solve,
+                                      Eigen::VectorXd* x,
+                                      double* residuals,
+                                      double* jacobian) const;
+  // The same with the cost at *x instead of the residuals: *cost is what
+  // Cost(*x) returns (+inf when the model cannot evaluate *x) when the
+  // outcome is kOk, else +inf. Counts one cost evaluation.
+  SeparableOutcome SeparableCost(const double* p,
+                                 const CoefficientSolve& solve,
+                                 Eigen::VectorXd* x,
+                                 double* cost) const;
+
   // The paper's OF (RMSE, m/s²) for a cost: sqrt(2·cost / n).
   double CostToRmse(double cost) const;
 
@@ -73,6 +116,11 @@ class Problem {
 
   // One cost evaluation, and one Jacobian evaluation when asked.
   void CountEvaluation(bool with_jacobian) const;
+  // The full parameter vector through the linear structure at p (uncounted:
+  // part of the separable evaluations above).
+  SeparableOutcome SeparablePoint(const double* p,
+                                  const CoefficientSolve& solve,
+                                  Eigen::VectorXd* x) const;
 
   std::shared_ptr<const Model> model_;
   Eigen::VectorXd lower_;

@@ -27,8 +27,9 @@ class EstimatorRegistry {
   StatusOr<std::unique_ptr<Estimator>> Create(std::string_view name) const;
   // Names in registration order.
   std::vector<std::string> Names() const;
-  // Names of the estimators whose SupportedModels() contains `model`.
-  std::vector<std::string> NamesSupporting(std::string_view model) const;
+  // Names, in registration order, of the estimators that can fit `model`
+  // (Estimator::Supports).
+  std::vector<std::string> NamesSupporting(const Model& model) const;
 
  private:
   std::vector<std::pair<std::string, EstimatorFactory>> entries_;

@@ -11,21 +11,45 @@
 
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
+#include "imusysid/model.h"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
+#include "src/cli/model_names.h"
 
-DEFINE_string(preset,
-              "paper",
-              "Preset: paper (the paper's experiment: paper_test1 and "
-              "paper_test2, every model x estimator) or ci (all bundled logs, "
-              "the paper model's estimators plus consistent varpro and lm, "
-              "10 Monte Carlo seeds).");
+namespace imusysid {
+namespace cli {
+namespace {
+
+// Help texts that list the registered models, built once before the flags
+// that use them are defined (gflags keeps the pointer).
+const char* PresetFlagHelp() {
+  static const std::string* const help = new std::string(
+      "Preset: paper (the paper's experiment: paper_test1 and paper_test2, "
+      "every model x estimator) or ci (all bundled logs, the " +
+      JoinNames(ModelsUsingDataVelocity(true), ", ", " and ") +
+      " model's estimators plus " +
+      JoinNames(ModelsUsingDataVelocity(false), ", ", " and ") +
+      " varpro and lm, 10 Monte Carlo seeds).");
+  return help->c_str();
+}
+
+const char* ModelsFlagHelp() {
+  static const std::string* const help = new std::string(
+      "Comma-separated models (" + JoinNames(ModelNames(), ",", ",") + ").");
+  return help->c_str();
+}
+
+}  // namespace
+}  // namespace cli
+}  // namespace imusysid
+
+DEFINE_string(preset, "paper", ::imusysid::cli::PresetFlagHelp());
 DEFINE_string(logs,
               "",
               "Comma-separated logs to fit instead of the preset's "
               "(a NAME.truth.json beside a log gives errors against truth).");
-DEFINE_string(models, "", "Comma-separated models (paper,consistent).");
+DEFINE_string(models, "", ::imusysid::cli::ModelsFlagHelp());
 DEFINE_string(estimators,
               "",
               "Comma-separated estimators (default: every estimator "
@@ -180,9 +204,11 @@ const Command& BenchCommand() {
       "Run models x estimators x logs (and Monte Carlo seeds) and compare "
       "accuracy and runtime.",
       "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
-      "[--models=paper,consistent] [--estimators=NAMES] [--repeats=N] "
-      "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
-      "[--format=table|json]",
+      "[--models=" +
+          JoinNames(ModelNames(), ",", ",") +
+          "] [--estimators=NAMES] [--repeats=N] "
+          "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
+          "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
       "API and prints\nMarkdown tables: per-run accuracy against the truth "
       "sidecar, the paper's Table I,\nthe CoM displacement paper_test1 -> "

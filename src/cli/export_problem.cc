@@ -11,6 +11,7 @@
 #include "imusysid/problem_io.h"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/cli/model_names.h"
 
 namespace imusysid {
 namespace cli {
@@ -44,7 +45,7 @@ int Run(const std::vector<std::string>& positional) {
       {"cutoff_hz", FormatShortest(po->cutoff_hz)},
       {"gyro_bias_rad_s", FormatShortest(pre->gyro_bias_rad_s)},
       {"sample_rate_hz", FormatShortest(pre->sample_rate_hz)},
-      {"model", "paper"},
+      {"model", FirstModelUsingDataVelocity(true)},
   };
   Status s = EmitOutput(FormatProblemCsv(data, metadata), FLAGS_out);
   if (!s.ok()) return ReportError(cmd, s);

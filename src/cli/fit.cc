@@ -7,6 +7,8 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
@@ -19,17 +21,65 @@
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
+#include "src/cli/model_names.h"
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+// Help texts that list what the registries hold, built once before the
+// flags that use them are defined (gflags keeps the pointer).
+const char* ModelFlagHelp() {
+  static const std::string* const help = [] {
+    std::vector<std::string> items;
+    for (const std::string& name : ModelNames()) {
+      StatusOr<ModelDescription> d = BuiltinModels().Describe(name);
+      items.push_back(name + (d.ok() ? " (" + d->summary + ")" : ""));
+    }
+    const std::vector<std::string> reads = ModelsUsingDataVelocity(true);
+    const std::string log_model = FirstModelUsingDataVelocity(true);
+    return new std::string(
+        "Model: " + JoinNames(items, ", ", " or ") + ". Default: " +
+        FirstModelUsingDataVelocity(false) + ", but " + log_model +
+        " when the velocity comes from the log (--velocity=log, auto on "
+        "ULog/DataFlash), which only " +
+        JoinNames(reads, ", ", " and ") +
+        (reads.size() > 1 ? " use." : " uses."));
+  }();
+  return help->c_str();
+}
+
+const char* EstimatorFlagHelp() {
+  static const std::string* const help = new std::string(
+      "Estimator name (" + JoinNames(BuiltinEstimators().Names(), ", ", ", ") +
+      ") or all.");
+  return help->c_str();
+}
+
+const char* MeasuredFzFlagHelp() {
+  static const std::string* const help = new std::string(
+      JoinNames(ModelsUsingDataVelocity(false), ", ", " and ") +
+      " model: integrate velocity with the measured z specific force instead "
+      "of assuming altitude hold.");
+  return help->c_str();
+}
+
+const char* ProblemFlagHelp() {
+  static const std::string* const help = new std::string(
+      "Problem CSV to fit instead of a log (from export-problem or another "
+      "pipeline; docs/problem-files.md): no preprocessing, model " +
+      JoinNames(ModelsUsingDataVelocity(true), ", ", " or ") + " only.");
+  return help->c_str();
+}
+
+}  // namespace
+}  // namespace cli
+}  // namespace imusysid
 
 DEFINE_string(model,
-              "consistent",
-              "Model: paper (equation 9 with v from equation 7) or consistent "
-              "(drag and thrust consistent, with attitude drift). Default: "
-              "consistent, but paper when the velocity comes from the log "
-              "(--velocity=log, auto on ULog/DataFlash), which only paper "
-              "uses.");
-DEFINE_string(estimator,
-              "ga+lm",
-              "Estimator name (ga, lm, ga+lm, hybrid, linear, varpro) or all.");
+              ::imusysid::cli::FirstModelUsingDataVelocity(false),
+              ::imusysid::cli::ModelFlagHelp());
+DEFINE_string(estimator, "ga+lm", ::imusysid::cli::EstimatorFlagHelp());
 DEFINE_string(bounds,
               "",
               "Override search bounds: name:lo:hi[,name:lo:hi...] with names "
@@ -46,20 +96,13 @@ DEFINE_string(covariance,
               "kernel and automatic bandwidth; allows for the correlated, "
               "filtered residuals) or white (s^2 (J^T J)^-1, assumes white "
               "residuals and understates the uncertainty on real data).");
-DEFINE_bool(use_measured_fz,
-            false,
-            "consistent model: integrate velocity with the measured z "
-            "specific force instead of assuming altitude hold.");
+DEFINE_bool(use_measured_fz, false, ::imusysid::cli::MeasuredFzFlagHelp());
 DEFINE_bool(trace, false, "Include the convergence trace in JSON output.");
 DEFINE_string(plot,
               "",
               "Write the per-log figures (SVG via gnuplot) and an index.html "
               "into this folder.");
-DEFINE_string(problem,
-              "",
-              "Problem CSV to fit instead of a log (from export-problem or "
-              "another pipeline; docs/problem-files.md): no preprocessing, "
-              "model paper only.");
+DEFINE_string(problem, "", ::imusysid::cli::ProblemFlagHelp());
 
 DEFINE_string(emit,
               "",
@@ -275,17 +318,21 @@ int Run(const std::vector<std::string>& positional) {
                       "give the log with --log=FILE (or a problem file with "
                       "--problem=P.csv)");
   }
-  // With a problem file the only model is paper, so it is the default there.
+  // A problem file holds no raw IMU to integrate: only models that read the
+  // data's velocity apply, and the first of them is the default there.
+  const std::string data_velocity_model = FirstModelUsingDataVelocity(true);
   std::string model_name =
-      from_problem && !FlagWasSet("model") ? "paper" : FLAGS_model;
-  if (from_problem && model_name == "consistent") {
+      from_problem && !FlagWasSet("model") ? data_velocity_model : FLAGS_model;
+  if (from_problem && BuiltinModels().Describe(model_name).ok() &&
+      !UsesDataVelocity(model_name)) {
     return ReportError(
         cmd,
         FailedPreconditionError(
-            "model 'consistent' cannot be fitted from a problem file: it "
-            "needs the raw log (it integrates attitude and velocity from the "
-            "IMU itself); fit the log with --log=FILE, or use --model=paper "
-            "with --problem"));
+            "model '" + model_name +
+            "' cannot be fitted from a problem file: it needs the raw log (it "
+            "integrates attitude and velocity from the IMU itself); fit the "
+            "log with --log=FILE, or use --model=" +
+            data_velocity_model + " with --problem"));
   }
   StatusOr<EstimatorOptions> options = OptionsFromFlags();
   if (!options.ok()) return ReportError(cmd, options.status());
@@ -298,10 +345,8 @@ int Run(const std::vector<std::string>& positional) {
 
   // Estimators to run, validated before any work is done.
   const EstimatorRegistry& registry = BuiltinEstimators();
-  std::vector<std::string> names;
-  if (FLAGS_estimator == "all") {
-    names = registry.NamesSupporting(model_name);
-  } else {
+  std::vector<std::string> names;  // for "all": once the model is built
+  if (FLAGS_estimator != "all") {
     StatusOr<std::unique_ptr<Estimator>> e = registry.Create(FLAGS_estimator);
     if (!e.ok()) return ReportError(cmd, e.status());
     names.push_back(FLAGS_estimator);
@@ -314,15 +359,16 @@ int Run(const std::vector<std::string>& positional) {
                    : DataFromLog(path, &context, &unidentifiable);
   if (!loaded.ok()) return ReportError(cmd, loaded.status());
   std::shared_ptr<ProblemData> data = std::move(loaded).value();
-  // Only the paper model uses the autopilot's velocity (consistent integrates
-  // its own from θ = ∫ω, which on a 3-D flight drifts far from the pitch), so
-  // a log velocity makes paper the default.
+  // Only models that read the data's velocity use the autopilot's (the
+  // others integrate their own from θ = ∫ω, which on a 3-D flight drifts far
+  // from the pitch), so a log velocity makes the first of them the default.
   if (!from_problem && !FlagWasSet("model") && context.velocity == "log" &&
-      model_name != "paper") {
-    std::cerr << "note: model paper (the default when the velocity comes "
-                 "from the log; --model=consistent ignores it)\n";
-    model_name = "paper";
-    if (FLAGS_estimator == "all") names = registry.NamesSupporting(model_name);
+      !UsesDataVelocity(model_name)) {
+    std::cerr << "note: model " << data_velocity_model
+              << " (the default when the velocity comes from the log; "
+                 "--model="
+              << model_name << " ignores it)\n";
+    model_name = data_velocity_model;
   }
   ModelOptions model_options;
   model_options.use_measured_fz = FLAGS_use_measured_fz;
@@ -332,6 +378,9 @@ int Run(const std::vector<std::string>& positional) {
   Problem problem(std::shared_ptr<const Model>(std::move(*model)));
   Status s = ApplyBounds(&problem);
   if (!s.ok()) return ReportError(cmd, s);
+  if (FLAGS_estimator == "all") {
+    names = registry.NamesSupporting(problem.model());
+  }
 
   context.log = path;
   context.t_start_s = data->t_s.front();
@@ -348,6 +397,16 @@ int Run(const std::vector<std::string>& positional) {
     std::cerr << "fitting " << model_name << " with " << name << " ("
               << data->size() << " samples)...\n";
     StatusOr<EstimateResult> r = estimator->Estimate(problem, *options);
+    if (!r.ok() && !estimator->Supports(problem.model())) {
+      std::string can;
+      for (const auto& n : registry.NamesSupporting(problem.model())) {
+        can += " " + n;
+      }
+      return ReportError(
+          cmd,
+          Status(r.status().code(),
+                 r.status().message() + "; estimators that can:" + can));
+    }
     if (!r.ok()) return ReportError(cmd, r.status());
     results.push_back(std::move(*r));
   }
@@ -406,10 +465,11 @@ const Command& FitCommand() {
       "fit",
       "Fit the IMU position, tilt and drag to a log with one or all "
       "estimators.",
-      "imusysid fit --log=FILE [--model=paper|consistent] "
-      "[--estimator=NAME|all] [--format=table|json] [--seed=N]\n"
-      "       imusysid fit --problem=P.csv [--model=paper] "
-      "[--estimator=NAME|all] [--format=table|json] [--seed=N]",
+      "imusysid fit --log=FILE [--model=" + JoinNames(ModelNames(), "|", "|") +
+          "] [--estimator=NAME|all] [--format=table|json] [--seed=N]\n"
+          "       imusysid fit --problem=P.csv [--model=" +
+          JoinNames(ModelsUsingDataVelocity(true), "|", "|") +
+          "] [--estimator=NAME|all] [--format=table|json] [--seed=N]",
       "Parameters: r (m) and beta (deg) place the IMU relative to the CoM, "
       "p = r(cos beta, sin beta)\nin the FLU body x-z plane; alpha (deg) tilts "
       "the sensor x axis toward +z; mu (1/m) is the\nquadratic drag per unit "
@@ -418,8 +478,11 @@ const Command& FitCommand() {
       "allows for correlated residuals (--covariance=white: s^2 (J^T J)^-1).\n"
       "r and beta are withheld (null) when the log cannot determine them. "
       "--problem fits a\nproblem CSV (export-problem, docs/problem-files.md) "
-      "as it is, with the paper model (the\ndefault there); consistent needs "
-      "the raw log.",
+      "as it is, with the " +
+          JoinNames(ModelsUsingDataVelocity(true), ", ", " or ") +
+          " model (the\ndefault there); " +
+          JoinNames(ModelsUsingDataVelocity(false), ", ", " and ") +
+          " needs the raw log.",
       WithLogFlags({"log", "problem", "model", "estimator", "format", "seed"},
                    {"bounds",
                     "initial",

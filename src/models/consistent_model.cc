@@ -19,6 +19,7 @@ struct SampleState {
   double sin_theta = 0.0;
   double cos_theta = 1.0;
   double inv_cos_theta = 1.0;  // altitude held only
+  double v = 0.0;              // horizontal velocity, m/s
   double q = 0.0;              // v|v|
   double dq_dv = 0.0;          // 2|v|
   double v_p[3] = {0.0, 0.0, 0.0};
@@ -223,6 +224,7 @@ bool Integrate(const ProblemData& d,
     st.sin_theta = p0.s;
     st.cos_theta = p0.c;
     st.inv_cos_theta = p0.inv_c;
+    st.v = v;
     st.q = v * abs_v;
     st.dq_dv = 2.0 * abs_v;
     if (kSensitivities) st.theta_p[2] = kDegToRad * tau[k];
@@ -467,6 +469,58 @@ bool ConsistentModel::LinearSystem(double mu,
                                                   y_minus_offset->data(),
                                                   dfz,
                                                   doff);
+}
+
+bool ConsistentModel::LinearSystem(const double* p,
+                                   Eigen::MatrixXd* a,
+                                   Eigen::VectorXd* target,
+                                   std::vector<Eigen::MatrixXd>* d_a,
+                                   Eigen::MatrixXd* d_target) const {
+  CHECK(p != nullptr);
+  CHECK((d_a == nullptr) == (d_target == nullptr))
+      << "d_a and d_target go together";
+  if (d_a == nullptr) return LinearSystem(p[0], p[1], p[2], a, target);
+  Eigen::MatrixXd d_fz;
+  Eigen::MatrixXd d_offset;
+  if (!LinearSystem(p[0], p[1], p[2], a, target, &d_fz, &d_offset)) {
+    return false;
+  }
+  const Eigen::Index n = a->rows();
+  d_a->resize(static_cast<std::size_t>(d_fz.cols()));
+  for (Eigen::Index j = 0; j < d_fz.cols(); ++j) {
+    Eigen::MatrixXd& d = (*d_a)[static_cast<std::size_t>(j)];
+    d.setZero(n, a->cols());
+    d.col(0) = d_fz.col(j);
+  }
+  *d_target = -d_offset;  // target = f_x − offset
+  return true;
+}
+
+bool ConsistentModel::Velocity(const double* x, double* v) const {
+  CHECK(v != nullptr);
+  auto sink = [v](const SampleState& st) { v[st.k] = st.v; };
+  const double c0_rad = x[kC0] * kDegToRad;
+  const double c1_rad_s = x[kC1] * kDegToRad;
+  return use_measured_fz_
+             ? IntegrateOverGrid<true, false>(x[kMu], c0_rad, c1_rad_s, sink)
+             : IntegrateOverGrid<false, false>(x[kMu], c0_rad, c1_rad_s, sink);
+}
+
+bool ConsistentModel::TriangularFactor(const double* p,
+                                       Eigen::MatrixXd* r) const {
+  return DenseTriangularFactor(*this, p, r);
+}
+
+Eigen::VectorXd ConsistentModel::CoefficientsFromParameters(
+    const double* x) const {
+  return LinearCoefficients(x);
+}
+
+StatusOr<Eigen::VectorXd> ConsistentModel::ParametersFromCoefficients(
+    const Eigen::VectorXd& b, const double* p) const {
+  CHECK_EQ(b.size(), 3);
+  CHECK(p != nullptr);
+  return ParametersFromLinear(Eigen::Vector3d(b), p[0], p[1], p[2]);
 }
 
 Eigen::Vector3d ConsistentModel::LinearCoefficients(const double* x) {

@@ -62,10 +62,12 @@ inline constexpr int kNumConsistentParameters = 6;
 // values, or cos θ ≤ 0 anywhere with altitude held (no thrust holds altitude
 // at |θ| ≥ 90°), make Residuals and Cost return false.
 //
-// Separable structure (variable projection): for fixed (μ, c0, c1) the
-// prediction is linear in b = (sin α, r cos(β−α), r sin(β−α)):
-//   f̄ = A b + offset,  A = [F_z, −ω², ω̇] (n × 3),  offset = −μ q cos θ.
-class ConsistentModel : public Model {
+// Separable structure (its LinearStructure, for variable projection): for
+// fixed p = (μ, c0, c1) the prediction is linear in
+// b = (sin α, r cos(β−α), r sin(β−α)):
+//   f̄ = A b + offset,  A = [F_z, −ω², ω̇] (n × 3),  offset = −μ q cos θ,
+// target = f_x − offset.
+class ConsistentModel : public Model, public LinearStructure {
  public:
   // FailedPrecondition when options.use_measured_fz and data->f_z is empty.
   // The data must already be valid (CreateModel validates them).
@@ -82,8 +84,45 @@ class ConsistentModel : public Model {
                  double* jacobian) const override;
   // Same pass as Residuals without storing them.
   bool Cost(const double* x, double* cost) const override;
+  // The velocity of the integration above (Heun, from v_0 = 0).
+  bool Velocity(const double* x, double* v) const override;
 
   bool use_measured_fz() const { return use_measured_fz_; }
+
+  // LinearStructure, p = (μ [1/m], c0 [deg], c1 [deg/s]).
+  const LinearStructure* linear_structure() const override { return this; }
+  const std::vector<int>& nonlinear_parameters() const override {
+    return nonlinear_parameters_;
+  }
+  int num_coefficients() const override { return 3; }
+  // A = [F_z, −ω², ω̇] and target = f_x + μ q cos θ; only F_z (column 0 of
+  // A) and the target depend on p.
+  bool LinearSystem(const double* p,
+                    Eigen::MatrixXd* a,
+                    Eigen::VectorXd* target,
+                    std::vector<Eigen::MatrixXd>* d_a,
+                    Eigen::MatrixXd* d_target) const override;
+  // DenseTriangularFactor: nothing here uses it in a hot loop.
+  bool TriangularFactor(const double* p, Eigen::MatrixXd* r) const override;
+  // LinearCoefficients.
+  Eigen::VectorXd CoefficientsFromParameters(const double* x) const override;
+  // ParametersFromLinear.
+  StatusOr<Eigen::VectorXd> ParametersFromCoefficients(
+      const Eigen::VectorXd& b, const double* p) const override;
+  int CoefficientOfParameter(int /*parameter*/) const override { return -1; }
+
+  // b = (sin α, r cos(β−α), r sin(β−α)) from a parameter vector.
+  static Eigen::Vector3d LinearCoefficients(const double* x);
+  // The full parameter vector from b and (μ, c0, c1): α = asin(b0),
+  // r = hypot(b1, b2), β = atan2(b2, b1) + α wrapped to (−180°, 180°].
+  // FailedPrecondition when |b0| > 1 (no tilt explains the offset: the
+  // "a1_exceeds_g" case).
+  static StatusOr<Eigen::VectorXd> ParametersFromLinear(
+      const Eigen::Vector3d& b, double mu, double c0_deg, double c1_deg_s);
+
+ private:
+  ConsistentModel(std::shared_ptr<const ProblemData> data,
+                  bool use_measured_fz);
 
   // Fills, for fixed (μ [1/m], c0 [deg], c1 [deg/s]), the n × 3 matrix A =
   // [F_z, −ω², ω̇] and y − offset = f_x + μ q cos θ, so that the residual is
@@ -98,19 +137,6 @@ class ConsistentModel : public Model {
                     Eigen::VectorXd* y_minus_offset,
                     Eigen::MatrixXd* d_fz = nullptr,
                     Eigen::MatrixXd* d_offset = nullptr) const;
-
-  // b = (sin α, r cos(β−α), r sin(β−α)) from a parameter vector.
-  static Eigen::Vector3d LinearCoefficients(const double* x);
-  // The full parameter vector from b and (μ, c0, c1): α = asin(b0),
-  // r = hypot(b1, b2), β = atan2(b2, b1) + α wrapped to (−180°, 180°].
-  // FailedPrecondition when |b0| > 1 (no tilt explains the offset: the
-  // "a1_exceeds_g" case).
-  static StatusOr<Eigen::VectorXd> ParametersFromLinear(
-      const Eigen::Vector3d& b, double mu, double c0_deg, double c1_deg_s);
-
- private:
-  ConsistentModel(std::shared_ptr<const ProblemData> data,
-                  bool use_measured_fz);
 
   template <bool kMeasuredFz>
   bool Evaluate(const double* x,
@@ -134,6 +160,7 @@ class ConsistentModel : public Model {
                       double* d_offset) const;
 
   std::vector<ParameterInfo> info_;
+  std::vector<int> nonlinear_parameters_ = {kMu, kC0, kC1};
   bool use_measured_fz_ = false;
   double t0_ = 0.0;
   // Precomputed, independent of x: sin and cos of θ_gyro (θ is formed by

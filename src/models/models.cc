@@ -1,34 +1,109 @@
-// The model factory: one line per built-in model.
+// The model registry and the built-in models: one registration line per
+// model in RegisterBuiltinModels.
 
 #include <sstream>
 #include <utility>
 
-#include "imusysid/problem.h"
+#include "glog/logging.h"
+#include "imusysid/model.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
 
 namespace imusysid {
+namespace {
 
-std::vector<std::string> ModelNames() { return {"paper", "consistent"}; }
+StatusOr<std::unique_ptr<Model>> NewPaperModel(
+    std::shared_ptr<const ProblemData> data, const ModelOptions& /*options*/) {
+  return std::unique_ptr<Model>(new PaperModel(std::move(data)));
+}
+
+StatusOr<std::unique_ptr<Model>> NewConsistentModel(
+    std::shared_ptr<const ProblemData> data, const ModelOptions& options) {
+  StatusOr<std::unique_ptr<ConsistentModel>> model =
+      ConsistentModel::Create(std::move(data), options);
+  if (!model.ok()) return model.status();
+  return std::unique_ptr<Model>(std::move(model).value());
+}
+
+}  // namespace
+
+void ModelRegistry::Register(std::string name,
+                             ModelDescription description,
+                             ModelFactory factory) {
+  CHECK(factory != nullptr) << "model '" << name << "' has no factory";
+  for (const Entry& entry : entries_) {
+    CHECK(entry.name != name) << "model '" << name << "' registered twice";
+  }
+  entries_.push_back(
+      {std::move(name), std::move(description), std::move(factory)});
+}
+
+Status ModelRegistry::UnknownName(std::string_view name) const {
+  std::ostringstream msg;
+  msg << "unknown model '" << name << "'; valid names:";
+  for (const Entry& entry : entries_) msg << " " << entry.name;
+  return NotFoundError(msg.str());
+}
+
+StatusOr<std::unique_ptr<Model>> ModelRegistry::Create(
+    std::string_view name,
+    std::shared_ptr<const ProblemData> data,
+    const ModelOptions& options) const {
+  if (data == nullptr) return InvalidArgumentError("no problem data");
+  IMUSYSID_RETURN_IF_ERROR(data->Validate());
+  for (const Entry& entry : entries_) {
+    if (entry.name != name) continue;
+    StatusOr<std::unique_ptr<Model>> model =
+        entry.factory(std::move(data), options);
+    if (model.ok()) {
+      CHECK(*model != nullptr) << "model '" << name << "': null model";
+      CHECK_EQ((*model)->name(), name) << "model registered under another name";
+    }
+    return model;
+  }
+  return UnknownName(name);
+}
+
+std::vector<std::string> ModelRegistry::Names() const {
+  std::vector<std::string> names;
+  for (const Entry& entry : entries_) names.push_back(entry.name);
+  return names;
+}
+
+StatusOr<ModelDescription> ModelRegistry::Describe(
+    std::string_view name) const {
+  for (const Entry& entry : entries_) {
+    if (entry.name == name) return entry.description;
+  }
+  return UnknownName(name);
+}
+
+void RegisterBuiltinModels(ModelRegistry* registry) {
+  CHECK(registry != nullptr);
+  // One line per model; the order is the order of ModelNames().
+  registry->Register(
+      "paper", {"equation 9 with v from equation 7", true}, NewPaperModel);
+  registry->Register("consistent",
+                     {"drag and thrust consistent, with attitude drift", false},
+                     NewConsistentModel);
+}
+
+const ModelRegistry& BuiltinModels() {
+  static const ModelRegistry* const registry = [] {
+    auto* r = new ModelRegistry;
+    RegisterBuiltinModels(r);
+    return r;
+  }();
+  return *registry;
+}
+
+std::vector<std::string> ModelNames() { return BuiltinModels().Names(); }
 
 StatusOr<std::unique_ptr<Model>> CreateModel(
     std::string_view name,
     std::shared_ptr<const ProblemData> data,
     const ModelOptions& options) {
-  if (data == nullptr) return InvalidArgumentError("no problem data");
-  IMUSYSID_RETURN_IF_ERROR(data->Validate());
-  if (name == "paper") {
-    return std::unique_ptr<Model>(new PaperModel(std::move(data)));
-  }
-  if (name == "consistent") {
-    auto model = ConsistentModel::Create(std::move(data), options);
-    if (!model.ok()) return model.status();
-    return std::unique_ptr<Model>(std::move(model).value());
-  }
-  std::ostringstream msg;
-  msg << "unknown model '" << name << "'; valid names:";
-  for (const auto& n : ModelNames()) msg << " " << n;
-  return NotFoundError(msg.str());
+  return BuiltinModels().Create(name, std::move(data), options);
 }
 
 }  // namespace imusysid

@@ -7,6 +7,7 @@
 #include "Eigen/Cholesky"
 #include "Eigen/QR"
 #include "ceres/jet.h"
+#include "glog/logging.h"
 #include "imusysid/parameters.h"
 
 namespace imusysid {
@@ -166,6 +167,55 @@ Eigen::MatrixXd PaperModel::Regressors() const {
     phi(i, 3) = -SignedSquare(d.v[k]);
   }
   return phi;
+}
+
+bool PaperModel::LinearSystem(const double* /*p*/,
+                              Eigen::MatrixXd* a,
+                              Eigen::VectorXd* target,
+                              std::vector<Eigen::MatrixXd>* d_a,
+                              Eigen::MatrixXd* d_target) const {
+  CHECK(a != nullptr && target != nullptr);
+  CHECK((d_a == nullptr) == (d_target == nullptr))
+      << "d_a and d_target go together";
+  const ProblemData& d = data();
+  const auto n = static_cast<Eigen::Index>(d.size());
+  if (a->rows() != n || a->cols() != kNumPhysicalParameters) {
+    a->resize(n, kNumPhysicalParameters);
+  }
+  if (target->size() != n) target->resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    (*a)(i, 0) = 1.0;
+    (*a)(i, 1) = -d.omega[k] * d.omega[k];
+    (*a)(i, 2) = d.omega_dot[k];
+    (*a)(i, 3) = -SignedSquare(d.v[k]);
+    (*target)[i] = d.f_x[k];
+  }
+  if (d_a != nullptr) {
+    d_a->clear();
+    if (d_target->rows() != n || d_target->cols() != 0) d_target->resize(n, 0);
+  }
+  return true;
+}
+
+bool PaperModel::TriangularFactor(const double* /*p*/,
+                                  Eigen::MatrixXd* r) const {
+  CHECK(r != nullptr);
+  *r = TriangularFactor();
+  return true;
+}
+
+Eigen::VectorXd PaperModel::CoefficientsFromParameters(const double* x) const {
+  return ParametersToCoefficients(ImuParameters::FromVector(x), data().gravity);
+}
+
+StatusOr<Eigen::VectorXd> PaperModel::ParametersFromCoefficients(
+    const Eigen::VectorXd& b, const double* /*p*/) const {
+  CHECK_EQ(b.size(), kNumPhysicalParameters);
+  StatusOr<ImuParameters> params =
+      CoefficientsToParameters(Eigen::Vector4d(b), data().gravity);
+  if (!params.ok()) return params.status();
+  return Eigen::VectorXd(params->ToVector());
 }
 
 }  // namespace imusysid

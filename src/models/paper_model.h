@@ -11,11 +11,16 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "imusysid/parameters.h"
 #include "imusysid/problem.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 
-class PaperModel : public Model {
+// Its LinearStructure has no nonlinear parameters: the prediction is linear
+// in a = (g sin α, r cos(β−α), r sin(β−α), μ) (coefficients in that order,
+// μ last), with A = Φ and target = f_x.
+class PaperModel : public Model, public LinearStructure {
  public:
   explicit PaperModel(std::shared_ptr<const ProblemData> data);
 
@@ -53,8 +58,32 @@ class PaperModel : public Model {
   Eigen::Matrix<double, 5, 5> TriangularFactor() const;
   const Eigen::Matrix<double, 5, 5>& gram() const { return gram_; }
 
+  // LinearStructure.
+  const LinearStructure* linear_structure() const override { return this; }
+  const std::vector<int>& nonlinear_parameters() const override {
+    return no_nonlinear_parameters_;
+  }
+  int num_coefficients() const override { return kNumPhysicalParameters; }
+  // A = Regressors(), target = f_x; no derivatives (nothing is nonlinear).
+  bool LinearSystem(const double* p,
+                    Eigen::MatrixXd* a,
+                    Eigen::VectorXd* target,
+                    std::vector<Eigen::MatrixXd>* d_a,
+                    Eigen::MatrixXd* d_target) const override;
+  // The streamed TriangularFactor() above.
+  bool TriangularFactor(const double* p, Eigen::MatrixXd* r) const override;
+  Eigen::VectorXd CoefficientsFromParameters(const double* x) const override;
+  // CoefficientsToParameters (parameters.h).
+  StatusOr<Eigen::VectorXd> ParametersFromCoefficients(
+      const Eigen::VectorXd& b, const double* p) const override;
+  // μ is coefficient 3; nothing else is a parameter itself.
+  int CoefficientOfParameter(int parameter) const override {
+    return parameter == kMu ? 3 : -1;
+  }
+
  private:
   std::vector<ParameterInfo> info_;
+  std::vector<int> no_nonlinear_parameters_;
   Eigen::Matrix<double, 5, 5> gram_;
   Eigen::Matrix<double, 5, 5> sqrt_gram_;  // upper triangular R
   bool has_sqrt_gram_ = false;

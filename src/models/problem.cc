@@ -1,10 +1,12 @@
 #include "imusysid/problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <utility>
 
+#include "Eigen/QR"
 #include "glog/logging.h"
 
 namespace imusysid {
@@ -49,6 +51,27 @@ Status ProblemData::Validate() const {
   return Status::Ok();
 }
 
+bool DenseTriangularFactor(const LinearStructure& structure,
+                           const double* p,
+                           Eigen::MatrixXd* r) {
+  CHECK(r != nullptr);
+  Eigen::MatrixXd a;
+  Eigen::VectorXd target;
+  if (!structure.LinearSystem(p, &a, &target)) return false;
+  const Eigen::Index m = a.cols();
+  Eigen::MatrixXd augmented(a.rows(), m + 1);
+  augmented << a, target;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(augmented);
+  // Fewer samples than columns leave the bottom rows of R zero.
+  const Eigen::Index rows = std::min(augmented.rows(), m + 1);
+  r->setZero(m + 1, m + 1);
+  r->topRows(rows) = qr.matrixQR()
+                         .topRows(rows)
+                         .triangularView<Eigen::Upper>()
+                         .toDenseMatrix();
+  return r->allFinite();
+}
+
 Model::Model(std::shared_ptr<const ProblemData> data) : data_(std::move(data)) {
   CHECK(data_ != nullptr);
 }
@@ -60,6 +83,12 @@ bool Model::Cost(const double* x, double* cost) const {
   for (double r : residuals) sum += r * r;
   *cost = 0.5 * sum;
   return std::isfinite(*cost);
+}
+
+bool Model::Velocity(const double* /*x*/, double* v) const {
+  CHECK(v != nullptr);
+  std::copy(data_->v.begin(), data_->v.end(), v);
+  return true;
 }
 
 bool Model::CompressedResiduals(const double* /*x*/,
@@ -155,6 +184,51 @@ bool Problem::CompressedResiduals(const double* x,
                                   double* jacobian) const {
   CountEvaluation(jacobian != nullptr);
   return model_->CompressedResiduals(x, residuals, jacobian);
+}
+
+SeparableOutcome Problem::SeparablePoint(const double* p,
+                                         const CoefficientSolve& solve,
+                                         Eigen::VectorXd* x) const {
+  const LinearStructure* structure = model_->linear_structure();
+  CHECK(structure != nullptr)
+      << "model '" << model_->name() << "' has no linear structure";
+  CHECK(x != nullptr);
+  Eigen::VectorXd b;
+  if (!solve(*structure, p, &b)) return SeparableOutcome::kNotEvaluable;
+  StatusOr<Eigen::VectorXd> full = structure->ParametersFromCoefficients(b, p);
+  if (!full.ok()) return SeparableOutcome::kNoParameters;
+  *x = std::move(full).value();
+  return SeparableOutcome::kOk;
+}
+
+SeparableOutcome Problem::SeparableResiduals(const double* p,
+                                             const CoefficientSolve& solve,
+                                             Eigen::VectorXd* x,
+                                             double* residuals,
+                                             double* jacobian) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  const SeparableOutcome outcome = SeparablePoint(p, solve, x);
+  if (outcome != SeparableOutcome::kOk) return outcome;
+  if (jacobian != nullptr) {
+    counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
+  }
+  return model_->Residuals(x->data(), residuals, jacobian)
+             ? SeparableOutcome::kOk
+             : SeparableOutcome::kNotEvaluable;
+}
+
+SeparableOutcome Problem::SeparableCost(const double* p,
+                                        const CoefficientSolve& solve,
+                                        Eigen::VectorXd* x,
+                                        double* cost) const {
+  counters_->cost.fetch_add(1, std::memory_order_relaxed);
+  CHECK(cost != nullptr);
+  *cost = std::numeric_limits<double>::infinity();
+  const SeparableOutcome outcome = SeparablePoint(p, solve, x);
+  if (outcome != SeparableOutcome::kOk) return outcome;
+  double value = 0.0;
+  if (model_->Cost(x->data(), &value) && std::isfinite(value)) *cost = value;
+  return SeparableOutcome::kOk;
 }
 
 double Problem::CostToRmse(double cost) const {

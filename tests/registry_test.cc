@@ -1,0 +1,205 @@
+// Both registries: the estimator registry (imusysid/registry.h) and the
+// model registry (imusysid/model.h). Unknown names list the valid ones,
+// registering a name twice is a programmer error, and which estimators fit a
+// model follows from the model's capabilities, also for a model the library
+// has never heard of.
+
+#include "imusysid/registry.h"
+
+#include <memory>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "imusysid/model.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "src/sim/synthetic_flight.h"
+
+namespace imusysid {
+namespace {
+
+using ::testing::ElementsAreArray;
+using ::testing::HasSubstr;
+
+std::shared_ptr<const ProblemData> SmallData() {
+  testing::PaperFlightOptions options;
+  options.samples = 200;
+  return testing::MakeSyntheticPaperData(
+      Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.05, 9, options);
+}
+
+// A model outside the library: f̄_x = g sin α, nothing else, and no
+// capabilities beyond residuals.
+class TiltOnlyModel : public Model {
+ public:
+  explicit TiltOnlyModel(std::shared_ptr<const ProblemData> data)
+      : Model(std::move(data)) {
+    info_ = {{"r", "m", 0.0, 0.5, false},
+             {"beta", "deg", -180.0, 180.0, false},
+             {"alpha", "deg", -15.0, 15.0, false},
+             {"mu", "1/m", 0.0, 1.0, false}};
+  }
+  std::string_view name() const override { return "tilt_only"; }
+  const std::vector<ParameterInfo>& parameter_info() const override {
+    return info_;
+  }
+  bool Residuals(const double* x,
+                 double* residuals,
+                 double* jacobian) const override {
+    const double g = data().gravity;
+    const double alpha = x[kAlpha] * kDegToRad;
+    for (int k = 0; k < num_residuals(); ++k) {
+      residuals[k] =
+          data().f_x[static_cast<std::size_t>(k)] - g * std::sin(alpha);
+      if (jacobian == nullptr) continue;
+      double* row = jacobian + 4 * k;
+      row[kR] = row[kBeta] = row[kMu] = 0.0;
+      row[kAlpha] = -g * std::cos(alpha) * kDegToRad;
+    }
+    return true;
+  }
+
+ private:
+  std::vector<ParameterInfo> info_;
+};
+
+StatusOr<std::unique_ptr<Model>> NewTiltOnlyModel(
+    std::shared_ptr<const ProblemData> data, const ModelOptions& /*options*/) {
+  return std::unique_ptr<Model>(new TiltOnlyModel(std::move(data)));
+}
+
+// --- model registry ---------------------------------------------------------
+
+TEST(ModelRegistry, BuiltinNamesAreTheWrappersNames) {
+  EXPECT_EQ(ModelNames(), BuiltinModels().Names());
+  EXPECT_FALSE(ModelNames().empty());
+  for (const std::string& name : ModelNames()) {
+    StatusOr<std::unique_ptr<Model>> model = CreateModel(name, SmallData());
+    ASSERT_TRUE(model.ok()) << name << ": " << model.status().ToString();
+    EXPECT_EQ((*model)->name(), name);
+  }
+}
+
+TEST(ModelRegistry, UnknownNameListsTheValidNames) {
+  StatusOr<std::unique_ptr<Model>> model = CreateModel("nope", SmallData());
+  ASSERT_FALSE(model.ok());
+  EXPECT_EQ(model.status().code(), StatusCode::kNotFound);
+  EXPECT_THAT(model.status().message(), HasSubstr("unknown model 'nope'"));
+  for (const std::string& name : ModelNames()) {
+    EXPECT_THAT(model.status().message(), HasSubstr(" " + name));
+  }
+  StatusOr<ModelDescription> description = BuiltinModels().Describe("nope");
+  EXPECT_EQ(description.status().code(), StatusCode::kNotFound);
+}
+
+TEST(ModelRegistry, NullOrInvalidDataAreInvalidArguments) {
+  const std::string name = ModelNames().front();
+  EXPECT_EQ(CreateModel(name, nullptr).status().code(),
+            StatusCode::kInvalidArgument);
+  auto bad = std::make_shared<ProblemData>(*SmallData());
+  bad->f_x.pop_back();
+  EXPECT_EQ(CreateModel(name, bad).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
+TEST(ModelRegistry, AModelFromOutsideTheLibraryRegistersAndBuilds) {
+  ModelRegistry registry;
+  registry.Register("tilt_only", {"g sin(alpha) only", true}, NewTiltOnlyModel);
+  EXPECT_THAT(registry.Names(), ElementsAreArray({"tilt_only"}));
+  StatusOr<std::unique_ptr<Model>> model =
+      registry.Create("tilt_only", SmallData());
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  EXPECT_EQ((*model)->name(), "tilt_only");
+  StatusOr<ModelDescription> description = registry.Describe("tilt_only");
+  ASSERT_TRUE(description.ok());
+  EXPECT_EQ(description->summary, "g sin(alpha) only");
+  EXPECT_TRUE(description->uses_data_velocity);
+}
+
+TEST(ModelRegistry, BuiltinModelsIsOneRegistryForEveryThread) {
+  std::vector<const ModelRegistry*> seen(4, nullptr);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    threads.emplace_back([&seen, i] { seen[i] = &BuiltinModels(); });
+  }
+  for (auto& t : threads) t.join();
+  for (const ModelRegistry* r : seen) EXPECT_EQ(r, &BuiltinModels());
+}
+
+TEST(ModelRegistryDeathTest, RegisteringANameTwiceIsAProgrammerError) {
+  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+  ModelRegistry registry;
+  registry.Register("tilt_only", {"", true}, NewTiltOnlyModel);
+  EXPECT_DEATH(registry.Register("tilt_only", {"", true}, NewTiltOnlyModel),
+               "registered twice");
+}
+
+// --- estimator registry -----------------------------------------------------
+
+TEST(EstimatorRegistry, UnknownNameListsTheValidNames) {
+  StatusOr<std::unique_ptr<Estimator>> e = BuiltinEstimators().Create("nope");
+  ASSERT_FALSE(e.ok());
+  EXPECT_EQ(e.status().code(), StatusCode::kNotFound);
+  EXPECT_THAT(e.status().message(), HasSubstr("unknown estimator 'nope'"));
+  for (const std::string& name : BuiltinEstimators().Names()) {
+    EXPECT_THAT(e.status().message(), HasSubstr(" " + name));
+  }
+}
+
+TEST(EstimatorRegistry, NamesRoundTrip) {
+  for (const std::string& name : BuiltinEstimators().Names()) {
+    StatusOr<std::unique_ptr<Estimator>> e = BuiltinEstimators().Create(name);
+    ASSERT_TRUE(e.ok()) << e.status().ToString();
+    EXPECT_EQ((*e)->name(), name);
+  }
+}
+
+TEST(EstimatorRegistry, NamesSupportingFollowsSupportsInRegistrationOrder) {
+  const EstimatorRegistry& registry = BuiltinEstimators();
+  for (const std::string& model_name : ModelNames()) {
+    StatusOr<std::unique_ptr<Model>> model =
+        CreateModel(model_name, SmallData());
+    ASSERT_TRUE(model.ok());
+    std::vector<std::string> expected;
+    for (const std::string& name : registry.Names()) {
+      if ((*registry.Create(name))->Supports(**model)) expected.push_back(name);
+    }
+    EXPECT_EQ(registry.NamesSupporting(**model), expected) << model_name;
+    EXPECT_FALSE(expected.empty()) << model_name;
+  }
+}
+
+TEST(EstimatorRegistry, EstimatorsThatNeedALinearStructureRefuseAModelWithout) {
+  const TiltOnlyModel model(SmallData());
+  const std::vector<std::string> able =
+      BuiltinEstimators().NamesSupporting(model);
+  EXPECT_THAT(able, ::testing::Not(::testing::Contains("linear")));
+  EXPECT_THAT(able, ::testing::Not(::testing::Contains("varpro")));
+  EXPECT_THAT(able, ::testing::Contains("lm"));
+
+  StatusOr<std::unique_ptr<Estimator>> linear =
+      BuiltinEstimators().Create("linear");
+  ASSERT_TRUE(linear.ok());
+  Problem problem(std::make_shared<TiltOnlyModel>(SmallData()));
+  StatusOr<EstimateResult> refused = (*linear)->Estimate(problem, {});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_THAT(refused.status().message(),
+              HasSubstr("estimator 'linear' cannot fit model 'tilt_only': it "
+                        "needs " +
+                        (*linear)->Requirement()));
+}
+
+TEST(EstimatorRegistryDeathTest, RegisteringANameTwiceIsAProgrammerError) {
+  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+  EstimatorRegistry registry;
+  RegisterBuiltinEstimators(&registry);
+  EXPECT_DEATH(RegisterBuiltinEstimators(&registry), "registered twice");
+}
+
+}  // namespace
+}  // namespace imusysid
