@@ -149,6 +149,13 @@ class Model {
   // path (the paper model's O(1) Gram form) overrides it.
   virtual bool Cost(const double* x, double* cost) const;
 
+  // Costs of `count` parameter vectors at once: `xs` is row-major count ×
+  // num_parameters(), costs[i] = ½ Σ r² at row i, or +inf when that row
+  // cannot be evaluated. Returns true when every cost is finite. The default
+  // calls Cost row by row; a model that shares work across candidates may
+  // override it, but each entry must equal Cost on its row bit for bit.
+  virtual bool CostBatch(const double* xs, int count, double* costs) const;
+
   // An equivalent least-squares problem with few residuals ρ(x): ‖ρ‖² = ‖r‖²,
   // ρ_Jᵀρ = Jᵀr and ρ_Jᵀρ_J = JᵀJ at every x, so a Gauss–Newton or LM step
   // on ρ is the step on r at a cost independent of n. 0 (the default) when

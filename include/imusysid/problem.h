@@ -70,6 +70,11 @@ class Problem {
   // ½ Σ r², or +inf when the model cannot evaluate x. Counts one cost
   // evaluation.
   double Cost(const double* x) const;
+  // Model::CostBatch: costs[i] for row i of the row-major count ×
+  // num_parameters() `xs`, +inf where the model cannot evaluate it. Counts
+  // `count` cost evaluations, the same as `count` calls of Cost(). Returns true
+  // when every cost is finite.
+  bool CostBatch(const double* xs, int count, double* costs) const;
   // Residuals (and Jacobian when not null). Counts one cost evaluation and,
   // with a Jacobian, one Jacobian evaluation.
   bool Residuals(const double* x, double* residuals, double* jacobian) const;

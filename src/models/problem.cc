@@ -91,6 +91,21 @@ bool Model::Velocity(const double* /*x*/, double* v) const {
   return true;
 }
 
+bool Model::CostBatch(const double* xs, int count, double* costs) const {
+  const auto stride = static_cast<std::size_t>(num_parameters());
+  bool all_finite = true;
+  for (int i = 0; i < count; ++i) {
+    double cost = 0.0;
+    const double* x = xs + static_cast<std::size_t>(i) * stride;
+    if (!Cost(x, &cost) || !std::isfinite(cost)) {
+      cost = std::numeric_limits<double>::infinity();
+      all_finite = false;
+    }
+    costs[i] = cost;
+  }
+  return all_finite;
+}
+
 bool Model::CompressedResiduals(const double* /*x*/,
                                 double* /*residuals*/,
                                 double* /*jacobian*/) const {
@@ -163,6 +178,23 @@ double Problem::Cost(const double* x) const {
     return std::numeric_limits<double>::infinity();
   }
   return cost;
+}
+
+bool Problem::CostBatch(const double* xs, int count, double* costs) const {
+  CHECK_GE(count, 0);
+  counters_->cost.fetch_add(count, std::memory_order_relaxed);
+  if (count == 0) return true;
+  model_->CostBatch(xs, count, costs);
+  // An override may report a failed row with any value; +inf is the contract
+  // the callers (the GA's ranking) rely on, as with Cost().
+  bool all_finite = true;
+  for (int i = 0; i < count; ++i) {
+    if (!std::isfinite(costs[i])) {
+      costs[i] = std::numeric_limits<double>::infinity();
+      all_finite = false;
+    }
+  }
+  return all_finite;
 }
 
 void Problem::CountEvaluation(bool with_jacobian) const {
