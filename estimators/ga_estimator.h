@@ -3,7 +3,8 @@
 // paper), plus the engine RunGa that the memetic hybrid drives through a hook.
 //
 // The GA minimises the paper's OF (RMSE, m/s²) = problem.CostToRmse(Cost(x)),
-// evaluated only through Problem::Cost, so the Problem counts the evaluations.
+// evaluated only through Problem::CostBatch (one batch per generation), so the
+// Problem counts the evaluations.
 // Specification: ../shared/docs/matlab-ga.md. Pseudo-code (n = nvars, N =
 // population_size, E = elite_count, X = crossover count, M = mutation count):
 //
@@ -69,10 +70,12 @@
 // degrees, μ in 1/m), as MATLAB did on the paper's parametrisation; another
 // parametrisation would be a different search.
 //
-// Random numbers: a std::mt19937_64 seeded from EstimatorOptions::seed inside
-// each run, with the uniform, normal and permutation draws written here (the
-// std distributions are implementation-defined), so a run is bit-identical
-// across runs, platforms with the same libm, and thread counts. The draws
+// Random numbers: internal::Random (estimators/internal/random.h), a
+// std::mt19937_64 seeded from EstimatorOptions::seed inside each run with its
+// own uniform, normal and permutation draws (the std distributions are
+// implementation-defined), so a run is bit-identical across runs, platforms
+// with the same libm, and thread counts (the population is scored through
+// internal::PopulationEvaluator, whose costs do not depend on them). The draws
 // follow MATLAB's order (§5 of the specification) but not its generators.
 
 #ifndef IMUSYSID_ESTIMATORS_GA_ESTIMATOR_H_
@@ -148,7 +151,6 @@ class GaEstimator : public Estimator {
 };
 
 std::unique_ptr<Estimator> NewGaEstimator();
-
 
 }  // namespace imusysid
 

@@ -14,8 +14,7 @@ namespace internal {
 
 Status PolishWithLm(const Problem& problem,
                     const EstimatorOptions& options,
-                    std::chrono::steady_clock::time_point solve_start,
-                    std::int64_t evaluations_at_start,
+                    const Budget& budget,
                     EstimateResult* result) {
   CHECK(result != nullptr);
   const int ga_generations = result->iterations;
@@ -27,18 +26,10 @@ Status PolishWithLm(const Problem& problem,
   const double ga_cost = problem.Cost(result->parameters.data());
   result->details.Set("ga_cost", ga_cost);
 
-  const double elapsed_s = std::chrono::duration<double>(
-                               std::chrono::steady_clock::now() - solve_start)
-                               .count();
-  const double remaining_s = options.max_wall_time_s - elapsed_s;
-  const std::int64_t used = problem.cost_evaluations() - evaluations_at_start;
-  const std::int64_t remaining_evaluations =
-      options.max_evaluations < 0 ? -1 : options.max_evaluations - used;
+  const BudgetLeft left = budget.Left();
   // A GA stopped by a budget has spent it: polishing would overrun it.
   if (result->termination == Termination::kMaxTime ||
-      result->termination == Termination::kMaxEvaluations ||
-      !(remaining_s > 0.0) || remaining_evaluations == 0 ||
-      (options.max_evaluations >= 0 && remaining_evaluations < 0)) {
+      result->termination == Termination::kMaxEvaluations || left.exhausted()) {
     result->details.Set("lm_iterations", 0);
     result->details.Set("lm_accepted", "skipped");
     result->message += "; LM skipped: no time or evaluations left";
@@ -49,14 +40,14 @@ Status PolishWithLm(const Problem& problem,
                               result->parameters,
                               options.lm,
                               -1,
-                              remaining_s,
-                              remaining_evaluations);
+                              left.time_s,
+                              left.evaluations_left);
   if (!run.ok()) return run.status();
 
   if (options.record_trace) {
     for (TracePoint point : run->trace) {
-      point.evaluations += used;
-      point.elapsed_s += elapsed_s;
+      point.evaluations += left.evaluations;
+      point.elapsed_s += left.elapsed_s;
       result->trace.push_back(std::move(point));
     }
   }
@@ -89,11 +80,9 @@ Status GaLmEstimator::Solve(const Problem& problem,
                             const EstimatorOptions& options,
                             EstimateResult* result) const {
   CHECK(result != nullptr);
-  const auto solve_start = std::chrono::steady_clock::now();
-  const std::int64_t evaluations_at_start = problem.cost_evaluations();
+  const internal::Budget budget(problem, options);
   IMUSYSID_RETURN_IF_ERROR(RunGa(problem, options, {}, result));
-  return internal::PolishWithLm(
-      problem, options, solve_start, evaluations_at_start, result);
+  return internal::PolishWithLm(problem, options, budget, result);
 }
 
 std::vector<OptionSpec> GaLmEstimator::options() const {

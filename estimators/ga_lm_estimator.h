@@ -5,13 +5,13 @@
 #ifndef IMUSYSID_ESTIMATORS_GA_LM_ESTIMATOR_H_
 #define IMUSYSID_ESTIMATORS_GA_LM_ESTIMATOR_H_
 
-#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "estimators/internal/budget.h"
 #include "imusysid/estimator.h"
 #include "imusysid/problem.h"
 #include "imusysid/status.h"
@@ -54,14 +54,12 @@ namespace internal {
 
 // The LM half of ga+lm, shared with the memetic hybrid's final polish:
 // `result` holds a GA outcome (parameters, termination, iterations, trace);
-// `solve_start` and `evaluations_at_start` (problem.cost_evaluations() when
-// the solve began) let the LM phase use only what remains of
-// options.max_wall_time_s and options.max_evaluations and offset its trace.
+// `budget` is the whole solve's (started when the solve began), so the LM
+// phase uses only what remains of it and offsets its trace by what was used.
 // Implements everything after "x_ga = RunGa" in the pseudo-code above.
 Status PolishWithLm(const Problem& problem,
                     const EstimatorOptions& options,
-                    std::chrono::steady_clock::time_point solve_start,
-                    std::int64_t evaluations_at_start,
+                    const Budget& budget,
                     EstimateResult* result);
 
 }  // namespace internal

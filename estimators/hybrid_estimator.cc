@@ -1,7 +1,6 @@
 #include "estimators/hybrid_estimator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -11,6 +10,7 @@
 
 #include "estimators/ga_estimator.h"
 #include "estimators/ga_lm_estimator.h"
+#include "estimators/internal/budget.h"
 #include "estimators/lm_estimator.h"
 #include "glog/logging.h"
 
@@ -24,8 +24,7 @@ Status HybridEstimator::Solve(const Problem& problem,
                               const EstimatorOptions& options,
                               EstimateResult* result) const {
   CHECK(result != nullptr);
-  const auto solve_start = std::chrono::steady_clock::now();
-  const std::int64_t evaluations_at_start = problem.cost_evaluations();
+  const internal::Budget budget(problem, options);
   const HybridOptions& hybrid = options.hybrid;
   const int num_refined = hybrid.num_refined >= 0
                               ? hybrid.num_refined
@@ -57,21 +56,9 @@ Status HybridEstimator::Solve(const Problem& problem,
         std::min(order.size(), static_cast<std::size_t>(num_refined));
     bool refined_any = false;
     for (std::size_t i = 0; i < count; ++i) {
-      const double elapsed_s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                        solve_start)
-              .count();
-      const double remaining_s = options.max_wall_time_s - elapsed_s;
-      const std::int64_t remaining_evaluations =
-          options.max_evaluations < 0
-              ? -1
-              : options.max_evaluations -
-                    (problem.cost_evaluations() - evaluations_at_start);
+      const internal::BudgetLeft left = budget.Left();
       // Out of budget: leave the rest to the GA's own stopping rules.
-      if (!(remaining_s > 0.0) ||
-          (options.max_evaluations >= 0 && remaining_evaluations <= 0)) {
-        break;
-      }
+      if (left.exhausted()) break;
       const Eigen::Index row = order[i];
       const Eigen::VectorXd start = population->row(row).transpose();
       if (!start.allFinite()) continue;
@@ -87,8 +74,8 @@ Status HybridEstimator::Solve(const Problem& problem,
                                   start,
                                   options.lm,
                                   hybrid.lm_iterations,
-                                  remaining_s,
-                                  remaining_evaluations);
+                                  left.time_s,
+                                  left.evaluations_left);
       if (!run.ok() || run->termination == Termination::kFailure) continue;
       ++refinements;
       refined_any = true;
@@ -118,8 +105,7 @@ Status HybridEstimator::Solve(const Problem& problem,
   result->details.Set("refinement_lm_iterations", lm_iterations);
   result->details.Set("refined_generations", refined_generations);
   result->details.Set("final_polish", "lm");
-  return internal::PolishWithLm(
-      problem, options, solve_start, evaluations_at_start, result);
+  return internal::PolishWithLm(problem, options, budget, result);
 }
 
 std::vector<OptionSpec> HybridEstimator::options() const {

@@ -1,13 +1,13 @@
 #include "estimators/lm_estimator.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <utility>
 
 #include "ceres/ceres.h"
+#include "estimators/internal/budget.h"
 #include "glog/logging.h"
 #include "imusysid/parameters.h"
 
@@ -48,35 +48,24 @@ class ProblemCostFunction : public ceres::CostFunction {
 };
 
 // Records the trace and enforces the evaluation budget, which Ceres has no
-// option for.
+// option for (the time limit is Ceres' own).
 class TraceCallback : public ceres::IterationCallback {
  public:
-  TraceCallback(const Problem& problem,
-                std::int64_t max_evaluations,
-                std::chrono::steady_clock::time_point start,
-                std::vector<TracePoint>* trace)
-      : problem_(problem),
-        max_evaluations_(max_evaluations),
-        evaluations_at_start_(problem.cost_evaluations()),
-        start_(start),
-        trace_(trace) {}
+  TraceCallback(const internal::Budget& budget, std::vector<TracePoint>* trace)
+      : budget_(budget), trace_(trace) {}
 
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& summary) override {
     best_cost_ = std::min(best_cost_, summary.cost);
-    const std::int64_t evaluations =
-        problem_.cost_evaluations() - evaluations_at_start_;
     TracePoint point;
     point.iteration = summary.iteration;
-    point.evaluations = evaluations;
-    point.elapsed_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_)
-            .count();
+    point.evaluations = budget_.evaluations();
+    point.elapsed_s = budget_.elapsed_s();
     point.best_cost = best_cost_;
     point.phase = "lm";
     trace_->push_back(std::move(point));
     VLOG(2) << "lm iteration " << summary.iteration << " cost " << summary.cost;
-    if (max_evaluations_ > 0 && evaluations >= max_evaluations_) {
+    if (budget_.EvaluationsExhausted()) {
       budget_exhausted_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
@@ -86,10 +75,7 @@ class TraceCallback : public ceres::IterationCallback {
   bool budget_exhausted() const { return budget_exhausted_; }
 
  private:
-  const Problem& problem_;
-  const std::int64_t max_evaluations_;
-  const std::int64_t evaluations_at_start_;
-  const std::chrono::steady_clock::time_point start_;
+  const internal::Budget& budget_;
   std::vector<TracePoint>* trace_;
   double best_cost_ = std::numeric_limits<double>::infinity();
   bool budget_exhausted_ = false;
@@ -110,7 +96,9 @@ StatusOr<LmRun> RunLm(const Problem& problem,
         << problem.model().name() << "' has " << p << ") or is not finite";
     return InvalidArgumentError(msg.str());
   }
-  const auto clock_start = std::chrono::steady_clock::now();
+  // A limit of 0 has always meant none here (the estimators never pass it).
+  const internal::Budget budget(
+      problem, max_time_s, max_evaluations > 0 ? max_evaluations : -1);
   const Eigen::VectorXd& lower = problem.lower_bounds();
   const Eigen::VectorXd& upper = problem.upper_bounds();
 
@@ -149,7 +137,7 @@ StatusOr<LmRun> RunLm(const Problem& problem,
     ceres_problem.SetManifold(x, new ceres::SubsetManifold(p, fixed));
   }
 
-  TraceCallback callback(problem, max_evaluations, clock_start, &run.trace);
+  TraceCallback callback(budget, &run.trace);
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;

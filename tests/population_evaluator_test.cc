@@ -1,0 +1,171 @@
+// Tests of internal::PopulationEvaluator: a batch gives the costs of
+// Problem::Cost row by row, bit for bit, for every thread count, counts one
+// evaluation per row, and reports rows that cannot be evaluated as +inf.
+
+#include "estimators/internal/population_evaluator.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "Eigen/Core"
+#include "gtest/gtest.h"
+#include "imusysid/model.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem.h"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::uint64_t Bits(double value) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &value, sizeof(bits));
+  return bits;
+}
+
+// A short flight every built-in model can be made on (it has f_z and v).
+std::shared_ptr<ProblemData> MakeData() {
+  testing::ConsistentSimOptions sim;
+  sim.rate_hz = 100.0;
+  sim.duration_s = 10.0;
+  sim.measured_fz = true;
+  sim.noise_sigma = 0.05;
+  return testing::SimulateConsistent(testing::ConsistentTruth(), sim);
+}
+
+Problem MakeProblem(const std::string& model_name) {
+  auto model = CreateModel(model_name, MakeData());
+  EXPECT_TRUE(model.ok()) << model.status().ToString();
+  return Problem(std::shared_ptr<const Model>(std::move(model).value()));
+}
+
+// `rows` candidates uniform in the problem's bounds (one per row, the GA's
+// layout), with a NaN in row 3 and a huge μ in row 5 when there are that many
+// rows: both are costs the model cannot evaluate or that overflow.
+Eigen::MatrixXd MakePopulation(const Problem& problem, int rows) {
+  std::mt19937_64 rng(11);
+  Eigen::MatrixXd population(rows, problem.num_parameters());
+  for (int i = 0; i < rows; ++i) {
+    for (int j = 0; j < problem.num_parameters(); ++j) {
+      population(i, j) = std::uniform_real_distribution<double>(
+          problem.lower_bounds()[j], problem.upper_bounds()[j])(rng);
+    }
+  }
+  if (rows > 3) population(3, 0) = kNaN;
+  if (rows > 5) population(5, kMu) = 1e300;
+  return population;
+}
+
+// Problem::Cost row by row: the reference every batch must reproduce.
+Eigen::VectorXd OneByOne(const Problem& problem,
+                         const Eigen::MatrixXd& population) {
+  Eigen::VectorXd costs(population.rows());
+  for (Eigen::Index i = 0; i < population.rows(); ++i) {
+    const Eigen::VectorXd x = population.row(i).transpose();
+    costs[i] = problem.Cost(x.data());
+  }
+  return costs;
+}
+
+void ExpectSameBits(const Eigen::VectorXd& actual,
+                    const Eigen::VectorXd& expected) {
+  ASSERT_EQ(actual.size(), expected.size());
+  for (Eigen::Index i = 0; i < actual.size(); ++i) {
+    EXPECT_EQ(Bits(actual[i]), Bits(expected[i]))
+        << "row " << i << ": " << actual[i] << " vs " << expected[i];
+  }
+}
+
+TEST(PopulationEvaluator, BatchEqualsOneByOneCostsBitForBit) {
+  for (const std::string& name : ModelNames()) {
+    SCOPED_TRACE(name);
+    const Problem problem = MakeProblem(name);
+    const Eigen::MatrixXd population = MakePopulation(problem, 50);
+    PopulationEvaluator evaluator(problem, 1);
+    Eigen::VectorXd costs;
+    evaluator.Evaluate(population, &costs);
+    ExpectSameBits(costs, OneByOne(problem, population));
+  }
+}
+
+TEST(PopulationEvaluator, CostsDoNotDependOnTheThreadCount) {
+  for (const std::string& name : ModelNames()) {
+    SCOPED_TRACE(name);
+    const Problem problem = MakeProblem(name);
+    // 37 rows: blocks of unequal size for most thread counts.
+    const Eigen::MatrixXd population = MakePopulation(problem, 37);
+    const Eigen::VectorXd reference = OneByOne(problem, population);
+    // 64 > 37 rows: at most one thread per row.
+    for (int threads : {1, 2, 3, 4, 7, 64}) {
+      SCOPED_TRACE("threads = " + std::to_string(threads));
+      PopulationEvaluator evaluator(problem, threads);
+      EXPECT_EQ(evaluator.num_threads(), threads);
+      Eigen::VectorXd costs;
+      evaluator.Evaluate(population, &costs);
+      ExpectSameBits(costs, reference);
+    }
+  }
+}
+
+TEST(PopulationEvaluator, CountsOneCostEvaluationPerRow) {
+  const Problem problem = MakeProblem("paper");
+  const Eigen::MatrixXd population = MakePopulation(problem, 25);
+  for (int threads : {1, 4}) {
+    PopulationEvaluator evaluator(problem, threads);
+    Eigen::VectorXd costs;
+    const std::int64_t before = problem.cost_evaluations();
+    evaluator.Evaluate(population, &costs);
+    EXPECT_EQ(problem.cost_evaluations() - before, 25) << threads;
+    evaluator.Evaluate(population.topRows(0), &costs);
+    EXPECT_EQ(costs.size(), 0);
+    EXPECT_EQ(problem.cost_evaluations() - before, 25) << threads;
+  }
+  EXPECT_EQ(problem.jacobian_evaluations(), 0);
+}
+
+TEST(PopulationEvaluator, UnevaluableRowsCostInfinity) {
+  for (const std::string& name : ModelNames()) {
+    SCOPED_TRACE(name);
+    const Problem problem = MakeProblem(name);
+    const Eigen::MatrixXd population = MakePopulation(problem, 8);
+    PopulationEvaluator evaluator(problem, 3);
+    Eigen::VectorXd costs;
+    evaluator.Evaluate(population, &costs);
+    EXPECT_EQ(costs[3], kInf) << "the NaN row";
+    EXPECT_EQ(costs[5], kInf) << "the overflowing row";
+    for (Eigen::Index i : {0, 1, 2, 4, 6, 7}) {
+      EXPECT_TRUE(std::isfinite(costs[i])) << "row " << i;
+    }
+  }
+}
+
+TEST(PopulationEvaluator, RowMajorBufferMatchesTheMatrixOverload) {
+  const Problem problem = MakeProblem("consistent");
+  const Eigen::MatrixXd population = MakePopulation(problem, 9);
+  const int p = problem.num_parameters();
+  std::vector<double> xs;
+  for (Eigen::Index i = 0; i < population.rows(); ++i) {
+    for (int j = 0; j < p; ++j) xs.push_back(population(i, j));
+  }
+  PopulationEvaluator evaluator(problem, 2);
+  Eigen::VectorXd from_matrix;
+  evaluator.Evaluate(population, &from_matrix);
+  Eigen::VectorXd from_buffer(population.rows());
+  evaluator.Evaluate(xs.data(), 9, from_buffer.data());
+  ExpectSameBits(from_buffer, from_matrix);
+}
+
+}  // namespace
+}  // namespace internal
+}  // namespace imusysid
