@@ -1,10 +1,10 @@
 // A downstream program: computes the paper's CoM displacement through the
 // installed package and exits 0 when it matches the paper's l.
+#include <imusysid/displacement.h>
+#include <imusysid/paper_reference.h>
+
 #include <cmath>
 #include <cstdio>
-
-#include "imusysid/displacement.h"
-#include "imusysid/paper_reference.h"
 
 int main() {
   using imusysid::kPaperTest1Fit;

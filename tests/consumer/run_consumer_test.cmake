@@ -20,3 +20,8 @@ execute_process(COMMAND ${WORK_DIR}/build/consumer RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "consumer returned ${rc}")
 endif()
+execute_process(COMMAND ${WORK_DIR}/build/refine ${SOURCE_DIR}/data/model_exact.csv
+  RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "refine returned ${rc}")
+endif()
