@@ -174,9 +174,7 @@ double MedianInterval(const std::vector<double>& t) {
 
 // SOURCES.md §1 and ulog-format.md B.4 (worked example).
 TEST(DataFlashReader, RealLog171MatchesSourcesAndWorkedExample) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   StatusOr<DataFlashLog> log = ReadDataFlash(
       testing::RealDataDir() + "/dronekit-la-testdata__log171.bin");
   ASSERT_TRUE(log.ok()) << log.status().ToString();
@@ -228,9 +226,7 @@ TEST(DataFlashReader, RealLog171MatchesSourcesAndWorkedExample) {
 }
 
 TEST(DataFlashReader, TruncatedRealLogPrefixesNeverFail) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   // The first 8 kB: all 72 FMT records and the first data records.
   std::FILE* f = std::fopen(
       (testing::RealDataDir() + "/dronekit-la-testdata__log171.bin").c_str(),

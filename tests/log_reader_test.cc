@@ -239,11 +239,7 @@ TEST(LogReader, MissingFileIsNotFound) {
 
 class RealLogTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    if (!testing::RealDataAvailable()) {
-      GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-    }
-  }
+  void SetUp() override { IMUSYSID_REQUIRE_REAL_DATA(); }
   static std::string Path(const std::string& name) {
     return testing::RealDataDir() + "/" + name;
   }

@@ -22,14 +22,6 @@ using ::imusysid::testing::CommandResult;
 using ::imusysid::testing::ParseJson;
 using ::imusysid::testing::RunCli;
 
-#define SKIP_WITHOUT_REAL_DATA()                                         \
-  if (!::imusysid::testing::RealDataAvailable()) {                       \
-    GTEST_SKIP() << "real logs not found at "                            \
-                 << ::imusysid::testing::RealDataDir()                   \
-                 << " (../shared/data/real beside the checkout, or set " \
-                    "IMUSYSID_REAL_DATA_DIR)";                           \
-  }
-
 constexpr char kLog171[] = "dronekit-la-testdata__log171.bin";
 
 std::string RealLog(const std::string& name) {
@@ -52,7 +44,7 @@ struct InspectCase {
 class RealInspect : public ::testing::TestWithParam<InspectCase> {};
 
 TEST_P(RealInspect, JsonListsTheSampleCountsOfSourcesMd) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const InspectCase& c = GetParam();
   const CommandResult r =
       RunCli("inspect " + RealLog(c.file) + " --format=json");
@@ -134,7 +126,7 @@ struct FitCase {
 class Log171Fit : public ::testing::TestWithParam<FitCase> {};
 
 TEST_P(Log171Fit, LinearPaperFitIsPlausible) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const FitCase& c = GetParam();
   const CommandResult r =
       RunCli("fit --log=" + RealLog(kLog171) + FlightWindow() +
@@ -188,7 +180,7 @@ INSTANTIATE_TEST_SUITE_P(PlanesAndVelocities,
 // The command of issue 5 exactly as written (default model and estimator:
 // paper, since the log has velocity, with ga+lm).
 TEST(Log171, FitWithEmitPx4GivesThePositionInFrdMetres) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const CommandResult r = RunCli("fit --log=" + RealLog(kLog171) +
                                  FlightWindow() + " --format=json --emit=px4");
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -221,7 +213,7 @@ TEST(Log171, FitWithEmitPx4GivesThePositionInFrdMetres) {
 }
 
 TEST(Log171, EmitArduPilotWritesTheParmFileForTheChosenImu) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const std::string dir = ::imusysid::testing::MakeTempDir();
   const CommandResult r = RunCli(
       "fit --log=" + RealLog(kLog171) + FlightWindow() +
@@ -240,7 +232,7 @@ TEST(Log171, EmitArduPilotWritesTheParmFileForTheChosenImu) {
 }
 
 TEST(Log171, GapInsideTheFitSegmentIsNamed) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   // SOURCES.md: a 2.0 s hole at 72.6 s.
   const CommandResult r =
       RunCli("fit --log=" + RealLog(kLog171) +
@@ -252,7 +244,7 @@ TEST(Log171, GapInsideTheFitSegmentIsNamed) {
 }
 
 TEST(Log171, ConvertedCsvFitsLikeTheBinaryLog) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const std::string csv = ::imusysid::testing::MakeTempDir() + "/log171.csv";
   const CommandResult conv =
       RunCli("convert " + RealLog(kLog171) + " --out='" + csv + "'");
@@ -299,7 +291,7 @@ TEST(Log171, ConvertedCsvFitsLikeTheBinaryLog) {
 // samples and the same optimum. Both are one linear solve on the same
 // regressors, so they agree to rounding.
 TEST(Log171, BenchFitsTheBinaryLogAsFitDoes) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const std::string window = FlightWindow();
   const CommandResult fit = RunCli("fit --log=" + RealLog(kLog171) + window +
                                    " --estimator=linear --format=json");
@@ -333,7 +325,7 @@ struct BenchCase {
 class BenchLog : public ::testing::TestWithParam<BenchCase> {};
 
 TEST_P(BenchLog, FitAnswersNotIdentifiableWithoutNumbers) {
-  SKIP_WITHOUT_REAL_DATA();
+  IMUSYSID_REQUIRE_REAL_DATA();
   const BenchCase& c = GetParam();
   const CommandResult r =
       RunCli("fit --log=" + RealLog(c.file) + " --model=" + c.model +

@@ -69,6 +69,11 @@ bool RealDataAvailable() {
   return stat(RealDataDir().c_str(), &st) == 0 && S_ISDIR(st.st_mode);
 }
 
+bool RunningInCi() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && *ci != '\0' && std::string(ci) != "false";
+}
+
 std::string MakeTempDir() {
   const char* tmp = std::getenv("TMPDIR");
   std::string pattern =

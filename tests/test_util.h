@@ -23,6 +23,9 @@ std::string DataDir();
 // ../shared/data/real beside the checkout; may not exist.
 std::string RealDataDir();
 bool RealDataAvailable();
+// True under CI (the CI environment variable is set and not "false"), where
+// ../shared is always beside the checkout.
+bool RunningInCi();
 // A fresh empty temporary directory for this test.
 std::string MakeTempDir();
 
@@ -92,5 +95,23 @@ std::shared_ptr<ProblemData> SimulateConsistent(
 
 }  // namespace testing
 }  // namespace imusysid
+
+// For a test that needs ../shared/data/real: skips with a message saying
+// where the logs were looked for, except under CI, where their absence is a
+// failure (a skip there would let the suite pass without its real-log tests).
+#define IMUSYSID_REQUIRE_REAL_DATA()                                          \
+  do {                                                                        \
+    if (!::imusysid::testing::RealDataAvailable()) {                          \
+      if (::imusysid::testing::RunningInCi()) {                               \
+        FAIL() << "real logs not found at "                                   \
+               << ::imusysid::testing::RealDataDir()                          \
+               << " under CI, where ../shared is always beside the checkout"; \
+      }                                                                       \
+      GTEST_SKIP() << "real logs not found at "                               \
+                   << ::imusysid::testing::RealDataDir()                      \
+                   << " (../shared/data/real beside the checkout, or set "    \
+                      "IMUSYSID_REAL_DATA_DIR)";                              \
+    }                                                                         \
+  } while (0)
 
 #endif  // IMUSYSID_TESTS_TEST_UTIL_H_

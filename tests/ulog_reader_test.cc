@@ -340,9 +340,7 @@ TEST(UlogReader, TruncationAtEveryByteKeepsTheCompleteMessages) {
 }
 
 TEST(UlogReader, TruncatedRealLogPrefixesNeverFail) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   const std::string full =
       ReadAll(testing::RealDataDir() + "/pyulog__sample_log_small.ulg");
   ASSERT_GT(full.size(), 70000u);
@@ -363,9 +361,7 @@ TEST(UlogReader, TruncatedRealLogPrefixesNeverFail) {
 
 // ulog-format.md A.7: the first sensor_combined D of sample_log_small.
 TEST(UlogReader, RealSampleLogSmallMatchesWorkedExample) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   StatusOr<UlogData> data =
       ReadUlog(testing::RealDataDir() + "/pyulog__sample_log_small.ulg");
   ASSERT_TRUE(data.ok()) << data.status().ToString();
@@ -408,9 +404,7 @@ TEST(UlogReader, RealSampleLogSmallMatchesWorkedExample) {
 }
 
 TEST(UlogReader, RealSampleUlgOldLayoutCountsAndDropouts) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   StatusOr<UlogData> data =
       ReadUlog(testing::RealDataDir() + "/pyulog__sample.ulg");
   ASSERT_TRUE(data.ok()) << data.status().ToString();
@@ -434,9 +428,7 @@ TEST(UlogReader, RealSampleUlgOldLayoutCountsAndDropouts) {
 }
 
 TEST(UlogReader, RealAppendedMultipleFollowsTheOffsets) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   StatusOr<UlogData> data = ReadUlog(testing::RealDataDir() +
                                      "/pyulog__sample_appended_multiple.ulg");
   ASSERT_TRUE(data.ok()) << data.status().ToString();
@@ -461,9 +453,7 @@ TEST(UlogReader, RealAppendedMultipleFollowsTheOffsets) {
 }
 
 TEST(UlogReader, RealImpulseResponseAccelGyroCounts) {
-  if (!testing::RealDataAvailable()) {
-    GTEST_SKIP() << "real logs not found in " << testing::RealDataDir();
-  }
+  IMUSYSID_REQUIRE_REAL_DATA();
   StatusOr<UlogData> data = ReadUlog(
       testing::RealDataDir() + "/impulse-response__S250_flight3_log1.ulg");
   ASSERT_TRUE(data.ok()) << data.status().ToString();
