@@ -201,8 +201,8 @@ std::map<std::string, Eigen::Vector4d> CrlbSdPerModel(
   return crlb_sd;
 }
 
-// Bias, spread, RMSE and ±2σ̂ coverage of one combo's usable seeds, and the
-// efficiency against the bound when there is one.
+// Bias, spread, RMSE, mean σ̂ and its ±1σ̂ and ±2σ̂ coverage of one combo's usable
+// seeds, and the efficiency against the bound when there is one.
 MonteCarloRecord Summarize(
     const MonteCarloConfig& config,
     const Truth& truth,
@@ -220,6 +220,8 @@ MonteCarloRecord Summarize(
   std::vector<Eigen::Vector4d> errors;
   std::vector<double> walls;
   Eigen::Vector4d covered = Eigen::Vector4d::Zero();
+  Eigen::Vector4d covered_1se = Eigen::Vector4d::Zero();
+  Eigen::Vector4d sum_se = Eigen::Vector4d::Zero();
   Eigen::Vector4d with_se = Eigen::Vector4d::Zero();
   for (const Sample& s : samples) {
     if (!s.usable) continue;
@@ -230,7 +232,9 @@ MonteCarloRecord Summarize(
     for (int i = 0; i < 4; ++i) {
       if (!std::isfinite(s.se[i])) continue;
       with_se[i] += 1;
+      sum_se[i] += s.se[i];
       if (std::abs(e[i]) <= 2.0 * s.se[i]) covered[i] += 1;
+      if (std::abs(e[i]) <= s.se[i]) covered_1se[i] += 1;
     }
   }
   rec.usable = static_cast<int>(errors.size());
@@ -252,7 +256,11 @@ MonteCarloRecord Summarize(
       rec.std_dev = (var / (m - 1.0)).cwiseSqrt();
     }
     for (int i = 0; i < 4; ++i) {
-      if (with_se[i] > 0) rec.coverage[i] = covered[i] / with_se[i];
+      if (with_se[i] > 0) {
+        rec.coverage[i] = covered[i] / with_se[i];
+        rec.coverage_1se[i] = covered_1se[i] / with_se[i];
+        rec.mean_stderr[i] = sum_se[i] / with_se[i];
+      }
     }
     rec.mean_wall_ms = std::accumulate(walls.begin(), walls.end(), 0.0) / m;
   }

@@ -39,6 +39,11 @@ struct MonteCarloRecord {
   // Fraction of usable seeds with |estimate − truth| ≤ 2σ̂ (σ̂ the reported
   // standard error).
   Eigen::Vector4d coverage = Eigen::Vector4d::Constant(kNaN);
+  // The same within ±1σ̂ (0.683 when σ̂ is right): with tens of seeds this
+  // bounds σ̂ from above as well, where ±2σ̂ coverage saturates near 1.
+  Eigen::Vector4d coverage_1se = Eigen::Vector4d::Constant(kNaN);
+  // Mean of the reported σ̂ over the usable seeds, to hold against std_dev.
+  Eigen::Vector4d mean_stderr = Eigen::Vector4d::Constant(kNaN);
   double mean_wall_ms = kNaN;
   double noise_sigma = kNaN;  // σ of the white accelerometer noise, m/s²
 };

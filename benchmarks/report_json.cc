@@ -84,6 +84,8 @@ Json MonteCarloToJson(const MonteCarloRecord& m) {
                               {"rmse", Num(m.rmse[i])},
                               {"crlb_sd", Num(m.crlb_sd[i])},
                               {"efficiency", Num(m.efficiency[i])},
+                              {"mean_se", Num(m.mean_stderr[i])},
+                              {"coverage_1se", Num(m.coverage_1se[i])},
                               {"coverage_2se", Num(m.coverage[i])}};
   }
   return Json{{"scenario", m.scenario},

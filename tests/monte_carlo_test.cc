@@ -25,6 +25,17 @@ constexpr double kMaxEfficiencyRatio = 1.15;
 // Coverage of ±2σ̂ is 0.954 for an efficient estimator with correct σ̂; with
 // 50 seeds its binomial sd is 0.03, so 3 sd below is 0.86.
 constexpr double kMinCoverage = 0.86;
+// ±2σ̂ coverage cannot show σ̂ too large with 50 seeds (it saturates at 1);
+// ±1σ̂ coverage can: 0.683 with binomial sd sqrt(0.683·0.317/50) = 0.066, so
+// 3 sd either side is [0.49, 0.88]. σ̂ three times too large would cover
+// 0.997, twice too small 0.38.
+constexpr double kMinCoverage1Se = 0.49;
+constexpr double kMaxCoverage1Se = 0.88;
+// Mean reported σ̂ over the empirical spread: the spread of 50 seeds has a
+// relative sd of 1/sqrt(2·49) = 0.10, so 3 sd is 0.7–1.3; the upper bound
+// is widened to 1.4 for the small upward bias of a HAC σ̂ on white noise.
+constexpr double kMinStderrRatio = 0.7;
+constexpr double kMaxStderrRatio = 1.4;
 
 TEST(MonteCarlo, ModelExactReachesTheCramerRaoBound) {
   StatusOr<Truth> truth =
@@ -62,6 +73,11 @@ TEST(MonteCarlo, ModelExactReachesTheCramerRaoBound) {
       EXPECT_GT(rec.crlb_sd[i], 0.0);
       EXPECT_LE(rec.efficiency[i], kMaxEfficiencyRatio);
       EXPECT_GE(rec.coverage[i], kMinCoverage);
+      EXPECT_GE(rec.coverage_1se[i], kMinCoverage1Se);
+      EXPECT_LE(rec.coverage_1se[i], kMaxCoverage1Se);
+      const double ratio = rec.mean_stderr[i] / rec.std_dev[i];
+      EXPECT_GE(ratio, kMinStderrRatio);
+      EXPECT_LE(ratio, kMaxStderrRatio);
       // Unbiased: |bias| within 3 standard errors of the mean.
       EXPECT_LE(std::abs(rec.bias[i]),
                 3.0 * rec.crlb_sd[i] / std::sqrt(double{kSeeds}) *
