@@ -247,6 +247,11 @@ TEST(VarproEstimator, PaperModelEqualsClosedFormLeastSquares) {
               1e-7);
   EXPECT_NEAR(result.parameters[kR], std::hypot(ls.a[1], ls.a[2]), 1e-9);
   EXPECT_NEAR(result.parameters[kMu], ls.a[3], 1e-9);
+  // β = atan2(a3, a2) + α.
+  EXPECT_NEAR(result.parameters[kBeta],
+              WrapDegrees(std::atan2(ls.a[2], ls.a[1]) * kRadToDeg +
+                          std::asin(ls.a[0] / kGravity) * kRadToDeg),
+              1e-7);
 }
 
 TEST(VarproEstimator, PaperModelConstrainsNegativeMuToZero) {
