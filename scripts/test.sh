@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds imusysid and runs every test:
-#   1. Release build with warnings as errors: unit tests, slow end-to-end
-#      tests, the installed-package consumer test, benchmark smoke runs;
+#   1. Release build with warnings as errors: every test binary (label unit:
+#      library, CLI and real-log tests), the installed-package consumer test
+#      (package), benchmark smoke runs (benchmark_smoke);
 #   2. the unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer.
 # The peer comparison (label "peers": GNU Octave, SciPy) is not part of it:
 #   ctest --test-dir build -L peers   after scripts/setup.sh --with-peers

@@ -100,22 +100,36 @@ TEST_F(ModelExact, EveryEstimatorReachesTheLinearOptimumAndTheTruth) {
 
 // --- the paper's realistic scenarios, 10 noise seeds each --------------------
 
-// Accuracy the issue asks of the consistent model at the simulator's default
-// noise. The standard errors it reports on these logs are ~0.05 mm for r,
-// 0.02° for β, 0.001° for α and 0.02% for μ, so these bounds leave room for
-// the remaining model error (differentiator, filter, Heun integration) which
-// dominates the noise.
-constexpr double kRTolM = 0.005;
-constexpr double kBetaTolDeg = 2.0;
-constexpr double kAlphaTolDeg = 0.15;
-constexpr double kMuRelTol = 0.05;
-constexpr double kDisplacementTolM = 0.003;
+// Bounds from the spread over seeds. Measured over the ten seeds below
+// (error = fit − truth, mean ± sd, worst of the two scenarios):
+//   r      −0.30 ± 0.12 mm        β      +0.38 ± 0.05 deg
+//   α      −0.015 ± 0.003 deg against the effective α (the x accelerometer
+//          bias b shifts it to asin(sin α + b/g), which no fit can separate)
+//   μ      +1.0e-4 ± 0.6e-4 1/m (0.14 % ± 0.09 %)
+//   Δx     +0.34 ± 0.08 mm        Δz     −0.11 ± 0.02 mm
+// The means are the consistent model's own error (differentiator, filter,
+// Heun integration), far above its reported standard errors (~0.05 mm on r,
+// 0.02° on β); each bound is |mean| + 5 sd, 5 rather than 3 because ten seeds
+// know an sd only to ±25 %.
+constexpr double kRTolM = 0.0009;
+constexpr double kBetaTolDeg = 0.65;
+constexpr double kAlphaTolDeg = 0.03;
+constexpr double kMuTol = 4.2e-4;  // 1/m
+constexpr double kDxTolM = 0.00075;
+constexpr double kDzTolM = 0.00022;
+// The paper's own model on the same flights: β is off by 7.8 ± 5.8° on
+// paper_test1 and 15.4 ± 8.4° on paper_test2 over these seeds (the README's
+// finding: its gyro velocity and T/m = g assumptions bias β). The mean over
+// ten seeds has an sd of 5.8/√10 = 1.8°, so a mean above 2° is the bias
+// beyond doubt; the single bundled flight is checked by BundledPaperTest1.
+constexpr double kMinPaperBetaMeanBiasDeg = 2.0;
 
 TEST(PaperScenarios, ConsistentModelRecoversTruthForTenSeeds) {
   const ComDisplacement truth_d = ComputeDisplacement(kPaperTest1Fit.r_m,
                                                       kPaperTest1Fit.beta_deg,
                                                       kPaperTest2Fit.r_m,
                                                       kPaperTest2Fit.beta_deg);
+  double paper_beta_error[2] = {0.0, 0.0};  // mean over seeds, per scenario
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     double fitted[2][2];  // [test][r, beta]
     int test = 0;
@@ -133,14 +147,18 @@ TEST(PaperScenarios, ConsistentModelRecoversTruthForTenSeeds) {
       EXPECT_NEAR(x[kR], options->r_m, kRTolM) << scenario << " seed " << seed;
       EXPECT_NEAR(x[kBeta], options->beta_deg, kBetaTolDeg)
           << scenario << " seed " << seed;
-      EXPECT_NEAR(x[kAlpha], options->alpha_deg, kAlphaTolDeg)
+      const double alpha_effective =
+          std::asin(std::sin(options->alpha_deg * kDegToRad) +
+                    options->accel_bias_x_mps2 / kGravity) *
+          kRadToDeg;
+      EXPECT_NEAR(x[kAlpha], alpha_effective, kAlphaTolDeg)
           << scenario << " seed " << seed;
-      EXPECT_NEAR(x[kMu], options->mu, kMuRelTol * options->mu)
-          << scenario << " seed " << seed;
+      EXPECT_NEAR(x[kMu], options->mu, kMuTol) << scenario << " seed " << seed;
       fitted[test][0] = x[kR];
       fitted[test][1] = x[kBeta];
-      // The paper's model on the same problem: biased, reported not judged.
+      // The paper's model on the same problem: biased (checked below).
       const EstimateResult p = RunEstimator("linear", "paper", data);
+      paper_beta_error[test] += (p.parameters[kBeta] - options->beta_deg) / 10;
       std::cout << scenario << " seed " << seed << ": consistent r " << x[kR]
                 << " beta " << x[kBeta] << " alpha " << x[kAlpha] << " mu "
                 << x[kMu] << " | paper r " << p.parameters[kR] << " beta "
@@ -150,9 +168,29 @@ TEST(PaperScenarios, ConsistentModelRecoversTruthForTenSeeds) {
     }
     const ComDisplacement d = ComputeDisplacement(
         fitted[0][0], fitted[0][1], fitted[1][0], fitted[1][1]);
-    EXPECT_NEAR(d.dx_m, truth_d.dx_m, kDisplacementTolM) << "seed " << seed;
-    EXPECT_NEAR(d.dz_m, truth_d.dz_m, kDisplacementTolM) << "seed " << seed;
+    EXPECT_NEAR(d.dx_m, truth_d.dx_m, kDxTolM) << "seed " << seed;
+    EXPECT_NEAR(d.dz_m, truth_d.dz_m, kDzTolM) << "seed " << seed;
   }
+  EXPECT_GT(paper_beta_error[0], kMinPaperBetaMeanBiasDeg);
+  EXPECT_GT(paper_beta_error[1], kMinPaperBetaMeanBiasDeg);
+}
+
+// The README's finding on the bundled flight: the paper's model puts β more
+// than 5° from the truth on data/paper_test1.csv (it finds 67.5° for 56.3°),
+// while the consistent model is within the bound above.
+TEST(PaperScenarios, BundledPaperTest1ShowsThePaperModelsBetaBias) {
+  StatusOr<FlightLog> log =
+      ReadCsvLog(testing::DataDir() + "/paper_test1.csv", CsvReadOptions());
+  ASSERT_TRUE(log.ok()) << log.status().ToString();
+  auto data = PreprocessLog(*log, PreprocessOptions());
+  ASSERT_NE(data, nullptr);
+  const double truth_beta = kPaperTest1Fit.beta_deg;
+  const EstimateResult paper = RunEstimator("linear", "paper", data);
+  ASSERT_TRUE(paper.IsUsable()) << paper.message;
+  EXPECT_GT(std::abs(paper.parameters[kBeta] - truth_beta), 5.0);
+  const EstimateResult consistent = RunEstimator("varpro", "consistent", data);
+  ASSERT_TRUE(consistent.IsUsable()) << consistent.message;
+  EXPECT_NEAR(consistent.parameters[kBeta], truth_beta, kBetaTolDeg);
 }
 
 }  // namespace
