@@ -193,5 +193,63 @@ TEST(PaperScenarios, BundledPaperTest1ShowsThePaperModelsBetaBias) {
   EXPECT_NEAR(consistent.parameters[kBeta], truth_beta, kBetaTolDeg);
 }
 
+// --- physics the consistent model does not contain -------------------------
+
+// Fits the consistent model (varpro) to paper_test1 flown with `settings`.
+EstimateResult FitVariant(const std::string& settings, std::uint64_t seed) {
+  StatusOr<SimulatorOptions> options = ScenarioOptions("paper_test1");
+  EXPECT_TRUE(options.ok());
+  options->seed = seed;
+  std::string rest = settings;
+  while (!rest.empty()) {
+    const std::size_t comma = rest.find(',');
+    const std::string item = rest.substr(0, comma);
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    const std::size_t eq = item.find('=');
+    const Status set =
+        SetSimulatorSetting(&*options, item.substr(0, eq), item.substr(eq + 1));
+    EXPECT_TRUE(set.ok()) << set.ToString();
+  }
+  StatusOr<SimulatedFlight> flight = Simulate(*options);
+  EXPECT_TRUE(flight.ok()) << flight.status().ToString();
+  if (!flight.ok()) return {};
+  auto data = PreprocessLog(flight->log, PreprocessOptions());
+  if (data == nullptr) return {};
+  return RunEstimator("varpro", "consistent", data);
+}
+
+// Ground effect (rotor radius 0.15 m, hover at 0.4 m: 0.9 % more thrust at
+// hover height) changes nothing the fit sees: the altitude loop trims the
+// thrust back, and the model assumes only that altitude is held. The
+// nominal bounds above hold.
+TEST(PaperScenarios, ConsistentModelIsUnmovedByGroundEffect) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const EstimateResult c = FitVariant(
+        "ground_effect_rotor_radius_m=0.15,hover_altitude_m=0.4", seed);
+    ASSERT_TRUE(c.IsUsable()) << c.message;
+    EXPECT_NEAR(c.parameters[kR], kPaperTest1Fit.r_m, kRTolM) << seed;
+    EXPECT_NEAR(c.parameters[kBeta], kPaperTest1Fit.beta_deg, kBetaTolDeg)
+        << seed;
+  }
+}
+
+// Linear rotor drag (k = 0.3/s, typical of a 450-size quadrotor) is physics
+// the model lacks: its quadratic μ doubles to absorb it and r comes out
+// 6.2 ± 0.1 mm short, β 1.1° high (three seeds). The finding is asserted as
+// it stands, with the bounds of the measured spread: r short by 4–8 mm, μ
+// more than 1.5 times the truth. The reported standard errors grow (HAC sees
+// the correlated misfit) but still do not cover the error: |error| > 2σ̂.
+TEST(PaperScenarios, ConsistentModelIsBiasedByLinearRotorDrag) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const EstimateResult c = FitVariant("rotor_drag_per_s=0.3", seed);
+    ASSERT_TRUE(c.IsUsable()) << c.message;
+    const double r_short = kPaperTest1Fit.r_m - c.parameters[kR];
+    EXPECT_GT(r_short, 0.004) << seed;
+    EXPECT_LT(r_short, 0.008) << seed;
+    EXPECT_GT(c.parameters[kMu], 1.5 * kPaperTest1Fit.mu) << seed;
+    EXPECT_GT(r_short, 2.0 * c.standard_errors[kR]) << seed;
+  }
+}
+
 }  // namespace
 }  // namespace imusysid

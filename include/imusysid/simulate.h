@@ -36,6 +36,14 @@ struct SimulatorOptions {
   // Sensor x-axis tilt toward +z_b, deg, |.| < 45.
   double alpha_deg = kPaperTest1Fit.alpha_deg;
   double mu = kPaperTest1Fit.mu;  // quadratic drag per unit mass, 1/m, >= 0
+  // Departures from the drag-consistent model's assumptions, off by default,
+  // for testing a model against physics it does not contain.
+  // Rotor (blade-flapping) drag: a force −m·k·u along body x, u the velocity
+  // along body x, linear in speed where the models' μ term is quadratic.
+  double rotor_drag_per_s = 0.0;  // k, 1/s, in [0, 5]
+  // Ground effect: thrust × 1 / (1 − (R / 4h)²) at height h (Cheeseman and
+  // Bennett), h floored at R / 2; R the rotor radius, 0 for none.
+  double ground_effect_rotor_radius_m = 0.0;  // m, in [0, 0.5]
 
   // Vehicle.
   double mass_kg = kPaperTest1MassKg;  // the paper's test 1 vehicle, kg

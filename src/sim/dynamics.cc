@@ -1,6 +1,7 @@
 // The planar rigid body with first-order thrust and torque lags, and the RK4
 // step that integrates it (docs/simulator.md).
 
+#include <algorithm>
 #include <cmath>
 
 #include "imusysid/parameters.h"
@@ -35,11 +36,24 @@ State Derivative(const State& s,
   d.torque = (torque_cmd - s.torque) / p.torque_lag;
   if (grounded) return d;
   const double speed = std::hypot(s.vx, s.vz);
-  const double thrust_per_mass = s.thrust / p.mass;
+  double thrust_per_mass = s.thrust / p.mass;
+  if (p.ground_effect_radius > 0.0) {
+    const double h = std::max(s.z, 0.5 * p.ground_effect_radius);
+    const double ratio = p.ground_effect_radius / (4.0 * h);
+    thrust_per_mass /= 1.0 - ratio * ratio;
+  }
   d.x = s.vx;
   d.z = s.vz;
   d.vx = thrust_per_mass * std::sin(s.theta) - p.mu * speed * s.vx;
   d.vz = thrust_per_mass * std::cos(s.theta) - kGravity - p.mu * speed * s.vz;
+  if (p.rotor_drag > 0.0) {
+    // Body x is (cos θ, −sin θ) in the world's (x, z).
+    const double c = std::cos(s.theta);
+    const double sn = std::sin(s.theta);
+    const double u = s.vx * c - s.vz * sn;
+    d.vx -= p.rotor_drag * u * c;
+    d.vz += p.rotor_drag * u * sn;
+  }
   d.theta = s.omega;
   d.omega = s.torque / p.inertia;
   return d;

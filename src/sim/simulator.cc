@@ -232,8 +232,13 @@ StatusOr<SimulatedFlight> Simulate(const SimulatorOptions& o) {
   IMUSYSID_RETURN_IF_ERROR(o.Validate());
   const Timeline timeline = MakeTimeline(o);
   const StepPlan plan = PlanSteps(o, timeline);
-  const Plant plant{
-      o.mass_kg, o.inertia_kg_m2, o.mu, o.thrust_lag_s, o.torque_lag_s};
+  const Plant plant{o.mass_kg,
+                    o.inertia_kg_m2,
+                    o.mu,
+                    o.thrust_lag_s,
+                    o.torque_lag_s,
+                    o.rotor_drag_per_s,
+                    o.ground_effect_rotor_radius_m};
   const double weight = o.mass_kg * kGravity;
 
   SimulatedFlight flight =

@@ -57,6 +57,8 @@ struct Plant {
   double mu = 0.0;
   double thrust_lag = 0.0;
   double torque_lag = 0.0;
+  double rotor_drag = 0.0;            // 1/s
+  double ground_effect_radius = 0.0;  // m
 };
 
 // Time derivative of the state. On the ground the body rests level and still

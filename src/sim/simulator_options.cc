@@ -63,6 +63,10 @@ Status SimulatorOptions::Validate() const {
   IMUSYSID_RETURN_IF_ERROR(CheckFinite("beta_deg", beta_deg));
   IMUSYSID_RETURN_IF_ERROR(CheckInRange("alpha_deg", alpha_deg, -45.0, 45.0));
   IMUSYSID_RETURN_IF_ERROR(CheckInRange("mu", mu, 0.0, 1.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      CheckInRange("rotor_drag_per_s", rotor_drag_per_s, 0.0, 5.0));
+  IMUSYSID_RETURN_IF_ERROR(CheckInRange(
+      "ground_effect_rotor_radius_m", ground_effect_rotor_radius_m, 0.0, 0.5));
   IMUSYSID_RETURN_IF_ERROR(CheckPositive("mass_kg", mass_kg));
   IMUSYSID_RETURN_IF_ERROR(CheckPositive("inertia_kg_m2", inertia_kg_m2));
   IMUSYSID_RETURN_IF_ERROR(CheckPositive("arm_length_m", arm_length_m));
