@@ -251,6 +251,32 @@ double Mean(const std::vector<double>& v) {
   return sum / static_cast<double>(v.size());
 }
 
+// Every ULog's IMU on the time base SOURCES.md gives: the sample rate
+// (1/median interval, to 1 %) and the first and last sample time in seconds
+// since boot (to the 0.01 s SOURCES.md prints), which fix the scale and the
+// origin of the microsecond timestamps.
+TEST_F(RealLogTest, UlogImuTimeBaseIsTheOneSourcesMdGives) {
+  struct Case {
+    const char* file;
+    double rate_hz;
+    double t_first_s;
+    double t_last_s;
+  };
+  const Case cases[] = {
+      {"impulse-response__S250_flight3_log1.ulg", 208.0, 20.40, 66.52},
+      {"pyulog__sample.ulg", 250.0, 112.61, 181.49},
+      {"pyulog__sample_log_small.ulg", 204.6, 20.33, 26.82},
+      {"pyulog__sample_appended_multiple.ulg", 250.0, 12.26, 21.88},
+  };
+  for (const Case& c : cases) {
+    StatusOr<FlightLog> log = ReadFlightLog(Path(c.file), Tolerant());
+    ASSERT_TRUE(log.ok()) << log.status().ToString();
+    EXPECT_NEAR(1.0 / log->MedianDt(), c.rate_hz, 0.01 * c.rate_hz) << c.file;
+    EXPECT_NEAR(log->t_s.front(), c.t_first_s, 0.005) << c.file;
+    EXPECT_NEAR(log->t_s.back(), c.t_last_s, 0.005) << c.file;
+  }
+}
+
 TEST_F(RealLogTest, Log171ImuInFluWithChannels) {
   StatusOr<FlightLog> log =
       ReadFlightLog(Path("dronekit-la-testdata__log171.bin"), Tolerant());

@@ -324,6 +324,34 @@ TEST(Preprocess, FilterOffPassesSamplesThrough) {
   EXPECT_EQ(result->data.omega[250], log.gy[1500]);
 }
 
+// The filter sits where the options put it: a 4th-order Butterworth run
+// forward and backward has gain |H(fc)|² = 1/2 at its cutoff and
+// 1/(1 + (f/fc)^8) elsewhere. A tone at the default 5 Hz must come out at
+// half its amplitude (0.5 ± 0.02, the tail of the sinusoid's fit window
+// and 250 Hz sampling), and one at 2.5 Hz almost whole (0.996).
+TEST(Preprocess, LowPassHalvesATwoSidedToneAtTheCutoff) {
+  for (const double f : {5.0, 2.5}) {
+    Signals s;
+    s.ax = [f](double t) { return std::sin(2.0 * kPi * f * t); };
+    s.gy = [](double t) { return kOmegaAmp * std::cos(kW * t); };
+    PreprocessOptions options = WindowOptions(0.0, 20.0);
+    ASSERT_EQ(options.cutoff_hz, 5.0);
+    StatusOr<PreprocessResult> result =
+        Preprocess(MakeLog(-5.0, 25.0, kRate, s), options);
+    ASSERT_TRUE(result.ok()) << result.status().ToString();
+    // Amplitude from the RMS over whole periods in the middle of the window.
+    double sum_sq = 0.0;
+    int count = 0;
+    for (std::size_t k = 500; k < 4500; ++k) {
+      sum_sq += result->data.f_x[k] * result->data.f_x[k];
+      ++count;
+    }
+    const double amplitude = std::sqrt(2.0 * sum_sq / count);
+    const double expected = 1.0 / (1.0 + std::pow(f / 5.0, 8));
+    EXPECT_NEAR(amplitude, expected, 0.02) << f << " Hz";
+  }
+}
+
 // --- Segment detection on a synthetic flight ------------------------------
 // Timeline (s): still 0–1.5 (noise only); motors on 1.5 (a 90 Hz tone in
 // every accelerometer axis until 50.5); take-off 3.5 (a_z climb transient
