@@ -46,20 +46,7 @@ TEST(HybridEstimator, ReachesLinearOptimumWhenNoisy) {
   ASSERT_EQ(result.termination, Termination::kConverged) << result.message;
   EXPECT_NEAR(result.rmse, linear.rmse, kOfRelTol * linear.rmse);
   EXPECT_EQ(Detail(result, "final_polish"), "lm");
-  // Same optimum, so the same parameters: a cost excess Δc moves parameter i
-  // by at most sqrt(2Δc/σ²)·σᵢ; at the OF tolerance (cost 2e-9 relative,
-  // n = 2000) that is sqrt(2e-9·n) = 2e-3 σᵢ, so 1e-2 σᵢ (σᵢ the closed
-  // form's white standard error) is slack yet far below any real miss.
-  ASSERT_EQ(linear.standard_errors.size(), 4);
-  for (int i = 0; i < 4; ++i) {
-    EXPECT_NEAR(result.parameters[i],
-                linear.parameters[i],
-                1e-2 * linear.standard_errors[i])
-        << linear.parameter_names[static_cast<std::size_t>(i)];
-    // And the closed form itself is within 4σ of the truth.
-    EXPECT_NEAR(linear.parameters[i], kTruth[i], 4 * linear.standard_errors[i])
-        << linear.parameter_names[static_cast<std::size_t>(i)];
-  }
+  testing::ExpectAtClosedFormOptimum(result, linear, kTruth);
 }
 
 TEST(HybridEstimator, SameSeedGivesIdenticalResult) {

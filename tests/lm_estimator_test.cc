@@ -63,18 +63,7 @@ TEST(LmEstimator, ReachesLinearOptimumWhenNoisy) {
   ASSERT_EQ(lm.termination, Termination::kConverged) << lm.message;
   EXPECT_NEAR(
       lm.final_cost, linear.final_cost, kCostRelTol * linear.final_cost);
-  // The same optimum: a cost excess Δc moves parameter i by at most
-  // sqrt(2Δc/σ²)·σᵢ = sqrt(2e-9·n/2)·σᵢ ≈ 1.4e-3 σᵢ at n = 2000, so 1e-2 σᵢ
-  // (σᵢ the closed form's standard error) is slack; and the optimum is the
-  // truth within 4σᵢ.
-  for (int i = 0; i < 4; ++i) {
-    EXPECT_NEAR(lm.parameters[i],
-                linear.parameters[i],
-                1e-2 * linear.standard_errors[i])
-        << i;
-    EXPECT_NEAR(lm.parameters[i], kTruth[i], 4 * linear.standard_errors[i])
-        << i;
-  }
+  testing::ExpectAtClosedFormOptimum(lm, linear, kTruth);
 }
 
 // The paper model's five compressed residuals have the full residuals' cost,

@@ -127,6 +127,20 @@ EstimateResult RunEstimator(const Estimator& estimator,
   return result.ok() ? *result : EstimateResult{};
 }
 
+void ExpectAtClosedFormOptimum(const EstimateResult& result,
+                               const EstimateResult& reference,
+                               const Eigen::Vector4d& truth) {
+  ASSERT_EQ(reference.standard_errors.size(), 4);
+  ASSERT_EQ(result.parameters.size(), 4);
+  for (int i = 0; i < 4; ++i) {
+    const double sigma = reference.standard_errors[i];
+    EXPECT_NEAR(result.parameters[i], reference.parameters[i], 1e-2 * sigma)
+        << "parameter " << i;
+    EXPECT_NEAR(reference.parameters[i], truth[i], 4 * sigma)
+        << "parameter " << i;
+  }
+}
+
 std::string Detail(const EstimateResult& result, const std::string& key) {
   return result.details.Format(key);
 }

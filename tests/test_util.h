@@ -57,6 +57,16 @@ EstimateResult RunEstimator(const Estimator& estimator,
                             const Problem& problem,
                             const EstimatorOptions& options = {});
 
+// `result` is at the optimum of the closed form `reference` (a linear fit of
+// the same problem): every parameter within 1e-2 of the reference's standard
+// error, and the reference within 4 standard errors of `truth`. Meant after a
+// check that the two OFs agree to 1e-9 relative: a cost excess Δc moves
+// parameter i by at most sqrt(2Δc/σ²)·σᵢ, about 2e-3 σᵢ at that tolerance
+// for n = 2000, so 1e-2 σᵢ is slack yet far below any real miss.
+void ExpectAtClosedFormOptimum(const EstimateResult& result,
+                               const EstimateResult& reference,
+                               const Eigen::Vector4d& truth);
+
 // The value of `key` in result.details, or "" when absent.
 std::string Detail(const EstimateResult& result, const std::string& key);
 
