@@ -194,6 +194,35 @@ TEST(Autopilot, TiltBecomesTheBoardRotationWithItsSign) {
   EXPECT_EQ(ardu->trim_unit, "rad");
 }
 
+// The log's own values beside the identified ones: matched by name, NaN
+// for a parameter the log lacks, the trim's current value, and the text
+// table with the difference.
+TEST(Autopilot, CurrentValuesFromTheLogStandBesideTheIdentifiedOnes) {
+  const EstimateResult fit = FitAt(0.1234, -0.0567, 0.5, 0.001, 0.3, 0.0);
+  auto p = ToAutopilotParameters(fit, EmitFormat::kPx4, "pitch", 0, "t");
+  ASSERT_TRUE(p.ok());
+  AddCurrentValues(
+      {{"SENS_BOARD_Y_OFF", -0.81}, {"EKF2_IMU_POS_X", 0.1}, {"OTHER", 3.0}},
+      &*p);
+  ASSERT_EQ(p->current.size(), 2u);
+  EXPECT_EQ(p->current[0].first, "EKF2_IMU_POS_X");
+  EXPECT_EQ(p->current[0].second, 0.1);
+  EXPECT_EQ(p->current[1].first, "EKF2_IMU_POS_Z");
+  EXPECT_TRUE(std::isnan(p->current[1].second));
+  EXPECT_EQ(p->trim_current, -0.81);
+  const std::string text = AutopilotParametersToText(*p);
+  // current 0.1000, identified 0.1234, difference +0.0234.
+  EXPECT_NE(text.find("0.1000"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.0234"), std::string::npos) << text;
+  EXPECT_NE(text.find("not in log"), std::string::npos) << text;
+  // PX4's offset is an increment: -0.81 + 0.5 = -0.31 deg.
+  EXPECT_NE(text.find("-0.31 deg from the fit"), std::string::npos) << text;
+  const auto j = AutopilotParametersToJson(*p);
+  EXPECT_EQ(j["current"]["EKF2_IMU_POS_X"], 0.1);
+  EXPECT_TRUE(j["current"]["EKF2_IMU_POS_Z"].is_null());
+  EXPECT_EQ(j["tilt"]["trim_current"], -0.81);
+}
+
 TEST(Autopilot, NotIdentifiableFitWithholdsThePositionAndSaysWhy) {
   EstimateResult fit = FitAt(0.1, -0.05, 0.0, 0.001, 0.3, 0.0);
   fit.warnings.push_back({"not_identifiable", "r and beta are not known"});

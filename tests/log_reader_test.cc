@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -275,6 +276,28 @@ TEST_F(RealLogTest, UlogImuTimeBaseIsTheOneSourcesMdGives) {
     EXPECT_NEAR(log->t_s.front(), c.t_first_s, 0.005) << c.file;
     EXPECT_NEAR(log->t_s.back(), c.t_last_s, 0.005) << c.file;
   }
+}
+
+// The parameters the autopilots recorded, as SOURCES.md lists them.
+TEST_F(RealLogTest, ReadsTheParametersTheLogRecords) {
+  auto find = [](const std::vector<std::pair<std::string, double>>& params,
+                 const std::string& name) {
+    for (const auto& [n, v] : params) {
+      if (n == name) return v;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  const auto ardupilot =
+      ReadLogParameters(Path("dronekit-la-testdata__log171.bin"));
+  ASSERT_TRUE(ardupilot.ok()) << ardupilot.status().ToString();
+  EXPECT_NEAR(find(*ardupilot, "AHRS_TRIM_X"), 0.0205, 5e-5);
+  EXPECT_NEAR(find(*ardupilot, "AHRS_TRIM_Y"), 0.0053, 5e-5);
+  const auto px4 =
+      ReadLogParameters(Path("impulse-response__S250_flight3_log1.ulg"));
+  ASSERT_TRUE(px4.ok()) << px4.status().ToString();
+  EXPECT_NEAR(find(*px4, "SENS_BOARD_X_OFF"), -0.75, 0.005);
+  EXPECT_NEAR(find(*px4, "SENS_BOARD_Y_OFF"), -0.81, 0.005);
+  EXPECT_EQ(find(*px4, "SYS_AUTOSTART"), 4050);
 }
 
 TEST_F(RealLogTest, Log171ImuInFluWithChannels) {

@@ -6,6 +6,7 @@
 #ifndef IMUSYSID_AUTOPILOT_H_
 #define IMUSYSID_AUTOPILOT_H_
 
+#include <limits>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -44,6 +45,11 @@ struct AutopilotParameters {
   std::string trim_note;
   // The whole parameter file (QGroundControl .params or ArduPilot .parm).
   std::string snippet;
+  // What the log says each of `params` is now (same names and order; NaN
+  // where the log does not record it) and the trim's current value (NaN when
+  // unknown). Empty / NaN until AddCurrentValues.
+  std::vector<std::pair<std::string, double>> current;
+  double trim_current = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Restates `result` (a fit in plane "pitch" or "roll") for `format`. The
@@ -59,10 +65,18 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
     int imu_instance,
     const std::string& source);
 
-// {"format", "params", "stderr", "omitted", "tilt", "snippet"[, "reason"]}.
+// Fills p->current and p->trim_current from the parameters a log records
+// (ReadLogParameters in imusysid/log_reader.h).
+void AddCurrentValues(
+    const std::vector<std::pair<std::string, double>>& log_parameters,
+    AutopilotParameters* p);
+
+// {"format", "params", "stderr", "omitted", "tilt", "snippet"[, "reason"]
+// [, "current"]}.
 nlohmann::ordered_json AutopilotParametersToJson(const AutopilotParameters& p);
 
-// Human-readable lines for the table output (the snippet included).
+// Human-readable lines for the table output: with current values, a table of
+// current, identified, difference and 1σ per parameter; then the snippet.
 std::string AutopilotParametersToText(const AutopilotParameters& p);
 
 }  // namespace imusysid

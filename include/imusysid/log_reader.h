@@ -98,6 +98,13 @@ struct LogSummary {
 inline constexpr std::size_t kMaxSummaryMessages = 20;
 
 StatusOr<LogSummary> SummarizeLog(const std::string& path);
+
+// The autopilot parameters a log records, in first-seen order, with the value
+// in force at the log's end (a ULog's initial values with its in-flight
+// changes applied; a DataFlash log's last PARM per name). Empty for a CSV.
+// Errors as ReadFlightLog's.
+StatusOr<std::vector<std::pair<std::string, double>>> ReadLogParameters(
+    const std::string& path);
 StatusOr<LogSummary> SummarizeLogBytes(std::string_view bytes,
                                        const std::string& name);
 

@@ -8,10 +8,12 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
+#include "imusysid/log_reader.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem.h"
 #include "imusysid/problem_io.h"
@@ -248,12 +250,20 @@ Status AddEmit(const std::vector<EstimateResult>& results,
                std::string* text) {
   std::vector<AutopilotParameters> emitted(results.size());
   std::vector<bool> have(results.size(), false);
+  // The values the log itself records, to show beside the identified ones;
+  // none for a CSV or a problem file (or a log whose parameters cannot be
+  // read: the fit stands without them).
+  StatusOr<std::vector<std::pair<std::string, double>>> log_parameters =
+      ReadLogParameters(context.log);
   int best = -1;
   for (std::size_t i = 0; i < results.size(); ++i) {
     StatusOr<AutopilotParameters> p = ToAutopilotParameters(
         results[i], format, context.plane, FLAGS_imu, context.log);
     if (!p.ok()) continue;  // an unusable fit: nothing to restate
     emitted[i] = std::move(p).value();
+    if (log_parameters.ok() && !log_parameters->empty()) {
+      AddCurrentValues(*log_parameters, &emitted[i]);
+    }
     have[i] = true;
     if (best < 0 || results[i].rmse < results[best].rmse) {
       best = static_cast<int>(i);

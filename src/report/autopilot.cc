@@ -208,13 +208,68 @@ nlohmann::ordered_json AutopilotParametersToJson(const AutopilotParameters& p) {
                {"trim_value", num(p.trim_value)},
                {"trim_unit", p.trim_unit},
                {"note", p.trim_note}};
+  if (!p.current.empty() || std::isfinite(p.trim_current)) {
+    nlohmann::ordered_json current = nlohmann::ordered_json::object();
+    for (const auto& [name, value] : p.current) current[name] = num(value);
+    j["current"] = current;
+    j["tilt"]["trim_current"] = num(p.trim_current);
+  }
   j["snippet"] = p.snippet;
   return j;
 }
 
+void AddCurrentValues(
+    const std::vector<std::pair<std::string, double>>& log_parameters,
+    AutopilotParameters* p) {
+  auto find = [&log_parameters](const std::string& name) {
+    for (const auto& [n, value] : log_parameters) {
+      if (n == name) return value;
+    }
+    return kNaN;
+  };
+  p->current.clear();
+  for (const auto& param : p->params) {
+    p->current.emplace_back(param.first, find(param.first));
+  }
+  p->trim_current = find(p->trim_parameter);
+}
+
 std::string AutopilotParametersToText(const AutopilotParameters& p) {
   std::ostringstream s;
-  s << "\n" << EmitFormatToString(p.format) << " parameters:\n" << p.snippet;
+  s << "\n" << EmitFormatToString(p.format) << " parameters:\n";
+  if (!p.current.empty()) {
+    // Side by side, so the change a user is about to make is visible.
+    std::vector<std::vector<std::string>> rows;
+    for (std::size_t i = 0; i < p.params.size(); ++i) {
+      const double now = p.current[i].second;
+      const double value = p.params[i].second;
+      rows.push_back(
+          {p.params[i].first,
+           std::isfinite(now) ? FormatFixed(now, 4, kQuoted) : "not in log",
+           FormatFixed(value, 4, kQuoted),
+           std::isfinite(now) ? FormatFixed(value - now, 4, kQuoted) : "-",
+           FormatNumber(p.stderrs[i].second, 2, kQuoted)});
+    }
+    s << FormatTable(
+             {"parameter", "current", "identified", "difference", "1-sigma"},
+             rows)
+      << "(m, FRD; the log's values are those in force "
+         "at its end)\n";
+  }
+  if (std::isfinite(p.trim_current)) {
+    // PX4's offset from the fit is an increment (it logs after the board
+    // rotation); ArduPilot's is the whole trim (it logs before it).
+    const bool increment = p.format == EmitFormat::kPx4;
+    const double identified =
+        increment ? p.trim_current + p.trim_value : p.trim_value;
+    s << p.trim_parameter << ": " << FormatNumber(p.trim_current, 4, kQuoted)
+      << " " << p.trim_unit << " in the log, "
+      << FormatNumber(identified, 4, kQuoted) << " " << p.trim_unit
+      << " from the fit (difference "
+      << FormatNumber(identified - p.trim_current, 3, kQuoted)
+      << "; not written, see the tilt note)\n";
+  }
+  s << p.snippet;
   return s.str();
 }
 
