@@ -46,8 +46,10 @@ constexpr double kDoubletSpacingS = 2.5;  // between axes
 constexpr double kDoubletHalfS = 0.3;     // each half of a doublet
 const Eigen::Vector3d kDoubletRate(1.5, 1.5, 1.0);  // rad/s per axis
 // The pitch-only laps: north and back over kLapLength.
-constexpr double kLapLength = 7.0;  // m
-constexpr double kLapPeriod = 6.5;  // s, nominal
+constexpr double kLapLength = 7.0;     // m
+constexpr double kLapPeriod = 6.5;     // s, nominal
+constexpr double kLapRampS = 3.0;      // lap-rate ramp in and out, s
+constexpr double kDescentRampS = 1.0;  // descent-rate ramp, s
 
 // Minimum-jerk blend 0 → 1 over x in [0, 1] (C² at both ends).
 double MinJerk(double x) {
@@ -57,7 +59,7 @@ double MinJerk(double x) {
 
 // ∫₀^τ g, where g rises from 0 to 1 over `ramp` (minimum jerk), stays at 1
 // and falls back to 0 over the last `ramp` of `span`; its total is
-// span − ramp.
+// span − ramp (span may be infinite: a ramp up only).
 double RampedTime(double tau, double span, double ramp) {
   // ∫₀^x MinJerk = x⁴ (2.5 − 3x + x²); 1/2 at x = 1.
   auto ramp_area = [](double x) {
@@ -84,8 +86,9 @@ void ManeuverReference(const Simulator3dOptions& o,
                        Reference3d* ref) {
   const double span = o.maneuver_s;
   if (o.scenario == "pitch_laps_3d") {
-    const double rate = LapRate(span, kLapPeriod);
-    ref->p.x() = 0.5 * kLapLength * (1.0 - std::cos(rate * tau));
+    const double rate = LapRate(span - kLapRampS, kLapPeriod);
+    ref->p.x() = 0.5 * kLapLength *
+                 (1.0 - std::cos(rate * RampedTime(tau, span, kLapRampS)));
     return;
   }
   if (o.scenario != "figure8_3d") return;  // hover_3d: stay put
@@ -146,7 +149,13 @@ Reference3d ReferenceAt(const Simulator3dOptions& o,
   if (t >= timeline.landing) {
     // Descend until the ground stops the vehicle; the reference keeps going
     // down so that the touchdown is firm.
-    altitude = o.hover_altitude_m - o.descent_rate_mps * (t - timeline.landing);
+    // The descent rate ramps in (minimum jerk over kDescentRampS) so the
+    // fed-forward acceleration stays finite.
+    altitude =
+        o.hover_altitude_m -
+        o.descent_rate_mps * RampedTime(t - timeline.landing,
+                                        std::numeric_limits<double>::infinity(),
+                                        kDescentRampS);
   } else if (t >= timeline.hover) {
     altitude = o.hover_altitude_m * MinJerk((t - timeline.hover) / o.takeoff_s);
   }
