@@ -99,6 +99,9 @@ struct FlightState {
   double vibration_phase = 0.0;  // rad
 };
 
+// Builds the flight while it is integrated: every IMU's sample (each IMU with
+// its own noise stream), the truth beside it, and the estimator's outputs,
+// which become the logs' extra channels once the flight is over.
 class Recorder {
  public:
   Recorder(const Simulator3dOptions& o, const Plant3d& plant, std::size_t n)
