@@ -1,9 +1,10 @@
-// `imusysid simulate`: flies the planar quadrotor simulator through a named
-// scenario and writes the IMU log (CSV) plus its truth sidecar
-// (NAME.truth.json).
+// `imusysid simulate`: flies the planar quadrotor simulator (or the 6-DOF one
+// for the *_3d scenarios) through a named scenario and writes the IMU log
+// (CSV) plus its truth sidecar (NAME.truth.json).
 
 #include "imusysid/simulate.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -11,13 +12,16 @@
 
 #include "imusysid/format.h"
 #include "imusysid/paper_reference.h"
+#include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
 
 DEFINE_string(scenario,
               "paper_test1",
-              "Scenario: paper_test1, paper_test2, model_exact, hover_only.");
+              "Scenario: paper_test1, paper_test2, model_exact, hover_only "
+              "(planar); figure8_3d, hover_3d, pitch_laps_3d (6-DOF, FRD, "
+              "one CSV per IMU).");
 DEFINE_double(r_m,
               std::numeric_limits<double>::quiet_NaN(),
               "Override the true IMU distance from the CoM, m.");
@@ -87,11 +91,137 @@ Status ApplyOverrides(SimulatorOptions* o) {
   return o->Validate();
 }
 
+// NAME.csv → NAME.imuK.csv for the K-th IMU (K >= 2); the first IMU's log is
+// NAME.csv itself.
+std::string ImuPath(const std::string& out, std::size_t instance) {
+  if (instance == 1) return out;
+  const std::string ext = ".csv";
+  std::string base = out;
+  if (out.size() > ext.size() &&
+      out.compare(out.size() - ext.size(), ext.size(), ext) == 0) {
+    base = out.substr(0, out.size() - ext.size());
+  }
+  return base + ".imu" + std::to_string(instance) + ".csv";
+}
+
+bool Is3dScenario(const std::string& name) {
+  const std::vector<std::string> names = Scenario3dNames();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// The 6-DOF scenarios: one FRD CSV per IMU, one truth sidecar. The planar
+// scenarios' settings do not apply to them.
+int Run3d() {
+  const std::string cmd = "simulate";
+  for (const char* flag :
+       {"r_m", "beta_deg", "alpha_deg", "mu", "set", "list_settings"}) {
+    if (FlagWasSet(flag)) {
+      return UsageError(cmd,
+                        std::string("--") + flag +
+                            " applies to the planar scenarios only, not to " +
+                            FLAGS_scenario);
+    }
+  }
+  if (!FLAGS_frame.empty() && FLAGS_frame != "frd") {
+    return UsageError(
+        cmd,
+        "the 3-D scenarios write FRD logs only (--frame=" + FLAGS_frame + ")");
+  }
+  StatusOr<Simulator3dOptions> options = Scenario3dOptions(FLAGS_scenario);
+  if (!options.ok()) return ReportError(cmd, options.status());
+  if (FlagWasSet("rate_hz")) options->rate_hz = FLAGS_rate_hz;
+  if (FlagWasSet("seed")) options->seed = FLAGS_seed;
+  Status s = options->Validate();
+  if (!s.ok()) return ReportError(cmd, s);
+  if (FLAGS_out.empty()) {
+    return UsageError(cmd, "--out=FILE.csv is required");
+  }
+  std::cerr << "simulating " << FLAGS_scenario << " (" << options->duration_s()
+            << " s at " << options->rate_hz << " Hz, " << options->imus.size()
+            << " IMUs)...\n";
+  StatusOr<Simulated3dFlight> flight = Simulate3d(*options);
+  if (!flight.ok()) return ReportError(cmd, flight.status());
+  const Simulated3dFlight& f = *flight;
+
+  // No half-written set of files: on any failure the ones already written
+  // are removed.
+  std::vector<std::string> written;
+  const std::string truth_path = TruthPath(FLAGS_out);
+  s = WriteFileAtomically(truth_path, Truth3dJson(*options, f));
+  if (s.ok()) written.push_back(truth_path);
+  for (std::size_t k = 0; s.ok() && k < f.logs.size(); ++k) {
+    const std::string path = ImuPath(FLAGS_out, k + 1);
+    s = WriteFileAtomically(path, FormatSimulated3dCsv(f.logs[k]));
+    if (s.ok()) written.push_back(path);
+  }
+  if (!s.ok()) {
+    for (const std::string& path : written) std::remove(path.c_str());
+    return ReportError(cmd, s);
+  }
+
+  if (JsonOutput()) {
+    nlohmann::ordered_json j;
+    j["scenario"] = FLAGS_scenario;
+    j["logs"] = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < f.logs.size(); ++k) {
+      j["logs"].push_back(ImuPath(FLAGS_out, k + 1));
+    }
+    j["truth"] = truth_path;
+    j["samples"] = f.t_s.size();
+    j["duration_s"] = options->duration_s();
+    j["rate_hz"] = options->rate_hz;
+    j["seed"] = options->seed;
+    j["frame"] = "frd";
+    j["imu_positions_frd_m"] = nlohmann::ordered_json::array();
+    for (const Imu3dMount& m : options->imus) {
+      j["imu_positions_frd_m"].push_back(
+          {m.p_frd_m.x(), m.p_frd_m.y(), m.p_frd_m.z()});
+    }
+    j["maneuver_s"] = {f.maneuver_start_t_s, f.maneuver_end_t_s};
+    j["max_tilt_deg"] = f.max_tilt_deg;
+    j["max_speed_mps"] = f.max_speed_mps;
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::cout << "wrote " << FLAGS_out << " (IMU 1";
+  for (std::size_t k = 1; k < f.logs.size(); ++k) {
+    std::cout << (k + 1 == f.logs.size() ? " and " : ", ") << "IMU " << k + 1
+              << " in " << ImuPath(FLAGS_out, k + 1);
+  }
+  std::cout << "; " << f.t_s.size() << " samples each, "
+            << FormatNumber(options->rate_hz, 4) << " Hz, frame frd, columns "
+            << "t,ax,ay,az,gx,gy,gz,qw,qx,qy,qz,vn,ve,vd) and " << truth_path
+            << "\n";
+  for (std::size_t k = 0; k < options->imus.size(); ++k) {
+    const Imu3dMount& m = options->imus[k];
+    std::cout << "truth: IMU " << k + 1 << " at ("
+              << FormatNumber(m.p_frd_m.x(), 4) << ", "
+              << FormatNumber(m.p_frd_m.y(), 4) << ", "
+              << FormatNumber(m.p_frd_m.z(), 4) << ") m FRD\n";
+  }
+  std::cout << "truth: rotor drag " << FormatNumber(options->rotor_drag_per_s)
+            << " 1/s, mu " << FormatNumber(options->mu) << " 1/m, wind NED ("
+            << FormatNumber(options->wind_ned_mps.x()) << ", "
+            << FormatNumber(options->wind_ned_mps.y()) << ", "
+            << FormatNumber(options->wind_ned_mps.z())
+            << ") m/s, estimator delay "
+            << FormatNumber(options->estimator_delay_s) << " s\n"
+            << "flight: maneuver " << FormatNumber(f.maneuver_start_t_s, 5)
+            << "-" << FormatNumber(f.maneuver_end_t_s, 5) << " s, max tilt "
+            << FormatNumber(f.max_tilt_deg, 3) << " deg, max speed "
+            << FormatNumber(f.max_speed_mps, 3) << " m/s, RMS rates ("
+            << FormatNumber(f.rms_rate_maneuver_radps.x(), 3) << ", "
+            << FormatNumber(f.rms_rate_maneuver_radps.y(), 3) << ", "
+            << FormatNumber(f.rms_rate_maneuver_radps.z(), 3) << ") rad/s\n";
+  return kExitOk;
+}
+
 int Run(const std::vector<std::string>& positional) {
   const std::string cmd = "simulate";
   if (!positional.empty()) {
     return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
   }
+  if (Is3dScenario(FLAGS_scenario)) return Run3d();
   StatusOr<SimulatorOptions> options = ScenarioOptions(FLAGS_scenario);
   if (!options.ok()) return ReportError(cmd, options.status());
   Status s = ApplyOverrides(&*options);
@@ -172,8 +302,8 @@ int Run(const std::vector<std::string>& positional) {
 const Command& SimulateCommand() {
   static const Command c{
       "simulate",
-      "Simulate a flight of the paper's profile; write the IMU log and its "
-      "truth.",
+      "Simulate a flight (the paper's planar profile or a 3-D scenario); "
+      "write the IMU log and its truth.",
       "imusysid simulate --scenario=NAME --out=FILE.csv [overrides]",
       std::string(
           "Writes FILE.csv (docs/log-format.md) and FILE.truth.json (true r, "
@@ -190,7 +320,16 @@ const Command& SimulateCommand() {
           FormatNumber(kPaperTest2Fit.mu) +
           "), model_exact (f_x from equation 9\n"
           "plus white noise: for estimator tests), hover_only (nothing to "
-          "identify).",
+          "identify).\n"
+          "3-D scenarios (6-DOF simulator, docs/simulator-3d.md): figure8_3d "
+          "(figure-eight with roll,\npitch and yaw, then rate doublets on "
+          "each axis), hover_3d (hover only), pitch_laps_3d\n(laps along "
+          "north, pitch only). They fly three IMUs and write FILE.csv (IMU "
+          "1),\nFILE.imu2.csv and FILE.imu3.csv, in FRD with the autopilot's "
+          "attitude and velocity\n(qw,qx,qy,qz,vn,ve,vd; empty before its "
+          "first estimate), and FILE.truth.json (every\nIMU's position, "
+          "drag, wind, estimator delay). Only --seed, --rate_hz (100-1000) "
+          "and\n--format apply to them.",
       {"scenario",
        "out",
        "seed",

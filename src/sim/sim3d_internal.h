@@ -1,0 +1,119 @@
+// The 6-DOF simulator's parts below Simulate3d (include/imusysid/simulate3d.h):
+// the rigid-body dynamics, the scenarios' reference trajectories and the
+// cascaded controller. Internal: not part of the library's API.
+
+#ifndef IMUSYSID_SRC_SIM_SIM3D_INTERNAL_H_
+#define IMUSYSID_SRC_SIM_SIM3D_INTERNAL_H_
+
+#include <limits>
+
+#include "Eigen/Core"
+#include "Eigen/Geometry"
+#include "imusysid/simulate3d.h"
+
+namespace imusysid {
+namespace internal {
+
+// --- rigid-body dynamics (sim3d_dynamics.cc) ---------------------------------
+
+// Rigid body plus the first-order actuator states. Body axes FRD, world NED.
+struct State3d {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();  // position, NED, m
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();  // velocity, NED, m/s
+  // Attitude, body FRD → NED (v_ned = q v_body); kept unit by Rk4Step3d. The
+  // derivative holds q̇ in the same four coefficients.
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();    // body rate, FRD, rad/s
+  double thrust = 0.0;                            // N, along body −z
+  Eigen::Vector3d tau = Eigen::Vector3d::Zero();  // body torque, FRD, N m
+};
+
+// The vehicle's constants the dynamics need.
+struct Plant3d {
+  double mass = 0.0;
+  Eigen::Vector3d inertia = Eigen::Vector3d::Ones();  // diagonal, kg m²
+  double rotor_drag = 0.0;                            // k, 1/s
+  double mu = 0.0;                                    // 1/m
+  Eigen::Vector3d wind = Eigen::Vector3d::Zero();     // NED, m/s
+  double thrust_lag = 0.03;
+  double torque_lag = 0.03;
+};
+
+struct Commands3d {
+  double thrust = 0.0;                            // N
+  Eigen::Vector3d tau = Eigen::Vector3d::Zero();  // N m
+};
+
+// Specific force at the CoM in body axes, (thrust + drag) / m, m/s², for the
+// state `s` in flight.
+Eigen::Vector3d AirborneSpecificForce(const State3d& s, const Plant3d& p);
+
+// Time derivative of the state. On the ground the body rests still (the
+// contact force takes whatever thrust does not carry) and only the actuators
+// move.
+State3d Derivative3d(const State3d& s,
+                     const Commands3d& cmd,
+                     bool grounded,
+                     const Plant3d& p);
+
+// One classical RK4 step of h seconds with the commands held; renormalises q.
+State3d Rk4Step3d(const State3d& s,
+                  const Commands3d& cmd,
+                  bool grounded,
+                  const Plant3d& p,
+                  double h);
+
+// --- the profile (sim3d_controller.cc) ---------------------------------------
+
+// Segment boundaries of the profile, s.
+struct Timeline3d {
+  double motors_on = 0.0;
+  double hover = 0.0;  // take-off climb starts
+  double maneuver = 0.0;
+  double landing = 0.0;
+  double motors_off = 0.0;
+  double end = 0.0;
+};
+
+Timeline3d MakeTimeline3d(const Simulator3dOptions& o);
+
+// Where the vehicle should be: position (NED), yaw (rad), and the body rates
+// (FRD, rad/s) that replace the attitude loop's command on an axis during a
+// rate doublet (NaN: no doublet on that axis), as a pilot's stick in rate
+// mode would.
+struct Reference3d {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  double yaw = 0.0;
+  Eigen::Vector3d rate_override =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+};
+
+// The scenario's reference at time t (continuous in p and its first two
+// derivatives, so their central differences are the feed-forward).
+Reference3d ReferenceAt(const Simulator3dOptions& o,
+                        const Timeline3d& timeline,
+                        double t);
+
+// The cascaded controller: position → velocity → acceleration (with a
+// velocity integrator that trims drag and wind) → thrust vector and attitude
+// → body rates → torques.
+class Controller3d {
+ public:
+  Controller3d(const Simulator3dOptions& o, const Timeline3d& timeline)
+      : o_(o), timeline_(timeline) {}
+
+  // Commands for the step of h seconds starting at t. `landed`: back on the
+  // ground after the flight (idle thrust, no integration).
+  Commands3d Update(
+      double t, const State3d& s, bool grounded, bool landed, double h);
+
+ private:
+  const Simulator3dOptions& o_;
+  const Timeline3d& timeline_;
+  Eigen::Vector3d velocity_integral_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace internal
+}  // namespace imusysid
+
+#endif  // IMUSYSID_SRC_SIM_SIM3D_INTERNAL_H_

@@ -1,0 +1,267 @@
+// The 3-D simulator's options and scenarios, its truth sidecar and the CSV
+// text of its logs (include/imusysid/simulate3d.h).
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "imusysid/format.h"
+#include "imusysid/simulate3d.h"
+#include "nlohmann/json.hpp"
+
+namespace imusysid {
+namespace {
+
+// "Simulator3dOptions::name = value; required ..." when !ok, so the message
+// always names the field and the value it checked.
+Status Require(bool ok,
+               const std::string& name,
+               double value,
+               const std::string& rule) {
+  if (ok) return Status::Ok();
+  return InvalidArgumentError("Simulator3dOptions::" + name + " = " +
+                              FormatShortest(value) + "; required " + rule);
+}
+
+Status InRange(const std::string& name, double value, double lo, double hi) {
+  std::ostringstream rule;
+  rule << "in [" << FormatShortest(lo) << ", " << FormatShortest(hi) << "]";
+  return Require(value >= lo && value <= hi, name, value, rule.str());
+}
+
+Status Positive(const std::string& name, double value) {
+  return Require(value > 0.0 && std::isfinite(value), name, value, "> 0");
+}
+
+Status VectorInRange(const std::string& name,
+                     const Eigen::Vector3d& v,
+                     double lo,
+                     double hi) {
+  for (int i = 0; i < 3; ++i) {
+    IMUSYSID_RETURN_IF_ERROR(
+        InRange(name + "[" + std::to_string(i) + "]", v(i), lo, hi));
+  }
+  return Status::Ok();
+}
+
+nlohmann::ordered_json Vec(const Eigen::Vector3d& v) {
+  return nlohmann::ordered_json::array({v.x(), v.y(), v.z()});
+}
+
+}  // namespace
+
+std::vector<Imu3dMount> Simulator3dOptions::DefaultImus() {
+  std::vector<Imu3dMount> imus(3);
+  imus[0].p_frd_m = Eigen::Vector3d(0.05, -0.02, -0.03);
+  imus[1].p_frd_m = Eigen::Vector3d(-0.04, 0.03, 0.02);
+  imus[2].p_frd_m = Eigen::Vector3d(0.01, 0.06, -0.05);
+  return imus;
+}
+
+double Simulator3dOptions::duration_s() const {
+  return motors_off_start_s + idle_s + hover_s + maneuver_s + landing_s +
+         motors_off_end_s;
+}
+
+Status Simulator3dOptions::Validate() const {
+  bool known = false;
+  for (const std::string& name : Scenario3dNames()) known |= name == scenario;
+  if (!known) {
+    return InvalidArgumentError("Simulator3dOptions::scenario = '" + scenario +
+                                "'; required figure8_3d, hover_3d or "
+                                "pitch_laps_3d");
+  }
+  IMUSYSID_RETURN_IF_ERROR(InRange("rate_hz", rate_hz, 100.0, 1000.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("motors_off_start_s", motors_off_start_s, 0.0, 60.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("idle_s", idle_s, 0.0, 60.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("takeoff_s", takeoff_s, 0.5, 30.0));
+  IMUSYSID_RETURN_IF_ERROR(Require(hover_s > takeoff_s && hover_s <= 600.0,
+                                   "hover_s",
+                                   hover_s,
+                                   "> takeoff_s and <= 600"));
+  IMUSYSID_RETURN_IF_ERROR(InRange("maneuver_s", maneuver_s, 10.0, 3600.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("landing_s", landing_s, 1.0, 600.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("motors_off_end_s", motors_off_end_s, 0.0, 60.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("hover_altitude_m", hover_altitude_m, 0.5, 100.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("descent_rate_mps", descent_rate_mps, 0.1, 3.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("mass_kg", mass_kg, 0.05, 100.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      VectorInRange("inertia_kg_m2", inertia_kg_m2, 1e-5, 100.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("thrust_lag_s", thrust_lag_s, 1e-3, 0.5));
+  IMUSYSID_RETURN_IF_ERROR(InRange("torque_lag_s", torque_lag_s, 1e-3, 0.5));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("max_thrust_to_weight", max_thrust_to_weight, 1.1, 10.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("idle_thrust_to_weight", idle_thrust_to_weight, 0.0, 0.95));
+  IMUSYSID_RETURN_IF_ERROR(
+      VectorInRange("max_torque_nm", max_torque_nm, 1e-3, 100.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("rotor_drag_per_s", rotor_drag_per_s, 0.0, 5.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("mu", mu, 0.0, 1.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      VectorInRange("wind_ned_mps", wind_ned_mps, -15.0, 15.0));
+  IMUSYSID_RETURN_IF_ERROR(Require(!imus.empty() && imus.size() <= 8,
+                                   "imus.size()",
+                                   static_cast<double>(imus.size()),
+                                   "in [1, 8]"));
+  for (std::size_t k = 0; k < imus.size(); ++k) {
+    const std::string name = "imus[" + std::to_string(k) + "].";
+    IMUSYSID_RETURN_IF_ERROR(
+        VectorInRange(name + "p_frd_m", imus[k].p_frd_m, -0.5, 0.5));
+    IMUSYSID_RETURN_IF_ERROR(
+        InRange(name + "roll_deg", imus[k].roll_deg, -10.0, 10.0));
+    IMUSYSID_RETURN_IF_ERROR(
+        InRange(name + "pitch_deg", imus[k].pitch_deg, -10.0, 10.0));
+    IMUSYSID_RETURN_IF_ERROR(
+        InRange(name + "yaw_deg", imus[k].yaw_deg, -10.0, 10.0));
+  }
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("accel_noise_density_ug", accel_noise_density_ug, 0.0, 1e5));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("gyro_noise_density_dps", gyro_noise_density_dps, 0.0, 10.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      VectorInRange("accel_bias_mps2", accel_bias_mps2, -5.0, 5.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      VectorInRange("gyro_bias_radps", gyro_bias_radps, -1.0, 1.0));
+  IMUSYSID_RETURN_IF_ERROR(Positive("vibration_hover_hz", vibration_hover_hz));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("vibration_accel_mps2", vibration_accel_mps2, 0.0, 50.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("vibration_gyro_radps", vibration_gyro_radps, 0.0, 5.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("estimator_rate_hz", estimator_rate_hz, 10.0, 200.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("estimator_delay_s", estimator_delay_s, 0.0, 0.2));
+  IMUSYSID_RETURN_IF_ERROR(InRange(
+      "estimator_attitude_noise_deg", estimator_attitude_noise_deg, 0.0, 10.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange(
+      "estimator_velocity_noise_mps", estimator_velocity_noise_mps, 0.0, 5.0));
+  return Status::Ok();
+}
+
+std::vector<std::string> Scenario3dNames() {
+  return {"figure8_3d", "hover_3d", "pitch_laps_3d"};
+}
+
+StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
+  for (const std::string& known : Scenario3dNames()) {
+    if (name == known) {
+      // The scenarios share the vehicle, the IMUs, the wind and the profile;
+      // only what is flown during the manoeuvre differs (sim3d_controller.cc).
+      Simulator3dOptions o;
+      o.scenario = known;
+      return o;
+    }
+  }
+  return NotFoundError("unknown 3-D scenario '" + std::string(name) +
+                       "'; valid: figure8_3d, hover_3d, pitch_laps_3d");
+}
+
+std::string Truth3dJson(const Simulator3dOptions& o,
+                        const Simulated3dFlight& flight) {
+  using Json = nlohmann::ordered_json;
+  Json j;
+  j["scenario"] = o.scenario;
+  j["seed"] = o.seed;
+  j["rate_hz"] = o.rate_hz;
+  j["frame"] = "frd";
+  j["duration_s"] = o.duration_s();
+  Json imus = Json::array();
+  for (std::size_t k = 0; k < o.imus.size(); ++k) {
+    const Imu3dMount& m = o.imus[k];
+    Json imu;
+    imu["instance"] = k + 1;
+    // The vector CoM → IMU, FRD: PX4's EKF2_IMU_POS_X/Y/Z, ArduPilot's
+    // INS_POSn_X/Y/Z.
+    imu["p_frd_m"] = Vec(m.p_frd_m);
+    imu["misalignment_deg"] =
+        Json{{"roll", m.roll_deg}, {"pitch", m.pitch_deg}, {"yaw", m.yaw_deg}};
+    imus.push_back(imu);
+  }
+  j["imus"] = imus;
+  j["rotor_drag_per_s"] = o.rotor_drag_per_s;
+  j["mu"] = o.mu;
+  j["wind_ned_mps"] = Vec(o.wind_ned_mps);
+  j["estimator"] =
+      Json{{"rate_hz", o.estimator_rate_hz},
+           {"delay_s", o.estimator_delay_s},
+           {"attitude_noise_deg", o.estimator_attitude_noise_deg},
+           {"velocity_noise_mps", o.estimator_velocity_noise_mps},
+           {"channels",
+            "qw,qx,qy,qz (body FRD -> NED, Hamilton, scalar first), "
+            "vn,ve,vd (m/s)"}};
+  j["vehicle"] = Json{{"mass_kg", o.mass_kg},
+                      {"inertia_kg_m2", Vec(o.inertia_kg_m2)},
+                      {"thrust_lag_s", o.thrust_lag_s},
+                      {"torque_lag_s", o.torque_lag_s},
+                      {"max_thrust_to_weight", o.max_thrust_to_weight},
+                      {"idle_thrust_to_weight", o.idle_thrust_to_weight},
+                      {"max_torque_nm", Vec(o.max_torque_nm)}};
+  j["sensors"] = Json{{"frame", "frd, sensor axes"},
+                      {"accel_noise_density_ug", o.accel_noise_density_ug},
+                      {"gyro_noise_density_dps", o.gyro_noise_density_dps},
+                      {"accel_bias_mps2", Vec(o.accel_bias_mps2)},
+                      {"gyro_bias_radps", Vec(o.gyro_bias_radps)},
+                      {"vibration", o.vibration},
+                      {"vibration_hover_hz", o.vibration_hover_hz},
+                      {"vibration_accel_mps2", o.vibration_accel_mps2},
+                      {"vibration_gyro_radps", o.vibration_gyro_radps}};
+  j["profile_s"] = Json{{"motors_off_start", o.motors_off_start_s},
+                        {"idle", o.idle_s},
+                        {"hover", o.hover_s},
+                        {"takeoff", o.takeoff_s},
+                        {"maneuver", o.maneuver_s},
+                        {"landing", o.landing_s},
+                        {"motors_off_end", o.motors_off_end_s}};
+  j["hover_altitude_m"] = o.hover_altitude_m;
+  j["descent_rate_mps"] = o.descent_rate_mps;
+  j["instants_s"] = Json{{"motors_on", flight.motors_on_t_s},
+                         {"takeoff", flight.takeoff_t_s},
+                         {"maneuver_start", flight.maneuver_start_t_s},
+                         {"maneuver_end", flight.maneuver_end_t_s},
+                         {"landing", flight.landing_t_s},
+                         {"touchdown", flight.touchdown_t_s},
+                         {"motors_off", flight.motors_off_t_s},
+                         {"end", flight.end_t_s}};
+  j["flight"] =
+      Json{{"samples", flight.t_s.size()},
+           {"max_tilt_deg", flight.max_tilt_deg},
+           {"max_speed_mps", flight.max_speed_mps},
+           {"rms_rate_maneuver_radps", Vec(flight.rms_rate_maneuver_radps)}};
+  return j.dump(2) + "\n";
+}
+
+std::string FormatSimulated3dCsv(const FlightLog& log) {
+  CsvWriteOptions options;
+  options.frame = Frame::kFrd;
+  const std::string text = FormatCsvLog(log, options);
+  // The writer spells NaN "nan" (or "-nan"), which no reader takes for a
+  // missing value; a cell that is absent is written empty instead. Only the
+  // estimator columns can hold NaN, and no other cell can start with 'n' or
+  // "-n", so a cell-by-cell scan suffices.
+  std::string out;
+  out.reserve(text.size());
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const bool cell_start =
+        out.empty() || out.back() == ',' || out.back() == '\n';
+    if (cell_start && text.compare(i, 3, "nan") == 0) {
+      i += 3;
+      continue;
+    }
+    if (cell_start && text.compare(i, 4, "-nan") == 0) {
+      i += 4;
+      continue;
+    }
+    out += text[i++];
+  }
+  return out;
+}
+
+}  // namespace imusysid
