@@ -33,15 +33,20 @@ void PopulationEvaluator::Evaluate(const double* xs, int count, double* costs) {
     EvaluateParallel(xs, count, costs);
     return;
   }
-  if (ns_per_row_ < 0.0) {
-    // The first batch measures what a row costs on one thread; the GA's
-    // generations all have the same size and model, so one measurement
-    // decides for the run.
+  if (measured_batches_ < kMeasuredBatches) {
+    // The first batches measure what a row costs on one thread; the GA's
+    // generations all have the same size and model, so that decides for the
+    // run. The minimum of a few, because one batch on a busy machine can be
+    // preempted for longer than a cheap batch takes, which would make the
+    // paper model's O(1) costs look worth splitting.
     const auto start = std::chrono::steady_clock::now();
     problem_.CostBatch(xs, count, costs);
     const std::chrono::duration<double, std::nano> elapsed =
         std::chrono::steady_clock::now() - start;
-    ns_per_row_ = elapsed.count() / count;
+    const double per_row = elapsed.count() / count;
+    ns_per_row_ =
+        measured_batches_ == 0 ? per_row : std::min(ns_per_row_, per_row);
+    ++measured_batches_;
     return;
   }
   if (ns_per_row_ * count < min_parallel_batch_ns_) {

@@ -16,8 +16,9 @@ namespace imusysid {
 namespace internal {
 
 // A batch is split across threads only when its work is worth it: the first
-// call runs on the calling thread and is timed; later calls run in parallel
-// when that time, scaled to their row count, reaches kMinParallelBatchNs. A
+// kMeasuredBatches calls run on the calling thread and are timed; later calls
+// run in parallel when the fastest of those times, scaled to their row count,
+// reaches kMinParallelBatchNs. A
 // split hands out chunks of kChunkRows consecutive rows (a multiple of the
 // models' SIMD batch width) to whichever thread is free, one
 // Problem::CostBatch call per chunk, so a thread slowed by other work on the
@@ -40,6 +41,7 @@ class PopulationEvaluator {
   // samples) did.
   static constexpr double kMinParallelBatchNs = 2e5;
   static constexpr int kChunkRows = 16;
+  static constexpr int kMeasuredBatches = 3;
 
   // num_threads ≥ 1. The problem must outlive the evaluator.
   // min_parallel_batch_ns ≥ 0 replaces kMinParallelBatchNs; 0 splits every
@@ -68,8 +70,9 @@ class PopulationEvaluator {
   const Problem& problem_;
   const int num_threads_;
   const double min_parallel_batch_ns_;
-  // One-thread time per row of the first batch, ns; < 0 until measured.
-  double ns_per_row_ = -1.0;
+  // The fastest one-thread time per row of the measured batches, ns.
+  double ns_per_row_ = 0.0;
+  int measured_batches_ = 0;
   bool last_call_parallel_ = false;
   std::unique_ptr<ThreadPool> pool_;
   // Row-major copy of a column-major population, reused between calls.
