@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
+#include "src/models/consistent_batch.h"
 #include "src/models/consistent_model.h"
 
 namespace imusysid {
@@ -122,6 +124,55 @@ BENCHMARK(BM_ConsistentCost)
     ->Args({70000, 0})
     ->Args({17500, 1})
     ->Unit(benchmark::kMicrosecond);
+
+// CostBatch on 256 candidates scattered around the truth, on one
+// instruction set (arg isa: 0 SSE2, 1 AVX2, 2 AVX-512; skipped where the CPU
+// lacks it); ns_per_sample is per sample and candidate, comparable with
+// BM_ConsistentCost's.
+void BM_ConsistentCostBatch(benchmark::State& state) {
+  auto data = CachedData(static_cast<int>(state.range(0)));
+  if (data == nullptr) {
+    state.SkipWithError("could not build the data");
+    return;
+  }
+  ModelOptions options;
+  options.use_measured_fz = state.range(1) != 0;
+  auto model = ConsistentModel::Create(data, options);
+  const auto isa = static_cast<internal::BatchIsa>(state.range(2));
+  if (!model.ok()) {
+    state.SkipWithError("could not build the model");
+    return;
+  }
+  if (!internal::BatchIsaSupported(isa)) {
+    state.SkipWithError("instruction set not supported by this CPU");
+    return;
+  }
+  constexpr int kCandidates = 256;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(0.9, 1.1);
+  std::vector<double> xs;
+  const Eigen::VectorXd truth = TruthVector();
+  for (int i = 0; i < kCandidates; ++i) {
+    for (int j = 0; j < kNumConsistentParameters; ++j) {
+      xs.push_back(truth[j] * jitter(rng));
+    }
+  }
+  std::vector<double> costs(kCandidates);
+  for (auto _ : state) {
+    (*model)->CostBatchWithIsa(isa, xs.data(), kCandidates, costs.data());
+    benchmark::DoNotOptimize(costs.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["ns_per_sample"] =
+      benchmark::Counter(static_cast<double>(state.range(0)) * kCandidates,
+                         benchmark::Counter::kIsIterationInvariantRate |
+                             benchmark::Counter::kInvert);
+  state.SetLabel(std::string(internal::BatchIsaName(isa)));
+}
+BENCHMARK(BM_ConsistentCostBatch)
+    ->ArgNames({"n", "fz", "isa"})
+    ->ArgsProduct({{17500}, {0, 1}, {0, 1, 2}})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_ConsistentResidualsJacobian(benchmark::State& state) {
   auto model = MakeModel(state, "consistent");

@@ -2,16 +2,26 @@
 // (70 000 samples, synthetic: two pitch manoeuvres, v from equation 7, f_x
 // from equation 9 at the paper's test 1 parameters plus 0.3 m/s² noise), run
 // to its stopping rule with the paper's settings. Target: ≤ 200 ms per run.
+// Also the thread pairs (BM_GaThreads: --threads=2 must never be slower than
+// --threads=1, on either model, small or large) and the cost of one pool
+// hand-off, which sets PopulationEvaluator's split threshold.
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "benchmark/benchmark.h"
 #include "estimators/ga_estimator.h"
+#include "estimators/internal/population_evaluator.h"
+#include "estimators/internal/thread_pool.h"
 #include "imusysid/estimator.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
+#include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
 #include "src/sim/synthetic_flight.h"
 
@@ -84,6 +94,83 @@ void BM_GaEstimatePaper70sAt1kHz(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_GaEstimatePaper70sAt1kHz)->Unit(benchmark::kMillisecond);
+
+// The two-tone flight at 250 Hz (paper_test1's rate) with `samples` samples,
+// for either model; one problem per (model, size), kept for the process.
+const Problem& ThreadsProblem(bool consistent, int samples) {
+  static auto* cache = new std::vector<std::unique_ptr<Problem>>;
+  static auto* keys = new std::vector<std::pair<bool, int>>;
+  for (std::size_t i = 0; i < keys->size(); ++i) {
+    if ((*keys)[i] == std::make_pair(consistent, samples)) return *(*cache)[i];
+  }
+  constexpr double kRateHz = 250.0;
+  auto data = testing::MakeTwoToneFlight(
+      kPaperTest1Fit.ToVector(), samples / kRateHz, kRateHz, 0.3, 3);
+  std::shared_ptr<const Model> model;
+  if (consistent) {
+    model = std::shared_ptr<const Model>(
+        std::move(ConsistentModel::Create(data)).value());
+  } else {
+    model = std::make_shared<PaperModel>(data);
+  }
+  keys->emplace_back(consistent, samples);
+  cache->push_back(std::make_unique<Problem>(model));
+  return *cache->back();
+}
+
+// RunGa for 30 generations of 250 (the paper's population) from seed 1, so
+// every iteration and both thread counts do the same 7 750 evaluations with
+// the same results. Args: model (0 paper, 1 consistent), samples, threads.
+// Wall time (UseRealTime): what a user waits for.
+void BM_GaThreads(benchmark::State& state) {
+  const bool consistent = state.range(0) != 0;
+  const Problem& problem =
+      ThreadsProblem(consistent, static_cast<int>(state.range(1)));
+  EstimatorOptions options;
+  options.seed = 1;
+  options.record_trace = false;
+  options.ga.max_generations = 30;
+  options.ga.max_stall_generations = 30;
+  options.ga.function_tolerance = 0.0;
+  options.ga.num_threads = static_cast<int>(state.range(2));
+  double rmse = 0.0;
+  for (auto _ : state) {
+    EstimateResult result;
+    const Status status = RunGa(problem, options, {}, &result);
+    if (!status.ok()) {
+      state.SkipWithError(status.ToString().c_str());
+      return;
+    }
+    rmse = problem.CostToRmse(problem.Cost(result.parameters.data()));
+  }
+  state.counters["of_rmse"] = rmse;
+  state.SetLabel(std::string(consistent ? "consistent" : "paper") +
+                 " n=" + std::to_string(state.range(1)) +
+                 " threads=" + std::to_string(state.range(2)));
+}
+BENCHMARK(BM_GaThreads)
+    ->ArgNames({"consistent", "n", "threads"})
+    ->ArgsProduct({{0}, {1000, 12420, 100000}, {1, 2}})
+    ->ArgsProduct({{1}, {250, 1000, 12420}, {1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// One parallel section on a two-thread pool whose tasks do nothing: what a
+// split costs the calling thread (the wake-up call; a worker that has not
+// started by the time the caller is done is not waited for).
+void BM_ThreadPoolHandoff(benchmark::State& state) {
+  internal::ThreadPool pool(2);
+  std::atomic<int> sink{0};
+  for (auto _ : state) {
+    pool.Run([&sink](int worker) {
+      sink.fetch_add(worker, std::memory_order_relaxed);
+    });
+  }
+  benchmark::DoNotOptimize(sink.load());
+  state.counters["threshold_ns"] =
+      internal::PopulationEvaluator::kMinParallelBatchNs;
+}
+BENCHMARK(BM_ThreadPoolHandoff)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace imusysid

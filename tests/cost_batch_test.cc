@@ -1,7 +1,8 @@
-// Tests of batch cost evaluation: Model::CostBatch's default equals Cost row
-// by row for every built-in model, bit for bit, with +inf for rows that cannot
-// be evaluated; Problem::CostBatch counts one evaluation per row and maps
-// whatever an override reports for a failed row to +inf.
+// Tests of batch cost evaluation: Model::CostBatch (the default and the
+// consistent model's SIMD override, on every instruction set this CPU runs)
+// equals Cost row by row for every built-in model, bit for bit, with +inf for
+// rows that cannot be evaluated; Problem::CostBatch counts one evaluation per
+// row and maps whatever an override reports for a failed row to +inf.
 
 #include <cmath>
 #include <cstdint>
@@ -17,6 +18,8 @@
 #include "imusysid/model.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
+#include "src/models/consistent_batch.h"
+#include "src/models/consistent_model.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -81,7 +84,7 @@ std::vector<ModelCase> BuiltinModelCases() {
   return cases;
 }
 
-TEST(ModelCostBatch, DefaultEqualsCostRowByRowForEveryBuiltinModel) {
+TEST(ModelCostBatch, EqualsCostRowByRowForEveryBuiltinModel) {
   const auto data = MakeData();
   const std::vector<ModelCase> cases = BuiltinModelCases();
   ASSERT_GE(cases.size(), 2u);
@@ -113,6 +116,80 @@ TEST(ModelCostBatch, DefaultEqualsCostRowByRowForEveryBuiltinModel) {
 
     // The in-box rows alone are all finite.
     EXPECT_TRUE(m.CostBatch(xs.data(), 40, costs.data()));
+  }
+}
+
+// The consistent model's SIMD kernel on SSE2, AVX2 and AVX-512 (those this
+// CPU runs): 8 lanes per call, so 61 rows give full groups, a padded last
+// group and lanes that fail beside lanes that do not. Bit equality, not a
+// tolerance: each lane performs Cost's operations in Cost's order, with no
+// fused multiply-add on either side (-ffp-contract=off), so any difference is
+// a divergence of the kernel from the scalar integration.
+TEST(ConsistentCostBatch, EveryInstructionSetEqualsCostBitForBit) {
+  const auto data = MakeData();
+  ASSERT_GT(data->size(), 2 * internal::kReseedInterval)
+      << "the drift re-seed must happen inside the flight";
+  for (bool measured_fz : {false, true}) {
+    SCOPED_TRACE(measured_fz ? "measured f_z" : "altitude held");
+    ModelOptions options;
+    options.use_measured_fz = measured_fz;
+    auto created = ConsistentModel::Create(data, options);
+    ASSERT_TRUE(created.ok()) << created.status().ToString();
+    const ConsistentModel& m = **created;
+    std::vector<double> xs = CandidateRows(m, 57);
+    // A pitch offset of 100° (c1 in range, so the SIMD path): cos θ < 0, which
+    // fails with altitude held and is finite with the measured f_z.
+    for (int j = 0; j < kNumConsistentParameters; ++j) {
+      xs.push_back(j == kC0 ? 100.0 : xs[static_cast<std::size_t>(j)]);
+    }
+    const int count = static_cast<int>(xs.size()) / kNumConsistentParameters;
+    ASSERT_EQ(count, 61);
+    std::vector<double> expected(static_cast<std::size_t>(count));
+    int finite = 0;
+    for (int i = 0; i < count; ++i) {
+      double& e = expected[static_cast<std::size_t>(i)];
+      if (!m.Cost(xs.data() + i * kNumConsistentParameters, &e) ||
+          !std::isfinite(e)) {
+        e = kInf;
+      }
+      finite += std::isfinite(e) ? 1 : 0;
+    }
+    EXPECT_GE(finite, 57);
+    EXPECT_EQ(std::isfinite(expected.back()), measured_fz);
+    for (internal::BatchIsa isa : {internal::BatchIsa::kSse2,
+                                   internal::BatchIsa::kAvx2,
+                                   internal::BatchIsa::kAvx512}) {
+      if (!internal::BatchIsaSupported(isa)) continue;
+      SCOPED_TRACE(std::string(internal::BatchIsaName(isa)));
+      std::vector<double> costs(static_cast<std::size_t>(count), -1.0);
+      EXPECT_FALSE(m.CostBatchWithIsa(isa, xs.data(), count, costs.data()));
+      for (int i = 0; i < count; ++i) {
+        EXPECT_EQ(Bits(costs[static_cast<std::size_t>(i)]),
+                  Bits(expected[static_cast<std::size_t>(i)]))
+            << "row " << i << ": " << costs[static_cast<std::size_t>(i)]
+            << " vs " << expected[static_cast<std::size_t>(i)];
+      }
+      // One row alone (seven padding lanes) and the rows in reverse order
+      // (every row in another lane): the same bits.
+      for (int i : {0, 13, 60}) {
+        double one = -1.0;
+        m.CostBatchWithIsa(
+            isa, xs.data() + i * kNumConsistentParameters, 1, &one);
+        EXPECT_EQ(Bits(one), Bits(expected[static_cast<std::size_t>(i)]))
+            << "row " << i << " alone";
+      }
+      std::vector<double> reversed;
+      for (int i = count - 1; i >= 0; --i) {
+        const double* x = xs.data() + i * kNumConsistentParameters;
+        reversed.insert(reversed.end(), x, x + kNumConsistentParameters);
+      }
+      m.CostBatchWithIsa(isa, reversed.data(), count, costs.data());
+      for (int i = 0; i < count; ++i) {
+        EXPECT_EQ(Bits(costs[static_cast<std::size_t>(count - 1 - i)]),
+                  Bits(expected[static_cast<std::size_t>(i)]))
+            << "row " << i << " reversed";
+      }
+    }
   }
 }
 

@@ -109,9 +109,14 @@ TEST(PopulationEvaluator, CostsDoNotDependOnTheThreadCount) {
     // 64 > 37 rows: at most one thread per row.
     for (int threads : {1, 2, 3, 4, 7, 64}) {
       SCOPED_TRACE("threads = " + std::to_string(threads));
-      PopulationEvaluator evaluator(problem, threads);
+      // Threshold 0: every batch is split, so the workers really run.
+      PopulationEvaluator evaluator(problem, threads, 0.0);
       EXPECT_EQ(evaluator.num_threads(), threads);
       Eigen::VectorXd costs;
+      evaluator.Evaluate(population, &costs);
+      EXPECT_EQ(evaluator.last_call_parallel(), threads > 1);
+      ExpectSameBits(costs, reference);
+      // The same pool again: a second section reuses the workers.
       evaluator.Evaluate(population, &costs);
       ExpectSameBits(costs, reference);
     }
@@ -122,7 +127,7 @@ TEST(PopulationEvaluator, CountsOneCostEvaluationPerRow) {
   const Problem problem = MakeProblem("paper");
   const Eigen::MatrixXd population = MakePopulation(problem, 25);
   for (int threads : {1, 4}) {
-    PopulationEvaluator evaluator(problem, threads);
+    PopulationEvaluator evaluator(problem, threads, 0.0);
     Eigen::VectorXd costs;
     const std::int64_t before = problem.cost_evaluations();
     evaluator.Evaluate(population, &costs);
@@ -139,7 +144,7 @@ TEST(PopulationEvaluator, UnevaluableRowsCostInfinity) {
     SCOPED_TRACE(name);
     const Problem problem = MakeProblem(name);
     const Eigen::MatrixXd population = MakePopulation(problem, 8);
-    PopulationEvaluator evaluator(problem, 3);
+    PopulationEvaluator evaluator(problem, 3, 0.0);
     Eigen::VectorXd costs;
     evaluator.Evaluate(population, &costs);
     EXPECT_EQ(costs[3], kInf) << "the NaN row";
@@ -158,12 +163,48 @@ TEST(PopulationEvaluator, RowMajorBufferMatchesTheMatrixOverload) {
   for (Eigen::Index i = 0; i < population.rows(); ++i) {
     for (int j = 0; j < p; ++j) xs.push_back(population(i, j));
   }
-  PopulationEvaluator evaluator(problem, 2);
+  PopulationEvaluator evaluator(problem, 2, 0.0);
   Eigen::VectorXd from_matrix;
   evaluator.Evaluate(population, &from_matrix);
   Eigen::VectorXd from_buffer(population.rows());
   evaluator.Evaluate(xs.data(), 9, from_buffer.data());
   ExpectSameBits(from_buffer, from_matrix);
+}
+
+// Batches far below the threshold never wake a worker: 300 rows of the
+// paper model's O(1) cost take tens of µs, a thousand times under 100 ms
+// (not the default threshold, so that a preempted measurement on a busy
+// machine cannot make the test fail).
+TEST(PopulationEvaluator, BatchesBelowTheThresholdStayOnTheCallingThread) {
+  const Problem problem = MakeProblem("paper");
+  const Eigen::MatrixXd population = MakePopulation(problem, 300);
+  const Eigen::VectorXd reference = OneByOne(problem, population);
+  PopulationEvaluator evaluator(problem, 2, 1e8);
+  Eigen::VectorXd costs;
+  for (int call = 0; call < 6; ++call) {
+    evaluator.Evaluate(population, &costs);
+    EXPECT_FALSE(evaluator.last_call_parallel()) << "call " << call;
+    ExpectSameBits(costs, reference);
+  }
+}
+
+// A batch that costs more than the threshold on one thread is split once the
+// first kMeasuredBatches calls (the measurement) are done.
+TEST(PopulationEvaluator, CostlyBatchesAreSplitAfterTheFirst) {
+  const Problem problem = MakeProblem("consistent");
+  const Eigen::MatrixXd population = MakePopulation(problem, 40);
+  const Eigen::VectorXd reference = OneByOne(problem, population);
+  // 1 ns: any measured batch exceeds it.
+  PopulationEvaluator evaluator(problem, 2, 1.0);
+  Eigen::VectorXd costs;
+  for (int call = 0; call < PopulationEvaluator::kMeasuredBatches; ++call) {
+    evaluator.Evaluate(population, &costs);
+    EXPECT_FALSE(evaluator.last_call_parallel()) << "call " << call;
+    ExpectSameBits(costs, reference);
+  }
+  evaluator.Evaluate(population, &costs);
+  EXPECT_TRUE(evaluator.last_call_parallel());
+  ExpectSameBits(costs, reference);
 }
 
 }  // namespace

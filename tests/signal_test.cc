@@ -296,6 +296,78 @@ TEST(SavitzkyGolayDerivative, IsExactForCubicsOnJitteredTimes) {
   }
 }
 
+// On a uniform grid the interior goes through the fixed-weight FIR; it must
+// agree with the per-sample solve on the same grid for every degree and
+// for half widths up to the 4 kHz default (201), on a grid of decimal time
+// stamps (uniform only to rounding, 1e-12 relative here).
+// Tolerance: both are the same least-squares slope; each rounds the window's
+// sums (2h + 1 terms of size max|x|) and divides by dt, so they may differ
+// by a few (2h + 1)·eps·max|x|/(h dt) — 1e-11 of the slope scale ω max|x|
+// at these sizes.
+TEST(SavitzkyGolayDerivative, UniformGridFirEqualsTheGeneralSolve) {
+  for (double fs : {250.0, 4000.0}) {
+    std::vector<double> t = Grid(0.0, fs, 3000);
+    // As a log writes and reads them: 0.004 · k rounded to 9 decimals.
+    for (double& time : t) time = std::round(time * 1e9) / 1e9;
+    const std::vector<double> x = Sine(t, 1.5, fs / 80.0);
+    const double slope_scale = 2.0 * kPi * fs / 80.0 * 1.5;
+    for (int degree = 1; degree <= 4; ++degree) {
+      // 16 and up go by the FIR; 12 (250 Hz) stays on the general solve.
+      for (int half_width : {12, 16, 17, 40, 201}) {
+        SCOPED_TRACE("fs " + std::to_string(fs) + " degree " +
+                     std::to_string(degree) + " half width " +
+                     std::to_string(half_width));
+        StatusOr<std::vector<double>> fir =
+            SavitzkyGolayDerivative(t, x, half_width, degree);
+        StatusOr<std::vector<double>> general =
+            internal::SavitzkyGolayDerivativeGeneral(t, x, half_width, degree);
+        ASSERT_TRUE(fir.ok() && general.ok());
+        double worst = 0.0;
+        for (std::size_t k = 0; k < t.size(); ++k) {
+          worst = std::max(worst, std::abs((*fir)[k] - (*general)[k]));
+        }
+        EXPECT_LE(worst, 1e-11 * slope_scale);
+        // The edges are the general solve in both.
+        EXPECT_EQ((*fir)[0], (*general)[0]);
+        EXPECT_EQ((*fir)[t.size() - 1], (*general)[t.size() - 1]);
+      }
+    }
+  }
+}
+
+// The FIR weights are those of the centred least-squares slope: for degree
+// 1–2 on a window of half width h they are j / Σj² = 3j / (h(h+1)(2h+1))
+// (per dt), the classic central-difference generalisation.
+TEST(SavitzkyGolayDerivative, CentredWeightsOfTheLineAreTheClassicOnes) {
+  for (int degree : {1, 2}) {
+    for (int h : {1, 3, 10}) {
+      const std::vector<double> w =
+          internal::SavitzkyGolayCentredWeights(h, degree);
+      ASSERT_EQ(w.size(), static_cast<std::size_t>(h) + 1);
+      EXPECT_EQ(w[0], 0.0);
+      for (int j = 1; j <= h; ++j) {
+        EXPECT_NEAR(w[static_cast<std::size_t>(j)],
+                    3.0 * j / (h * (h + 1.0) * (2.0 * h + 1.0)),
+                    1e-15)
+            << "degree " << degree << " h " << h << " j " << j;
+      }
+    }
+  }
+}
+
+// Jitter far above the uniform-grid tolerance keeps the general solve (the
+// FIR would misplace the slope by about the jitter's relative size).
+TEST(SavitzkyGolayDerivative, JitteredGridIsNotTreatedAsUniform) {
+  std::vector<double> t = Grid(0.0, 1000.0, 500);
+  t[250] += 2.5e-9;  // 2.5e-6 of the interval
+  const std::vector<double> x = Sine(t, 1.0, 3.0);
+  StatusOr<std::vector<double>> dx = SavitzkyGolayDerivative(t, x, 50, 3);
+  StatusOr<std::vector<double>> general =
+      internal::SavitzkyGolayDerivativeGeneral(t, x, 50, 3);
+  ASSERT_TRUE(dx.ok() && general.ok());
+  EXPECT_EQ(*dx, *general);
+}
+
 TEST(SavitzkyGolayDerivative, RejectsBadArguments) {
   const std::vector<double> t = Grid(0.0, 100.0, 10);
   const std::vector<double> x(10, 1.0);

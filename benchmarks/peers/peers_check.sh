@@ -2,7 +2,11 @@
 # The ctest 'peers' check: exports the bundled model_exact log from its
 # reference instant (equation 9 exactly), runs run_peers.sh on it and fails
 # when any fit's OF is more than 1 % above the best one or a peer that is
-# installed fails. Exits 77 (ctest: skipped) when no peer is installed.
+# installed fails; then, when SciPy is installed, fits the consistent model
+# to paper_test1 with imusysid's lm and varpro and SciPy's least_squares
+# and fails unless the three OFs agree to 8 digits (relative gap ≤ 1e-8:
+# all three stop at the same least-squares minimum, whose OF they resolve
+# to about 1e-12). Exits 77 (ctest: skipped) when no peer is installed.
 #
 # Usage: peers_check.sh IMUSYSID_BINARY DATA_DIR
 # Environment: PEERS_OBJECTIVE (direct or gram; default gram, which keeps
@@ -40,5 +44,15 @@ fi
 if [ "$(grep -c '^skipping \(octave-ga\|scipy\)' "$work/run.err")" -eq 2 ]; then
   echo "peers_check: no peer installed (scripts/setup.sh --with-peers)" >&2
   exit 77
+fi
+if ! grep -q '^skipping scipy' "$work/run.err"; then
+  IMUSYSID=$imusysid bash "$here/run_peers.sh" --model consistent \
+    "$data/paper_test1.csv" --seed 1 --max-gap 1e-8 2> "$work/consistent.err"
+  status=$?
+  cat "$work/consistent.err" >&2
+  [ "$status" -eq 0 ] || exit "$status"
+  if grep -q "failed:" "$work/consistent.err"; then
+    exit 1
+  fi
 fi
 exit 0

@@ -4,13 +4,21 @@
 # Octave's ga, SciPy's least_squares and differential_evolution), and prints
 # a Markdown table side by side: OF, gap to the best OF, r, beta, alpha, mu,
 # evaluations, wall time and its ratios to imusysid's linear and ga.
+# With --model consistent the input is a flight log instead: imusysid's lm
+# and varpro fit the drag-consistent model to it, and SciPy's least_squares
+# (scipy_consistent.py) fits the same model to the problem that
+# `export-problem` makes of the log (the samples those fits see); the ratios
+# are then to lm and varpro.
 #
 # Usage: run_peers.sh PROBLEM.csv [--seed N] [--objective direct|gram]
 #                     [--out DIR] [--max-gap REL]
+#        run_peers.sh --model consistent LOG [--seed N] [--out DIR]
+#                     [--max-gap REL]
 #   --seed N       seed for imusysid, Octave's rand/randn and SciPy (default 1)
 #   --objective    how Octave's ga and SciPy's differential_evolution compute
 #                  the OF: direct (default: the sum over the samples) or gram
 #                  (the 5 x 5 Gram matrix, O(1) like imusysid's paper model)
+#   --model        paper (default: a problem file) or consistent (a log)
 #   --out DIR      also write DIR/peers.jsonl (every fit) and DIR/peers.md
 #   --max-gap REL  exit 1 when some fit's OF is more than REL (relative)
 #                  above the best one (used by the ctest label 'peers')
@@ -24,7 +32,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 
 usage() {  # [exit code]
-  sed -n '7,20p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '13,28p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit "${1:-2}"
 }
 
@@ -33,12 +41,15 @@ seed=1
 out=""
 max_gap=""
 objective=direct
+model=paper
 while [ $# -gt 0 ]; do
   case "$1" in
     --seed) seed=${2:-}; shift 2 || usage ;;
     --seed=*) seed=${1#--seed=}; shift ;;
     --objective) objective=${2:-}; shift 2 || usage ;;
     --objective=*) objective=${1#--objective=}; shift ;;
+    --model) model=${2:-}; shift 2 || usage ;;
+    --model=*) model=${1#--model=}; shift ;;
     --out) out=${2:-}; shift 2 || usage ;;
     --out=*) out=${1#--out=}; shift ;;
     --max-gap) max_gap=${2:-}; shift 2 || usage ;;
@@ -51,8 +62,9 @@ done
 [ -n "$problem" ] || usage
 case "$seed" in ''|*[!0-9]*) echo "run_peers.sh: --seed needs a whole number" >&2; exit 2 ;; esac
 case "$objective" in direct|gram) ;; *) echo "run_peers.sh: --objective must be direct or gram" >&2; exit 2 ;; esac
+case "$model" in paper|consistent) ;; *) echo "run_peers.sh: --model must be paper or consistent" >&2; exit 2 ;; esac
 if [ ! -r "$problem" ]; then
-  echo "run_peers.sh: cannot read problem file '$problem'" >&2
+  echo "run_peers.sh: cannot read '$problem'" >&2
   exit 2
 fi
 
@@ -95,7 +107,32 @@ add_time() {  # name ms
 }
 
 # --- imusysid --------------------------------------------------------------
-if [ -x "$imusysid" ]; then
+refs=linear,ga
+if [ "$model" = consistent ]; then
+  refs=lm,varpro
+  log=$problem
+  problem="$work/problem.csv"
+  if [ ! -x "$imusysid" ] || ! "$imusysid" export-problem --log="$log" \
+      --out="$problem" 2> "$work/export.err"; then
+    echo "run_peers.sh: --model consistent needs imusysid to export the" \
+      "problem of '$log':" >&2
+    cat "$work/export.err" >&2 2>/dev/null
+    exit 1
+  fi
+  for estimator in lm varpro; do
+    echo "running imusysid fit --model=consistent --estimator=$estimator" >&2
+    t0=$(now_ms)
+    if "$imusysid" fit --log="$log" --model=consistent --estimator="$estimator" \
+        --format=json --seed="$seed" > "$work/imusysid.json" 2> "$work/imusysid.err"; then
+      cat "$work/imusysid.json" >> "$results"
+      add_time "imusysid fit --estimator=$estimator" $(( $(now_ms) - t0 ))
+    else
+      echo "run_peers.sh: imusysid failed:" >&2
+      cat "$work/imusysid.err" >&2
+      exit 1
+    fi
+  done
+elif [ -x "$imusysid" ]; then
   echo "running imusysid fit --estimator=all ($imusysid)" >&2
   t0=$(now_ms)
   if "$imusysid" fit --problem="$problem" --model=paper --estimator=all \
@@ -112,7 +149,9 @@ else
 fi
 
 # --- GNU Octave ga ---------------------------------------------------------
-if command -v "$octave" >/dev/null 2>&1 &&
+if [ "$model" = consistent ]; then
+  :  # Octave's ga runs the paper model only
+elif command -v "$octave" >/dev/null 2>&1 &&
     "$octave" -q --no-init-file --eval 'pkg load ga' >/dev/null 2>&1; then
   echo "running Octave ga (250 x 400 generations, $objective objective; minutes)" >&2
   t0=$(now_ms)
@@ -130,7 +169,18 @@ else
 fi
 
 # --- SciPy -----------------------------------------------------------------
-if [ -n "$scipy_python" ]; then
+if [ -n "$scipy_python" ] && [ "$model" = consistent ]; then
+  echo "running SciPy least_squares on the consistent model ($scipy_python)" >&2
+  t0=$(now_ms)
+  if "$scipy_python" "$here/scipy_consistent.py" "$problem" --seed "$seed" \
+      > "$work/scipy.json" 2> "$work/scipy.err"; then
+    cat "$work/scipy.json" >> "$results"
+    add_time "scipy least_squares (consistent)" $(( $(now_ms) - t0 ))
+  else
+    echo "run_peers.sh: SciPy peers failed:" >&2
+    cat "$work/scipy.err" >&2
+  fi
+elif [ -n "$scipy_python" ]; then
   echo "running SciPy least_squares and differential_evolution ($scipy_python)" >&2
   t0=$(now_ms)
   if "$scipy_python" "$here/scipy_peers.py" "$problem" --seed "$seed" \
@@ -152,7 +202,7 @@ echo "}" >> "$times"
 gap_args=()
 [ -n "$max_gap" ] && gap_args=(--max-gap "$max_gap")
 "$table_python" "$here/peers_table.py" "$results" --times "$times" \
-  "${gap_args[@]}" | tee "$work/peers.md"
+  --refs "$refs" "${gap_args[@]}" | tee "$work/peers.md"
 status=${PIPESTATUS[0]}
 if [ -n "$out" ]; then
   mkdir -p "$out" && cp "$results" "$work/peers.md" "$out/" &&

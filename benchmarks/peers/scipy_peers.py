@@ -26,8 +26,9 @@ UPPER = np.array([0.5, 180.0, 15.0, 1.0])
 REQUIRED = ("t", "f", "omega", "omega_dot", "v")
 
 
-def read_problem(path):
-    """Returns (columns dict, metadata dict) of a problem CSV."""
+def read_problem(path, optional=()):
+    """Returns (columns dict, metadata dict) of a problem CSV: the REQUIRED
+    columns, and those of `optional` that the file has."""
     with open(path, encoding="utf-8-sig") as stream:
         lines = stream.read().splitlines()
     meta = {}
@@ -53,10 +54,11 @@ def read_problem(path):
     missing = [n for n in REQUIRED if n not in names]
     if missing:
         raise ValueError(f"{path}: missing columns {', '.join(missing)}")
-    use = [names.index(n) for n in REQUIRED]
+    wanted = list(REQUIRED) + [n for n in optional if n in names]
+    use = [names.index(n) for n in wanted]
     values = np.loadtxt(lines[header + 1:], delimiter=",", comments="#",
                         usecols=use, ndmin=2)
-    columns = {n: values[:, k] for k, n in enumerate(REQUIRED)}
+    columns = {n: values[:, k] for k, n in enumerate(wanted)}
     return columns, meta
 
 

@@ -1,9 +1,9 @@
 #include "estimators/internal/population_evaluator.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstddef>
-#include <cstdint>
-#include <thread>
 
 #include "glog/logging.h"
 
@@ -11,35 +11,68 @@ namespace imusysid {
 namespace internal {
 
 PopulationEvaluator::PopulationEvaluator(const Problem& problem,
-                                         int num_threads)
-    : problem_(problem), num_threads_(num_threads) {
+                                         int num_threads,
+                                         double min_parallel_batch_ns)
+    : problem_(problem),
+      num_threads_(num_threads),
+      min_parallel_batch_ns_(min_parallel_batch_ns) {
   CHECK_GE(num_threads_, 1);
+  CHECK_GE(min_parallel_batch_ns_, 0.0);
 }
 
-void PopulationEvaluator::Evaluate(const double* xs,
-                                   int count,
-                                   double* costs) const {
+PopulationEvaluator::~PopulationEvaluator() = default;
+
+void PopulationEvaluator::Evaluate(const double* xs, int count, double* costs) {
   CHECK_GE(count, 0);
-  const int threads = std::min(num_threads_, count);
-  if (threads <= 1) {
+  last_call_parallel_ = false;
+  if (num_threads_ <= 1 || count <= kChunkRows) {
     problem_.CostBatch(xs, count, costs);
     return;
   }
+  if (min_parallel_batch_ns_ == 0.0) {
+    EvaluateParallel(xs, count, costs);
+    return;
+  }
+  if (measured_batches_ < kMeasuredBatches) {
+    // The first batches measure what a row costs on one thread; the GA's
+    // generations all have the same size and model, so that decides for the
+    // run. The minimum of a few, because one batch on a busy machine can be
+    // preempted for longer than a cheap batch takes, which would make the
+    // paper model's O(1) costs look worth splitting.
+    const auto start = std::chrono::steady_clock::now();
+    problem_.CostBatch(xs, count, costs);
+    const std::chrono::duration<double, std::nano> elapsed =
+        std::chrono::steady_clock::now() - start;
+    const double per_row = elapsed.count() / count;
+    ns_per_row_ =
+        measured_batches_ == 0 ? per_row : std::min(ns_per_row_, per_row);
+    ++measured_batches_;
+    return;
+  }
+  if (ns_per_row_ * count < min_parallel_batch_ns_) {
+    problem_.CostBatch(xs, count, costs);
+    return;
+  }
+  EvaluateParallel(xs, count, costs);
+}
+
+void PopulationEvaluator::EvaluateParallel(const double* xs,
+                                           int count,
+                                           double* costs) {
+  if (pool_ == nullptr) pool_ = std::make_unique<ThreadPool>(num_threads_);
+  last_call_parallel_ = true;
   const auto stride = static_cast<std::ptrdiff_t>(problem_.num_parameters());
-  // Block t is rows [count·t/threads, count·(t+1)/threads).
-  const auto block_begin = [count, threads](int t) {
-    return static_cast<int>(static_cast<std::int64_t>(count) * t / threads);
-  };
-  const auto evaluate_block = [this, xs, costs, stride, &block_begin](int t) {
-    const int begin = block_begin(t);
-    const int end = block_begin(t + 1);
-    problem_.CostBatch(xs + begin * stride, end - begin, costs + begin);
-  };
-  std::vector<std::thread> workers;
-  workers.reserve(static_cast<std::size_t>(threads - 1));
-  for (int t = 1; t < threads; ++t) workers.emplace_back(evaluate_block, t);
-  evaluate_block(0);
-  for (auto& worker : workers) worker.join();
+  const int num_chunks = (count + kChunkRows - 1) / kChunkRows;
+  std::atomic<int> next_chunk{0};
+  pool_->Run([&](int /*worker*/) {
+    for (;;) {
+      const int chunk = next_chunk.fetch_add(1, std::memory_order_relaxed);
+      if (chunk >= num_chunks) return;
+      const int begin = chunk * kChunkRows;
+      const int rows = std::min(kChunkRows, count - begin);
+      problem_.CostBatch(xs + begin * stride, rows, costs + begin);
+    }
+  });
 }
 
 void PopulationEvaluator::Evaluate(const Eigen::MatrixXd& population,

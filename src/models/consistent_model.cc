@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -115,13 +117,11 @@ ConsistentModel::ConsistentModel(std::shared_ptr<const ProblemData> data,
 
 namespace {
 
-// The drift angle δ_k = c0 + c1·τ_k is advanced from sample to sample by a
-// rotation through φ_k = c1·h_k instead of calling libm per sample (which would
-// dominate the cost). For |φ| ≤ kMaxRotationStep the series below are exact to
-// rounding (next terms φ⁵/120 < 1e-17, φ⁶/720 < 1e-20); a re-seed from libm
-// every kReseedInterval samples keeps the accumulated rounding ≲ 1e-13.
-constexpr double kMaxRotationStep = 1e-3;     // rad
-constexpr std::size_t kReseedInterval = 256;  // a power of two
+// The drift rotation's step limit and re-seed interval (their derivation is
+// in consistent_batch.h, whose SIMD kernel must follow this integration
+// operation by operation).
+using internal::kMaxRotationStep;
+using internal::kReseedInterval;
 
 // Per-sample quantities of the forcing F(θ, v) = a(θ) − μ w(θ) q(v):
 //   altitude held:  a = g tan θ,      w = 1
@@ -371,6 +371,69 @@ bool ConsistentModel::Residuals(const double* x,
 bool ConsistentModel::Cost(const double* x, double* cost) const {
   return use_measured_fz_ ? Evaluate<true>(x, nullptr, nullptr, cost)
                           : Evaluate<false>(x, nullptr, nullptr, cost);
+}
+
+bool ConsistentModel::CostBatch(const double* xs,
+                                int count,
+                                double* costs) const {
+  return CostBatchWithIsa(internal::BestBatchIsa(), xs, count, costs);
+}
+
+bool ConsistentModel::CostBatchWithIsa(internal::BatchIsa isa,
+                                       const double* xs,
+                                       int count,
+                                       double* costs) const {
+  CHECK(internal::BatchIsaSupported(isa)) << internal::BatchIsaName(isa);
+  constexpr int kLanes = internal::kConsistentBatchLanes;
+  const ProblemData& d = data();
+  internal::ConsistentGrid grid;
+  grid.n = d.size();
+  grid.gravity = d.gravity;
+  grid.sin_gyro = sin_gyro_.data();
+  grid.cos_gyro = cos_gyro_.data();
+  grid.tau = tau_.data();
+  grid.h = h_.data();
+  grid.omega_sq = omega_sq_.data();
+  grid.omega_dot = d.omega_dot.data();
+  grid.f_x = d.f_x.data();
+  grid.f_z = use_measured_fz_ ? d.f_z.data() : nullptr;
+
+  bool all_finite = true;
+  const double* lane_rows[kLanes];
+  int lane_index[kLanes];
+  double lane_costs[kLanes];
+  int filled = 0;
+  const auto flush = [&] {
+    // Padding repeats the first row: every lane computes independently, so
+    // a row's cost does not depend on its lane or its neighbours.
+    for (int j = filled; j < kLanes; ++j) lane_rows[j] = lane_rows[0];
+    internal::ConsistentCostLanes(isa, grid, lane_rows, lane_costs);
+    for (int j = 0; j < filled; ++j) {
+      costs[lane_index[j]] = lane_costs[j];
+      all_finite = all_finite && std::isfinite(lane_costs[j]);
+    }
+    filled = 0;
+  };
+  for (int i = 0; i < count; ++i) {
+    const double* x =
+        xs + static_cast<std::ptrdiff_t>(i) * kNumConsistentParameters;
+    // The condition Integrate uses to choose the rotation path (false for a
+    // NaN c1, which then fails in Cost as it would alone).
+    if (!(std::abs(x[kC1] * kDegToRad) * max_h_ <= kMaxRotationStep)) {
+      double cost = 0.0;
+      if (!Cost(x, &cost) || !std::isfinite(cost)) {
+        cost = std::numeric_limits<double>::infinity();
+      }
+      costs[i] = cost;
+      all_finite = all_finite && std::isfinite(cost);
+      continue;
+    }
+    lane_rows[filled] = x;
+    lane_index[filled] = i;
+    if (++filled == kLanes) flush();
+  }
+  if (filled > 0) flush();
+  return all_finite;
 }
 
 template <bool kMeasuredFz>

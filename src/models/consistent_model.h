@@ -15,6 +15,7 @@
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/status.h"
+#include "src/models/consistent_batch.h"
 
 namespace imusysid {
 
@@ -84,6 +85,16 @@ class ConsistentModel : public Model, public LinearStructure {
                  double* jacobian) const override;
   // Same pass as Residuals without storing them.
   bool Cost(const double* x, double* cost) const override;
+  // Eight candidates at a time in SIMD lanes (consistent_batch.h), each
+  // equal to Cost on its row bit for bit; rows outside the rotation path
+  // (|c1|·max h > 1e-3 rad, far outside the default box) go through Cost.
+  bool CostBatch(const double* xs, int count, double* costs) const override;
+  // The same on a chosen instruction set (tests compare them all); `isa`
+  // must be supported (internal::BatchIsaSupported).
+  bool CostBatchWithIsa(internal::BatchIsa isa,
+                        const double* xs,
+                        int count,
+                        double* costs) const;
   // The velocity of the integration above (Heun, from v_0 = 0).
   bool Velocity(const double* x, double* v) const override;
 
