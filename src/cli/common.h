@@ -12,6 +12,7 @@
 #include "gflags/gflags.h"
 #include "imusysid/report.h"
 #include "imusysid/status.h"
+#include "nlohmann/json.hpp"
 
 DECLARE_string(format);
 
@@ -49,7 +50,8 @@ const Command& BenchCommand();
 int ExitCodeFor(const Status& status);
 
 // Prints "imusysid <cmd>: error: <message>" to stderr and returns the exit
-// code for the status (2 for bad input, 1 otherwise).
+// code for the status (2 for bad input, 1 otherwise). The message is escaped
+// (EscapeForDisplay): it may quote bytes from the user's files.
 int ReportError(const std::string& command, const Status& status);
 
 // Usage error: prints the message and a hint to --help, returns 2.
@@ -63,9 +65,25 @@ void MarkFlagSet(const std::string& name);
 // The value of --format: "table" or "json" (validated by the parser).
 bool JsonOutput();
 
-// Writes `text` to stdout; when `path` is not empty, writes it atomically to
-// that file instead.
+// Writes `text` to stdout; when `path` is not empty, writes it to that file
+// instead (WriteFileAtomically: atomic for regular files, through symbolic
+// links, streamed into "-", FIFOs and devices).
 Status EmitOutput(const std::string& text, const std::string& path);
+
+// InvalidArgument when `out` names the same file as one of `inputs` (the
+// same device and inode): replacing a log with a result would destroy it.
+Status CheckOutputIsNotInput(const std::string& out_flag,
+                             const std::string& out,
+                             const std::vector<std::string>& inputs);
+
+// Reads and parses a JSON file. A syntax error is InvalidArgument
+// "path:line:column: not valid JSON: ...".
+StatusOr<nlohmann::json> ReadJsonFile(const std::string& path);
+
+// `j` as indented text; strings that are not valid UTF-8 (a ULog's info
+// field in Latin-1) have their bad bytes replaced by U+FFFD rather than
+// making the JSON library throw.
+std::string DumpJson(const nlohmann::ordered_json& j);
 
 }  // namespace cli
 }  // namespace imusysid

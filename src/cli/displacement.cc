@@ -9,7 +9,9 @@
 #include <limits>
 #include <sstream>
 
+#include "imusysid/format.h"
 #include "imusysid/log.h"
+#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 
@@ -38,13 +40,128 @@ struct Polar {
   double r = 0, beta = 0, r_se = 0, beta_se = 0;
 };
 
-StatusOr<Polar> LoadFit(const std::string& path) {
-  StatusOr<std::string> text = ReadFileToString(path);
-  if (!text.ok()) return text.status();
-  nlohmann::json j = nlohmann::json::parse(*text, nullptr, false);
-  if (j.is_discarded()) {
-    return InvalidArgumentError(path + ": not valid JSON");
+// The ranges a position may take, from the flags or from a fit file alike:
+// r is a distance (and no multicopter's IMU sits a kilometre from its CoM),
+// beta an angle, the standard errors non-negative; all finite.
+constexpr double kMaxR = 1000.0;        // m
+constexpr double kMaxAbsAngle = 1.0e6;  // deg
+constexpr double kMaxStderr = 1.0e6;    // m or deg
+
+Status CheckRange(const std::string& what, double value, double lo, double hi) {
+  if (std::isfinite(value) && value >= lo && value <= hi) return Status::Ok();
+  return InvalidArgumentError(
+      what + " = " + FormatShortest(value) + "; required a finite number in [" +
+      FormatShortest(lo) + ", " + FormatShortest(hi) + "]");
+}
+
+Status CheckPolar(const Polar& p, const std::string& where) {
+  IMUSYSID_RETURN_IF_ERROR(CheckRange(where + "r_m", p.r, 0.0, kMaxR));
+  IMUSYSID_RETURN_IF_ERROR(
+      CheckRange(where + "beta_deg", p.beta, -kMaxAbsAngle, kMaxAbsAngle));
+  IMUSYSID_RETURN_IF_ERROR(
+      CheckRange(where + "stderr.r_m", p.r_se, 0.0, kMaxStderr));
+  return CheckRange(where + "stderr.beta_deg", p.beta_se, 0.0, kMaxStderr);
+}
+
+std::string JsonTypeName(const nlohmann::json& j) {
+  return std::string(j.type_name());
+}
+
+// A number field of `object`: an error naming the file and field when it is
+// missing (unless optional), of another type, or not finite.
+Status ReadNumber(const nlohmann::json& object,
+                  const char* key,
+                  const std::string& where,
+                  bool optional,
+                  double* value) {
+  const auto it = object.find(key);
+  if (it == object.end() || (optional && it->is_null())) {
+    if (optional) return Status::Ok();
+    return InvalidArgumentError(where + "field '" + key + "' is missing");
   }
+  if (it->is_null()) {
+    return FailedPreconditionError(
+        where + "field '" + key + "' is null: that fit could not determine it");
+  }
+  if (!it->is_number()) {
+    return InvalidArgumentError(where + "field '" + key +
+                                "' must be a number, not " + JsonTypeName(*it));
+  }
+  *value = it->get<double>();
+  return Status::Ok();
+}
+
+// Validates a fit JSON object by type and range (the schema of `fit
+// --format=json` as far as this command reads it) before any value is used,
+// so that a hand-edited or foreign file gives one clear error instead of an
+// exception from the JSON library.
+StatusOr<Polar> PolarFromFit(const nlohmann::json& j, const std::string& path) {
+  const std::string where = path + ": ";
+  if (!j.is_object()) {
+    return InvalidArgumentError(where + "expected a fit object, not " +
+                                JsonTypeName(j));
+  }
+  const auto estimator = j.find("estimator");
+  if (estimator != j.end() && !estimator->is_string()) {
+    return InvalidArgumentError(where +
+                                "field 'estimator' must be a string, not " +
+                                JsonTypeName(*estimator));
+  }
+  const auto warnings = j.find("warnings");
+  if (warnings != j.end()) {
+    if (!warnings->is_array()) {
+      return InvalidArgumentError(where +
+                                  "field 'warnings' must be an array, not " +
+                                  JsonTypeName(*warnings));
+    }
+    for (const auto& w : *warnings) {
+      const bool ok = w.is_object() &&
+                      (!w.contains("code") || w["code"].is_string()) &&
+                      (!w.contains("message") || w["message"].is_string());
+      if (!ok) {
+        return InvalidArgumentError(
+            where +
+            "each entry of 'warnings' must be an object with string 'code' "
+            "and 'message', not " +
+            EscapeForDisplay(w.dump()).substr(0, 60));
+      }
+      if (w.value("code", "") == "not_identifiable") {
+        return FailedPreconditionError(
+            where + "that fit could not identify r and beta (" +
+            w.value("message", "") + ")");
+      }
+    }
+  }
+  const auto raw = j.find("raw_parameters");
+  if (raw != j.end() && !raw->is_object() && !raw->is_null()) {
+    return InvalidArgumentError(where +
+                                "field 'raw_parameters' must be an object, "
+                                "not " +
+                                JsonTypeName(*raw));
+  }
+  const nlohmann::json& src = (raw != j.end() && raw->is_object()) ? *raw : j;
+  Polar p;
+  IMUSYSID_RETURN_IF_ERROR(ReadNumber(src, "r_m", where, false, &p.r));
+  IMUSYSID_RETURN_IF_ERROR(ReadNumber(src, "beta_deg", where, false, &p.beta));
+  const auto se = j.find("stderr");
+  if (se != j.end() && !se->is_null()) {
+    if (!se->is_object()) {
+      return InvalidArgumentError(
+          where + "field 'stderr' must be an object, not " + JsonTypeName(*se));
+    }
+    IMUSYSID_RETURN_IF_ERROR(
+        ReadNumber(*se, "r_m", where + "stderr.", true, &p.r_se));
+    IMUSYSID_RETURN_IF_ERROR(
+        ReadNumber(*se, "beta_deg", where + "stderr.", true, &p.beta_se));
+  }
+  IMUSYSID_RETURN_IF_ERROR(CheckPolar(p, where));
+  return p;
+}
+
+StatusOr<Polar> LoadFit(const std::string& path) {
+  StatusOr<nlohmann::json> parsed = ReadJsonFile(path);
+  if (!parsed.ok()) return parsed.status();
+  nlohmann::json j = std::move(parsed).value();
   if (j.is_array()) {
     if (FLAGS_estimator_pick.empty()) {
       std::ostringstream msg;
@@ -54,7 +171,15 @@ StatusOr<Polar> LoadFit(const std::string& path) {
     }
     nlohmann::json found;
     for (const auto& e : j) {
-      if (e.is_object() && e.value("estimator", "") == FLAGS_estimator_pick) {
+      if (!e.is_object()) {
+        return InvalidArgumentError(path +
+                                    ": expected an array of fit "
+                                    "objects, found " +
+                                    JsonTypeName(e));
+      }
+      const auto name = e.find("estimator");
+      if (name != e.end() && name->is_string() &&
+          name->get<std::string>() == FLAGS_estimator_pick) {
         found = e;
       }
     }
@@ -64,35 +189,7 @@ StatusOr<Polar> LoadFit(const std::string& path) {
     }
     j = found;
   }
-  if (!j.is_object()) return InvalidArgumentError(path + ": not a fit object");
-  Polar p;
-  const auto raw = j.find("raw_parameters");
-  const nlohmann::json& src = (raw != j.end() && raw->is_object()) ? *raw : j;
-  for (const char* key : {"r_m", "beta_deg"}) {
-    if (!src.contains(key) || !src[key].is_number()) {
-      return InvalidArgumentError(path + ": field '" + key +
-                                  "' missing or not a number");
-    }
-  }
-  p.r = src["r_m"].get<double>();
-  p.beta = src["beta_deg"].get<double>();
-  if (j.contains("stderr") && j["stderr"].is_object()) {
-    const auto& se = j["stderr"];
-    if (se.contains("r_m") && se["r_m"].is_number()) p.r_se = se["r_m"];
-    if (se.contains("beta_deg") && se["beta_deg"].is_number()) {
-      p.beta_se = se["beta_deg"];
-    }
-  }
-  if (j.contains("warnings") && j["warnings"].is_array()) {
-    for (const auto& w : j["warnings"]) {
-      if (w.value("code", "") == "not_identifiable") {
-        return FailedPreconditionError(
-            path + ": that fit could not identify r and beta (" +
-            w.value("message", "") + ")");
-      }
-    }
-  }
-  return p;
+  return PolarFromFit(j, path);
 }
 
 int Run(const std::vector<std::string>& positional) {
@@ -121,6 +218,9 @@ int Run(const std::vector<std::string>& positional) {
     }
     before = {FLAGS_r0, FLAGS_beta0_deg, 0, 0};
     after = {FLAGS_r1, FLAGS_beta1_deg, 0, 0};
+    Status s = CheckPolar(before, "--r0/--beta0_deg: ");
+    if (s.ok()) s = CheckPolar(after, "--r1/--beta1_deg: ");
+    if (!s.ok()) return ReportError(cmd, s);
   } else {
     return UsageError(cmd, "expected two fit JSON files or the four flags");
   }
@@ -147,7 +247,7 @@ int Run(const std::vector<std::string>& positional) {
                      {"dz_m", d.dz_stderr_m}};
     }
     j["frame"] = "FLU body: dx forward, dz up (negative = CoM moved down)";
-    out << j.dump(2) << "\n";
+    out << DumpJson(j) << "\n";
   } else {
     auto cm = [](double m) { return FormatNumber(100.0 * m, 4) + " cm"; };
     auto pm = [&](double se) {

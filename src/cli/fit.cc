@@ -178,6 +178,11 @@ Status ApplyBounds(Problem* problem) {
 StatusOr<EstimatorOptions> OptionsFromFlags() {
   EstimatorOptions o;
   o.seed = FLAGS_seed;
+  if (!(FLAGS_max_time_s >= 0.0)) {
+    return InvalidArgumentError(
+        "--max_time_s=" + FormatShortest(FLAGS_max_time_s) +
+        "; required >= 0 (0: no limit)");
+  }
   if (FLAGS_max_time_s > 0) o.max_wall_time_s = FLAGS_max_time_s;
   o.record_trace = true;
   o.ga.num_threads = FLAGS_threads;
@@ -272,7 +277,7 @@ Status AddEmit(const std::vector<EstimateResult>& results,
     } else {
       add(&j, 0);
     }
-    *text = j.dump(2) + "\n";
+    *text = DumpJson(j) + "\n";
   } else if (best >= 0) {
     *text += AutopilotParametersToText(emitted[static_cast<std::size_t>(best)]);
   }
@@ -333,6 +338,12 @@ int Run(const std::vector<std::string>& positional) {
             "integrates attitude and velocity from the IMU itself); fit the "
             "log with --log=FILE, or use --model=" +
             data_velocity_model + " with --problem"));
+  }
+  for (const auto& [flag, out] :
+       {std::pair<std::string, std::string>{"--out", FLAGS_out},
+        {"--emit_out", FLAGS_emit_out}}) {
+    Status same = CheckOutputIsNotInput(flag, out, {path});
+    if (!same.ok()) return ReportError(cmd, same);
   }
   StatusOr<EstimatorOptions> options = OptionsFromFlags();
   if (!options.ok()) return ReportError(cmd, options.status());
@@ -423,9 +434,9 @@ int Run(const std::vector<std::string>& positional) {
     if (FLAGS_estimator == "all") {
       nlohmann::ordered_json arr = nlohmann::ordered_json::array();
       for (const auto& r : results) arr.push_back(ResultToJson(r, context));
-      text = arr.dump(2) + "\n";
+      text = DumpJson(arr) + "\n";
     } else {
-      text = ResultToJson(results.front(), context).dump(2) + "\n";
+      text = DumpJson(ResultToJson(results.front(), context)) + "\n";
     }
   } else {
     text = ResultsToTable(results, context);

@@ -145,7 +145,7 @@ int Run(const std::vector<std::string>& positional) {
   j["warnings"] = warnings;
 
   if (JsonOutput()) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << DumpJson(j) << "\n";
     return kExitOk;
   }
   std::ostringstream out;

@@ -150,7 +150,7 @@ int Run(const std::vector<std::string>& positional) {
     j["max_speed_mps"] = f.max_speed_mps;
     j["maneuver_s"] = {f.maneuver_start_t_s, f.maneuver_end_t_s};
     j["reference_t_s"] = f.reference_t_s;
-    std::cout << j.dump(2) << "\n";
+    std::cout << DumpJson(j) << "\n";
   } else {
     std::cout << "wrote " << FLAGS_out << " (" << f.log.size() << " samples, "
               << FormatNumber(options->rate_hz, 4) << " Hz, frame "
