@@ -12,6 +12,7 @@
 
 #include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
+#include "imusysid/log_sanity.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem.h"
 #include "imusysid/problem_io.h"
@@ -103,6 +104,10 @@ DEFINE_string(plot,
               "Write the per-log figures (SVG via gnuplot) and an index.html "
               "into this folder.");
 DEFINE_string(problem, "", ::imusysid::cli::ProblemFlagHelp());
+DEFINE_bool(allow_damaged,
+            false,
+            "Fit a log even when the reader had to skip more than 5 % of its "
+            "bytes (the fit then carries a damaged_log warning).");
 
 DEFINE_string(emit,
               "",
@@ -199,10 +204,17 @@ StatusOr<EstimatorOptions> OptionsFromFlags() {
 // `unidentifiable` gets a reason when the log itself shows r and β cannot be
 // identified (no maneuver, or no flight in the segment), whatever the fit's
 // standard errors say.
-StatusOr<std::shared_ptr<ProblemData>> DataFromLog(
-    const std::string& path, FitContext* context, std::string* unidentifiable) {
+StatusOr<std::shared_ptr<ProblemData>> DataFromLog(const std::string& path,
+                                                   FitContext* context,
+                                                   std::string* unidentifiable,
+                                                   std::string* damage) {
   StatusOr<FlightLog> log = ReadLogFromFlags(path);
   if (!log.ok()) return log.status();
+  // The gates that stop a log in the wrong units or frame, or a badly
+  // damaged one, from fitting to confident wrong numbers.
+  IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
+  if (!FLAGS_allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
+  *damage = DamageSummary(*log);
   StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
   if (!po.ok()) return po.status();
   // No maneuver and no window: fit a stretch anyway and let the
@@ -212,6 +224,7 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromLog(
   if (!fallback->empty()) std::cerr << "note: " << *fallback << "\n";
   StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
   if (!pre.ok()) return pre.status();
+  IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(pre->data, path));
   *unidentifiable =
       NoFlightReason(path, pre->data.t_s.front(), pre->data.t_s.back());
   if (unidentifiable->empty() && !fallback->empty()) {
@@ -231,6 +244,7 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
     const std::string& path, FitContext* context) {
   StatusOr<ProblemFile> file = ReadProblemCsv(path);
   if (!file.ok()) return file.status();
+  IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(file->data, path));
   if (!file->ignored_columns.empty()) {
     std::cerr << "note: " << path << ": ignoring column"
               << (file->ignored_columns.size() > 1 ? "s" : "");
@@ -365,9 +379,10 @@ int Run(const std::vector<std::string>& positional) {
 
   FitContext context;
   std::string unidentifiable;
+  std::string damage;
   StatusOr<std::shared_ptr<ProblemData>> loaded =
       from_problem ? DataFromProblemFile(path, &context)
-                   : DataFromLog(path, &context, &unidentifiable);
+                   : DataFromLog(path, &context, &unidentifiable, &damage);
   if (!loaded.ok()) return ReportError(cmd, loaded.status());
   std::shared_ptr<ProblemData> data = std::move(loaded).value();
   // Only models that read the data's velocity use the autopilot's (the
@@ -420,6 +435,13 @@ int Run(const std::vector<std::string>& positional) {
     }
     if (!r.ok()) return ReportError(cmd, r.status());
     results.push_back(std::move(*r));
+  }
+  // The reader's repairs travel with every fit: a fit of what was left of
+  // a damaged log must not look like a fit of the whole flight.
+  if (!damage.empty()) {
+    for (EstimateResult& r : results) {
+      r.warnings.push_back({"damaged_log", damage});
+    }
   }
   if (!unidentifiable.empty()) {
     for (EstimateResult& r : results) {
@@ -505,6 +527,7 @@ const Command& FitCommand() {
                     "trace",
                     "emit",
                     "emit_out",
+                    "allow_damaged",
                     "out"}),
       &Run,
       /*estimator_flags=*/true};
