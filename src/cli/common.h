@@ -7,6 +7,7 @@
 #define IMUSYSID_SRC_CLI_COMMON_H_
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gflags/gflags.h"
@@ -75,6 +76,16 @@ Status EmitOutput(const std::string& text, const std::string& path);
 Status CheckOutputIsNotInput(const std::string& out_flag,
                              const std::string& out,
                              const std::vector<std::string>& inputs);
+
+// Writes several files as one unit (simulate's log and its truth sidecar):
+// each is written to a temporary file beside its target first, then all are
+// renamed into place while an exclusive lock on their folder is held, so
+// that concurrent runs never leave files from two runs side by side, and a
+// failure before the renames leaves none of the new files. Targets must be
+// new names, regular files or symbolic links to them (written through);
+// anything else is refused.
+Status WriteFilesTogether(
+    const std::vector<std::pair<std::string, std::string>>& path_and_text);
 
 // Reads and parses a JSON file. A syntax error is InvalidArgument
 // "path:line:column: not valid JSON: ...".
