@@ -69,7 +69,7 @@ bool JsonOutput() { return FLAGS_format == "json"; }
 
 Status EmitOutput(const std::string& text, const std::string& path) {
   if (path.empty()) {
-    std::cout << text;
+    std::cout << EscapeLines(text);
     std::cout.flush();
     return std::cout.good() ? Status::Ok() : IoError("cannot write stdout");
   }
@@ -208,32 +208,19 @@ Status WriteFilesTogether(
   return result;
 }
 
-StatusOr<nlohmann::json> ReadJsonFile(const std::string& path) {
-  StatusOr<std::string> text = ReadFileToString(path);
-  if (!text.ok()) return text.status();
-  try {
-    return nlohmann::json::parse(*text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.byte is 1-based and points just past the offending character.
-    const std::size_t at =
-        std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text->size());
-    int line = 1;
-    std::size_t line_start = 0;
-    for (std::size_t i = 0; i < at; ++i) {
-      if ((*text)[i] == '\n') {
-        ++line;
-        line_start = i + 1;
-      }
-    }
-    std::string what = e.what();
-    // "[json.exception.parse_error.101] parse error at line 1, column 2: x"
-    // → "x": the position is given in the compiler style in front.
-    const std::size_t colon = what.find(": ");
-    if (colon != std::string::npos) what = what.substr(colon + 2);
-    return InvalidArgumentError(path + ":" + std::to_string(line) + ":" +
-                                std::to_string(at - line_start + 1) +
-                                ": not valid JSON: " + what);
+std::string EscapeLines(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    const bool has_newline = end != std::string::npos;
+    if (!has_newline) end = text.size();
+    out += EscapeForDisplay(std::string_view(text).substr(start, end - start));
+    if (has_newline) out += '\n';
+    start = end + 1;
   }
+  return out;
 }
 
 std::string DumpJson(const nlohmann::ordered_json& j) {

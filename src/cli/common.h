@@ -66,7 +66,8 @@ void MarkFlagSet(const std::string& name);
 // The value of --format: "table" or "json" (validated by the parser).
 bool JsonOutput();
 
-// Writes `text` to stdout; when `path` is not empty, writes it to that file
+// Writes `text` to stdout (line by line through EscapeLines); when `path` is
+// not empty, writes it as it is to that file
 // instead (WriteFileAtomically: atomic for regular files, through symbolic
 // links, streamed into "-", FIFOs and devices).
 Status EmitOutput(const std::string& text, const std::string& path);
@@ -87,9 +88,10 @@ Status CheckOutputIsNotInput(const std::string& out_flag,
 Status WriteFilesTogether(
     const std::vector<std::pair<std::string, std::string>>& path_and_text);
 
-// Reads and parses a JSON file. A syntax error is InvalidArgument
-// "path:line:column: not valid JSON: ...".
-StatusOr<nlohmann::json> ReadJsonFile(const std::string& path);
+// `text` with each line escaped by EscapeForDisplay (control bytes and
+// invalid UTF-8 as \xNN), the line ends kept: for tables that quote strings
+// from files (a ULog's vehicle name, a CSV's column names).
+std::string EscapeLines(const std::string& text);
 
 // `j` as indented text; strings that are not valid UTF-8 (a ULog's info
 // field in Latin-1) have their bad bytes replaced by U+FFFD rather than

@@ -9,9 +9,9 @@
 #include <limits>
 #include <sstream>
 
+#include "imusysid/fit_json.h"
 #include "imusysid/format.h"
 #include "imusysid/log.h"
-#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 
@@ -40,156 +40,12 @@ struct Polar {
   double r = 0, beta = 0, r_se = 0, beta_se = 0;
 };
 
-// The ranges a position may take, from the flags or from a fit file alike:
-// r is a distance (and no multicopter's IMU sits a kilometre from its CoM),
-// beta an angle, the standard errors non-negative; all finite.
-constexpr double kMaxR = 1000.0;        // m
-constexpr double kMaxAbsAngle = 1.0e6;  // deg
-constexpr double kMaxStderr = 1.0e6;    // m or deg
-
-Status CheckRange(const std::string& what, double value, double lo, double hi) {
-  if (std::isfinite(value) && value >= lo && value <= hi) return Status::Ok();
-  return InvalidArgumentError(
-      what + " = " + FormatShortest(value) + "; required a finite number in [" +
-      FormatShortest(lo) + ", " + FormatShortest(hi) + "]");
-}
-
-Status CheckPolar(const Polar& p, const std::string& where) {
-  IMUSYSID_RETURN_IF_ERROR(CheckRange(where + "r_m", p.r, 0.0, kMaxR));
-  IMUSYSID_RETURN_IF_ERROR(
-      CheckRange(where + "beta_deg", p.beta, -kMaxAbsAngle, kMaxAbsAngle));
-  IMUSYSID_RETURN_IF_ERROR(
-      CheckRange(where + "stderr.r_m", p.r_se, 0.0, kMaxStderr));
-  return CheckRange(where + "stderr.beta_deg", p.beta_se, 0.0, kMaxStderr);
-}
-
-std::string JsonTypeName(const nlohmann::json& j) {
-  return std::string(j.type_name());
-}
-
-// A number field of `object`: an error naming the file and field when it is
-// missing (unless optional), of another type, or not finite.
-Status ReadNumber(const nlohmann::json& object,
-                  const char* key,
-                  const std::string& where,
-                  bool optional,
-                  double* value) {
-  const auto it = object.find(key);
-  if (it == object.end() || (optional && it->is_null())) {
-    if (optional) return Status::Ok();
-    return InvalidArgumentError(where + "field '" + key + "' is missing");
-  }
-  if (it->is_null()) {
-    return FailedPreconditionError(
-        where + "field '" + key + "' is null: that fit could not determine it");
-  }
-  if (!it->is_number()) {
-    return InvalidArgumentError(where + "field '" + key +
-                                "' must be a number, not " + JsonTypeName(*it));
-  }
-  *value = it->get<double>();
-  return Status::Ok();
-}
-
-// Validates a fit JSON object by type and range (the schema of `fit
-// --format=json` as far as this command reads it) before any value is used,
-// so that a hand-edited or foreign file gives one clear error instead of an
-// exception from the JSON library.
-StatusOr<Polar> PolarFromFit(const nlohmann::json& j, const std::string& path) {
-  const std::string where = path + ": ";
-  if (!j.is_object()) {
-    return InvalidArgumentError(where + "expected a fit object, not " +
-                                JsonTypeName(j));
-  }
-  const auto estimator = j.find("estimator");
-  if (estimator != j.end() && !estimator->is_string()) {
-    return InvalidArgumentError(where +
-                                "field 'estimator' must be a string, not " +
-                                JsonTypeName(*estimator));
-  }
-  const auto warnings = j.find("warnings");
-  if (warnings != j.end()) {
-    if (!warnings->is_array()) {
-      return InvalidArgumentError(where +
-                                  "field 'warnings' must be an array, not " +
-                                  JsonTypeName(*warnings));
-    }
-    for (const auto& w : *warnings) {
-      const bool ok = w.is_object() &&
-                      (!w.contains("code") || w["code"].is_string()) &&
-                      (!w.contains("message") || w["message"].is_string());
-      if (!ok) {
-        return InvalidArgumentError(
-            where +
-            "each entry of 'warnings' must be an object with string 'code' "
-            "and 'message', not " +
-            EscapeForDisplay(w.dump()).substr(0, 60));
-      }
-      if (w.value("code", "") == "not_identifiable") {
-        return FailedPreconditionError(
-            where + "that fit could not identify r and beta (" +
-            w.value("message", "") + ")");
-      }
-    }
-  }
-  const auto raw = j.find("raw_parameters");
-  if (raw != j.end() && !raw->is_object() && !raw->is_null()) {
-    return InvalidArgumentError(where +
-                                "field 'raw_parameters' must be an object, "
-                                "not " +
-                                JsonTypeName(*raw));
-  }
-  const nlohmann::json& src = (raw != j.end() && raw->is_object()) ? *raw : j;
-  Polar p;
-  IMUSYSID_RETURN_IF_ERROR(ReadNumber(src, "r_m", where, false, &p.r));
-  IMUSYSID_RETURN_IF_ERROR(ReadNumber(src, "beta_deg", where, false, &p.beta));
-  const auto se = j.find("stderr");
-  if (se != j.end() && !se->is_null()) {
-    if (!se->is_object()) {
-      return InvalidArgumentError(
-          where + "field 'stderr' must be an object, not " + JsonTypeName(*se));
-    }
-    IMUSYSID_RETURN_IF_ERROR(
-        ReadNumber(*se, "r_m", where + "stderr.", true, &p.r_se));
-    IMUSYSID_RETURN_IF_ERROR(
-        ReadNumber(*se, "beta_deg", where + "stderr.", true, &p.beta_se));
-  }
-  IMUSYSID_RETURN_IF_ERROR(CheckPolar(p, where));
-  return p;
-}
-
 StatusOr<Polar> LoadFit(const std::string& path) {
-  StatusOr<nlohmann::json> parsed = ReadJsonFile(path);
-  if (!parsed.ok()) return parsed.status();
-  nlohmann::json j = std::move(parsed).value();
-  if (j.is_array()) {
-    if (FLAGS_estimator_pick.empty()) {
-      std::ostringstream msg;
-      msg << path << ": holds " << j.size()
-          << " fits; choose one with --estimator_pick=NAME";
-      return InvalidArgumentError(msg.str());
-    }
-    nlohmann::json found;
-    for (const auto& e : j) {
-      if (!e.is_object()) {
-        return InvalidArgumentError(path +
-                                    ": expected an array of fit "
-                                    "objects, found " +
-                                    JsonTypeName(e));
-      }
-      const auto name = e.find("estimator");
-      if (name != e.end() && name->is_string() &&
-          name->get<std::string>() == FLAGS_estimator_pick) {
-        found = e;
-      }
-    }
-    if (found.is_null()) {
-      return NotFoundError(path + ": no fit by estimator '" +
-                           FLAGS_estimator_pick + "'");
-    }
-    j = found;
-  }
-  return PolarFromFit(j, path);
+  StatusOr<std::string> text = ReadFileToString(path);
+  if (!text.ok()) return text.status();
+  StatusOr<FitPosition> p = ParseFitJson(*text, path, FLAGS_estimator_pick);
+  if (!p.ok()) return p.status();
+  return Polar{p->r_m, p->beta_deg, p->r_stderr_m, p->beta_stderr_deg};
 }
 
 int Run(const std::vector<std::string>& positional) {
@@ -218,8 +74,11 @@ int Run(const std::vector<std::string>& positional) {
     }
     before = {FLAGS_r0, FLAGS_beta0_deg, 0, 0};
     after = {FLAGS_r1, FLAGS_beta1_deg, 0, 0};
-    Status s = CheckPolar(before, "--r0/--beta0_deg: ");
-    if (s.ok()) s = CheckPolar(after, "--r1/--beta1_deg: ");
+    Status s =
+        CheckFitPosition({before.r, before.beta, 0, 0}, "--r0/--beta0_deg: ");
+    if (s.ok()) {
+      s = CheckFitPosition({after.r, after.beta, 0, 0}, "--r1/--beta1_deg: ");
+    }
     if (!s.ok()) return ReportError(cmd, s);
   } else {
     return UsageError(cmd, "expected two fit JSON files or the four flags");
