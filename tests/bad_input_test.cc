@@ -943,6 +943,34 @@ TEST(InputPaths, StandardInputIsReadAsDash) {
   EXPECT_EQ(j["samples"].get<int>(), kSamples);
 }
 
+// --- Strings from files ------------------------------------------------------
+
+// A ULog info string in Latin-1 (one byte that is not UTF-8) aborted
+// `inspect --format=json` on the JSON library's exception; the table must
+// not pass the byte through either.
+TEST(SafeText, ALatin1InfoStringIsEscapedInTablesAndReplacedInJson) {
+  const std::string dir = testing::MakeTempDir();
+  std::string ulog = testing::SyntheticUlog(kSamples);
+  const std::string key = "char[5] sys_name";
+  const std::string info = testing::UlogMessageBytes(
+      'I',
+      std::string(1, static_cast<char>(key.size())) + key + "ab\xe9" + "cd");
+  // After the 16-byte header and the 43-byte flag-bits message.
+  ulog.insert(16 + 43, info);
+  const std::string path = Write(dir, "latin1.ulg", ulog);
+  const auto json = testing::RunCli("inspect --format=json " + Q(path));
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const nlohmann::json j = testing::ParseJson(json);
+  ASSERT_TRUE(j.is_object());
+  EXPECT_THAT(j["vehicle"].get<std::string>(),
+              HasSubstr("ab\xef\xbf\xbd"
+                        "cd"));
+  const auto table = testing::RunCli("inspect " + Q(path));
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_THAT(table.out, HasSubstr("ab\\xe9cd"));
+  EXPECT_EQ(table.out.find('\xe9'), std::string::npos);
+}
+
 // --- A damaged log's fit carries the damage ---------------------------------
 
 TEST(DamagedLogs, AllowDamagedFitsWithAWarning) {

@@ -135,7 +135,7 @@ int Run(const std::vector<std::string>& positional) {
       {"columns", column_list},
       {"digits", std::to_string(write.precision) + " significant (t: 12)"}};
   text << FormatTable({"item", "value"}, rows);
-  std::cout << text.str();
+  std::cout << EscapeLines(text.str());
   return kExitOk;
 }
 

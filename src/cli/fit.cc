@@ -18,6 +18,7 @@
 #include "imusysid/problem_io.h"
 #include "imusysid/registry.h"
 #include "imusysid/report.h"
+#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
@@ -248,7 +249,9 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
   if (!file->ignored_columns.empty()) {
     std::cerr << "note: " << path << ": ignoring column"
               << (file->ignored_columns.size() > 1 ? "s" : "");
-    for (const auto& c : file->ignored_columns) std::cerr << " '" << c << "'";
+    for (const auto& c : file->ignored_columns) {
+      std::cerr << " '" << EscapeForDisplay(c) << "'";
+    }
     std::cerr << " (the fit uses t, f, omega, omega_dot, v)\n";
   }
   const std::string* plane = file->FindMetadata("plane");

@@ -225,7 +225,8 @@ int Run(const std::vector<std::string>& positional) {
   }
   for (const auto& n : notes) out << "note: " << n << "\n";
   for (const auto& w : warnings) out << "warning: " << w << "\n";
-  std::cout << out.str();
+  // Names, metadata and messages come from the file: escaped line by line.
+  std::cout << EscapeLines(out.str());
   return kExitOk;
 }
 
