@@ -943,6 +943,35 @@ TEST(InputPaths, StandardInputIsReadAsDash) {
   EXPECT_EQ(j["samples"].get<int>(), kSamples);
 }
 
+// Four runs writing one name at once used to leave a log and a truth
+// sidecar from different runs; the pair is now renamed into place under a
+// lock on the folder.
+TEST(OutputPaths, ConcurrentSimulateRunsLeaveAMatchingPair) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string out = dir + "/pair.csv";
+  std::string script =
+      "for s in 1 2 3 4; do '" + std::string(IMUSYSID_CLI_PATH) +
+      "' simulate --scenario=hover_only --seed=$s --out=" + Q(out) +
+      " > /dev/null 2>&1 & done; wait";
+  ASSERT_EQ(std::system(script.c_str()), 0);
+  std::ifstream log(out);
+  std::string line, log_seed;
+  while (std::getline(log, line) && line.rfind("#", 0) == 0) {
+    if (line.rfind("# seed: ", 0) == 0) log_seed = line.substr(8);
+  }
+  std::ifstream truth(dir + "/pair.truth.json");
+  const nlohmann::json j = nlohmann::json::parse(truth, nullptr, false);
+  ASSERT_FALSE(j.is_discarded());
+  EXPECT_EQ(log_seed, std::to_string(j["seed"].get<int>()));
+  // Nothing but the pair is left behind.
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    (void)entry;
+    ++files;
+  }
+  EXPECT_EQ(files, 2);
+}
+
 // --- Strings from files ------------------------------------------------------
 
 // A ULog info string in Latin-1 (one byte that is not UTF-8) aborted
