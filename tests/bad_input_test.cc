@@ -459,6 +459,13 @@ std::vector<BadCase> FitJsonCases() {
                    "array_of_numbers",
                    Displacement("[1, 2]", "--estimator_pick=ga"),
                    "expected an array of fit objects, found number"));
+  // Found by fit_json_fuzzer: the JSON library throws out_of_range, not a
+  // parse error, for a number beyond a double.
+  c.push_back(
+      Case(f,
+           "number_beyond_double",
+           Displacement(FitJson("\"r_m\": 1e999, \"beta_deg\": 56")),
+           "fit.json: not valid JSON: number overflow parsing '1e999'"));
   c.push_back(
       Case(f,
            "invalid_utf8",

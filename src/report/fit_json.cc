@@ -150,6 +150,14 @@ StatusOr<nlohmann::json> ParseJsonText(std::string_view text,
     return InvalidArgumentError(name + ":" + std::to_string(line) + ":" +
                                 std::to_string(at - line_start + 1) +
                                 ": not valid JSON: " + EscapeForDisplay(what));
+  } catch (const nlohmann::json::exception& e) {
+    // Not only syntax: a number beyond a double ("1e999") is an
+    // out_of_range exception, which carries no position (found by fuzzing).
+    std::string what = e.what();
+    const std::size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    return InvalidArgumentError(name +
+                                ": not valid JSON: " + EscapeForDisplay(what));
   }
 }
 
