@@ -111,7 +111,11 @@ Status LinearEstimator::Solve(const Problem& problem,
   result->iterations = 1;
 
   Eigen::MatrixXd r_aug;
-  if (!structure->TriangularFactor(nullptr, &r_aug)) {
+  // The column norms below must be finite as well: huge finite regressors
+  // (1e200) overflow them, and an SVD of the resulting inf/NaN matrix
+  // crashed rather than failed.
+  if (!structure->TriangularFactor(nullptr, &r_aug) || !r_aug.allFinite() ||
+      !r_aug.colwise().norm().allFinite()) {
     result->termination = Termination::kFailure;
     result->message = "linear estimator: the model's regressors are not finite";
     return Status::Ok();

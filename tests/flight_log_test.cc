@@ -556,15 +556,14 @@ TEST(FlightLogFiles, AtomicWriteIntoAMissingFolderFailsWithoutAFile) {
   const std::string path = dir + "/no_such_dir/out.csv";
   const Status status = WriteFileAtomically(path, "data");
   ASSERT_FALSE(status.ok());
-  EXPECT_EQ(status.code(), StatusCode::kIoError);
+  // The user's path is wrong: bad input (exit 2), not an I/O failure.
+  EXPECT_EQ(status.code(), StatusCode::kInvalidArgument);
   EXPECT_THAT(status.message(), HasSubstr(path));
   EXPECT_THAT(status.message(), HasSubstr("No such file or directory"));
   EXPECT_TRUE(ListDir(dir).empty());
 }
 
-TEST(FlightLogFiles, FailedRenameRemovesTheTemporaryFile) {
-  // Renaming a file over a non-empty directory fails after the data were
-  // written, which exercises the cleanup on the last step.
+TEST(FlightLogFiles, AFolderInTheWayIsRefusedWithoutATemporaryFile) {
   const std::string dir = testing::MakeTempDir();
   const std::string target = dir + "/target";
   std::filesystem::create_directory(target);
@@ -572,9 +571,54 @@ TEST(FlightLogFiles, FailedRenameRemovesTheTemporaryFile) {
                              target + "/inner");
   const Status status = WriteFileAtomically(target, "data");
   ASSERT_FALSE(status.ok());
-  EXPECT_EQ(status.code(), StatusCode::kIoError);
+  EXPECT_EQ(status.code(), StatusCode::kInvalidArgument);
   EXPECT_THAT(status.message(), HasSubstr(target));
+  EXPECT_THAT(status.message(), HasSubstr("it is a folder"));
   EXPECT_EQ(ListDir(dir), std::vector<std::string>{"target"});
+}
+
+TEST(FlightLogFiles, AFailedWriteLeavesNothingBehind) {
+  // A name longer than the file system allows fails when the temporary file
+  // beside it is created.
+  const std::string dir = testing::MakeTempDir();
+  const std::string target = dir + "/" + std::string(300, 'x');
+  const Status status = WriteFileAtomically(target, "data");
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(status.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(status.message(), HasSubstr("File name too long"));
+  EXPECT_TRUE(ListDir(dir).empty());
+}
+
+TEST(FlightLogFiles, ASymlinkIsWrittenThroughAndStays) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string target = dir + "/real.csv";
+  ASSERT_TRUE(WriteFileAtomically(target, "old").ok());
+  std::filesystem::create_symlink("real.csv", dir + "/link.csv");
+  ASSERT_TRUE(WriteFileAtomically(dir + "/link.csv", "new").ok());
+  EXPECT_TRUE(std::filesystem::is_symlink(dir + "/link.csv"));
+  EXPECT_EQ(*ReadFileToString(target), "new");
+  EXPECT_EQ(ListDir(dir), (std::vector<std::string>{"link.csv", "real.csv"}));
+}
+
+TEST(FlightLogFiles, ADeviceIsStreamedIntoNotReplaced) {
+  ASSERT_TRUE(WriteFileAtomically("/dev/null", "data").ok());
+  EXPECT_TRUE(std::filesystem::is_character_file("/dev/null"));
+}
+
+TEST(FlightLogFiles, NonRegularFilesAreRefusedBeforeReading) {
+  const StatusOr<std::string> zero = ReadFileToString("/dev/zero");
+  ASSERT_FALSE(zero.ok());
+  EXPECT_EQ(zero.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(zero.status().message(), HasSubstr("a character device"));
+}
+
+TEST(FlightLogFiles, FilesLargerThanTheLimitAreRefused) {
+  const std::string path = testing::WriteTempFile("big.csv", "0123456789");
+  const StatusOr<std::string> read = ReadFileToString(path, 9);
+  ASSERT_FALSE(read.ok());
+  EXPECT_EQ(read.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(read.status().message(), HasSubstr("is 10 bytes"));
+  EXPECT_EQ(*ReadFileToString(path, 10), "0123456789");
 }
 
 TEST(FlightLogFiles, WriteCsvLogThenReadCsvLog) {
@@ -588,11 +632,11 @@ TEST(FlightLogFiles, WriteCsvLogThenReadCsvLog) {
   EXPECT_EQ(read->gy[17], Rounded(original.gy[17], 9));
 }
 
-TEST(FlightLogFiles, ReadFileToStringOfAFolderIsAnIoError) {
+TEST(FlightLogFiles, ReadFileToStringOfAFolderIsBadInput) {
   const std::string dir = testing::MakeTempDir();
   const StatusOr<std::string> contents = ReadFileToString(dir);
   ASSERT_FALSE(contents.ok());
-  EXPECT_EQ(contents.status().code(), StatusCode::kIoError);
+  EXPECT_EQ(contents.status().code(), StatusCode::kInvalidArgument);
   EXPECT_THAT(contents.status().message(), HasSubstr(dir));
 }
 

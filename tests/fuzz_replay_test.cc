@@ -58,6 +58,12 @@ void Replay(const std::string& target,
 
 TEST(FuzzReplay, CsvCorpusRunsCleanly) { Replay("csv", fuzz::FuzzCsv); }
 TEST(FuzzReplay, UlogCorpusRunsCleanly) { Replay("ulog", fuzz::FuzzUlog); }
+TEST(FuzzReplay, ProblemCorpusRunsCleanly) {
+  Replay("problem", fuzz::FuzzProblemCsv);
+}
+TEST(FuzzReplay, FitJsonCorpusRunsCleanly) {
+  Replay("fit_json", fuzz::FuzzFitJson);
+}
 TEST(FuzzReplay, DataFlashCorpusRunsCleanly) {
   Replay("dataflash", fuzz::FuzzDataFlash);
 }

@@ -16,7 +16,8 @@ namespace {
 using ::testing::HasSubstr;
 
 // A small problem whose values stress the number formatting: thirds and
-// sevenths need all 17 digits, plus tiny, huge and negative values.
+// sevenths need all 17 digits, plus tiny, huge (up to the readers' limit
+// kMaxAbsInputValue) and negative values.
 ProblemData MakeData(std::size_t n = 12) {
   ProblemData d;
   d.source = "made";
@@ -26,7 +27,7 @@ ProblemData MakeData(std::size_t n = 12) {
     d.t_s.push_back(1000.0 + k / 3.0);
     d.f_x.push_back(-k / 7.0 + 1e-300);
     d.omega.push_back(std::sin(k) * 1e-17);
-    d.omega_dot.push_back(std::cos(k) * 1.7976931348623157e308);
+    d.omega_dot.push_back(std::cos(k) * kMaxAbsInputValue);
     d.v.push_back(0.1 * k - 0.3);
     d.theta.push_back(std::nextafter(k, 100.0));
   }
@@ -214,7 +215,15 @@ TEST(ProblemIo, BadInputsNameLineColumnAndValue) {
        "p.csv:1:12: line 1: metadata 'gravity': 'heavy' is not a number"},
       {"negative gravity",
        header + rows(0, 10) + "# gravity: -9.8\n",
-       "p.csv:12:12: line 12: metadata 'gravity': '-9.8' is not positive"},
+       "p.csv:12:12: line 12: metadata 'gravity': '-9.8' is outside [0.1, "
+       "100] m/s^2"},
+      {"astronomical gravity",
+       "# gravity: 1e30\n" + header + rows(0, 10),
+       "p.csv:1:12: line 1: metadata 'gravity': '1e30' is outside [0.1, "
+       "100] m/s^2"},
+      {"value whose square overflows",
+       header + rows(0, 3) + "3.5,1,2,3,1e200\n" + rows(4, 10),
+       "p.csv:5:11: line 5: column 'v': '1e200' is beyond +/-1e100"},
   };
   for (const BadCase& c : cases) {
     StatusOr<ProblemFile> file = ParseProblemCsv(c.text, "p.csv");

@@ -53,6 +53,16 @@ struct FlightLog {
   std::vector<double> gx, gy, gz;  // angular rate, rad/s, FLU
   std::vector<Channel> extra;      // every other column, by name
 
+  // What the reader repaired or passed over on the way ("byte N: ..."
+  // resyncs, a truncated tail, dropped samples); empty for a clean file.
+  // Front ends carry them into a fit's warnings (a fit of a damaged log must
+  // say so).
+  std::vector<std::string> reader_warnings;
+  // Bytes of the file the reader skipped (resyncs, a truncated tail) and the
+  // file's size: their ratio is the damage `fit --allow_damaged` is about.
+  std::size_t skipped_bytes = 0;
+  std::size_t file_bytes = 0;
+
   std::size_t size() const { return t_s.size(); }
   // Returns the extra channel with this name, or nullptr.
   const Channel* FindChannel(std::string_view name) const;
@@ -61,6 +71,12 @@ struct FlightLog {
   // Median sample interval, s (0 for fewer than two samples).
   double MedianDt() const;
 };
+
+// The largest magnitude any reader accepts for a number (a sample, a time, a
+// metadata value). No sensor reports anything near it, and beyond it the
+// squares and products a fit forms would overflow to infinity; readers reject
+// such values naming the line (CSV) or byte offset (binary logs).
+inline constexpr double kMaxAbsInputValue = 1e100;
 
 struct CsvReadOptions {
   // Overrides the file's `# frame:` metadata when set (the CLI's --frame).
@@ -99,9 +115,17 @@ struct CsvWriteOptions {
 std::string FormatCsvLog(const FlightLog& log,
                          const CsvWriteOptions& options = {});
 
-// Writes `contents` to `path` atomically: a temporary file in the same folder
-// that is renamed over `path` only when fully written, so no half-written file
-// is ever left behind.
+// Writes `contents` to `path` so that no half-written file is ever left
+// behind and nothing but a regular file is ever replaced:
+// - a regular file (or a new name): a temporary file in the same folder,
+//   renamed over it only when fully written; an existing file keeps its mode;
+// - a symbolic link: the same, at the link's final target (the link stays);
+// - "-", /dev/stdout, a FIFO or a character device: streamed into it (a
+//   FIFO without a reader is refused rather than waited for);
+// - anything else (a folder, a socket, a block device): refused.
+// Errors on the user's path (missing folder, no permission, read-only file
+// system, a folder in the way) are InvalidArgument naming the path; other
+// write failures are IoError.
 Status WriteFileAtomically(const std::string& path, std::string_view contents);
 
 // FormatCsvLog + WriteFileAtomically.
@@ -109,8 +133,20 @@ Status WriteCsvLog(const FlightLog& log,
                    const std::string& path,
                    const CsvWriteOptions& options = {});
 
-// Reads a whole file into memory.
-StatusOr<std::string> ReadFileToString(const std::string& path);
+// The largest input file any reader accepts, bytes (1 GiB): flight logs are
+// far smaller, and the readers need a small multiple of a file's size in
+// memory (docs/failure-modes.md), so a larger input is refused (exit 2)
+// before it is read rather than failing on memory half-way.
+inline constexpr std::size_t kMaxInputFileBytes = std::size_t{1} << 30;
+
+// Reads a whole file into memory. "-" reads standard input. Only regular
+// files (and "-") are read: a folder, FIFO, socket or device is refused
+// before it is opened (so a FIFO without a writer cannot hang the caller),
+// as is anything larger than `max_bytes`. Errors a user can fix (missing
+// file: NotFound; no permission, not a regular file, too large:
+// InvalidArgument) name the path; a failing read is an IoError.
+StatusOr<std::string> ReadFileToString(
+    const std::string& path, std::size_t max_bytes = kMaxInputFileBytes);
 
 }  // namespace imusysid
 

@@ -2,7 +2,11 @@
 // command line: presets, flags → BenchConfig, Markdown or JSON on stdout, and
 // with --out the result files, the figures and index.html.
 
+#include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <thread>
@@ -85,8 +89,78 @@ std::string DataDir() {
 #endif
 }
 
+// --out without trailing slashes ("out/" and "out" are one folder).
+std::string OutFolder() {
+  std::string out = FLAGS_out;
+  while (out.size() > 1 && out.back() == '/') out.pop_back();
+  return out;
+}
+
+// The results are written into a new folder beside --out and moved into
+// place only when every file was written, so a failing bench leaves the
+// previous results (or nothing), never a partial set. A new --out is the
+// staging folder renamed; into an existing folder the files are moved one
+// by one (each rename atomic), leaving other files there alone.
+StatusOr<std::string> MakeStagingFolder(const std::string& out) {
+  std::error_code ec;
+  const std::filesystem::path parent = std::filesystem::path(out).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
+  if (ec) {
+    return InvalidArgumentError("--out: cannot create '" + parent.string() +
+                                "': " + ec.message());
+  }
+  std::string staging = out + ".tmp.XXXXXX";
+  if (mkdtemp(staging.data()) == nullptr) {
+    return InvalidArgumentError("--out: cannot create a folder beside '" + out +
+                                "': " + std::strerror(errno));
+  }
+  return staging;
+}
+
+Status CommitStagingFolder(const std::string& staging, const std::string& out) {
+  std::error_code ec;
+  if (!std::filesystem::exists(out, ec)) {
+    if (std::rename(staging.c_str(), out.c_str()) == 0) return Status::Ok();
+    return IoError("cannot move the results into '" + out +
+                   "': " + std::strerror(errno));
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(staging, ec)) {
+    const std::filesystem::path to =
+        std::filesystem::path(out) / entry.path().filename();
+    std::filesystem::rename(entry.path(), to, ec);
+    if (ec) {
+      return IoError("cannot move '" + entry.path().string() + "' to '" +
+                     to.string() + "': " + ec.message());
+    }
+  }
+  if (ec) return IoError("cannot list '" + staging + "': " + ec.message());
+  std::filesystem::remove_all(staging, ec);
+  return Status::Ok();
+}
+
 int Run(const std::vector<std::string>& positional) {
   const std::string cmd = "bench";
+  if (!FLAGS_out.empty()) {
+    // Checked before the runs: a file in the way would fail only at the end.
+    std::error_code ec;
+    const auto type = std::filesystem::status(OutFolder(), ec).type();
+    if (type != std::filesystem::file_type::not_found &&
+        type != std::filesystem::file_type::directory) {
+      return ReportError(cmd,
+                         InvalidArgumentError("--out='" + FLAGS_out +
+                                              "' exists and is not a folder"));
+    }
+  }
+  if (FLAGS_repeats < 1 || FLAGS_repeats > 1000) {
+    return UsageError(cmd,
+                      "--repeats=" + std::to_string(FLAGS_repeats) +
+                          "; required in [1, 1000]");
+  }
+  if (FLAGS_seeds < -1 || FLAGS_seeds > 100000) {
+    return UsageError(cmd,
+                      "--seeds=" + std::to_string(FLAGS_seeds) +
+                          "; required in [-1, 100000] (-1: the preset's)");
+  }
   if (!positional.empty()) {
     return UsageError(cmd, "bench takes no positional arguments; use --logs");
   }
@@ -168,19 +242,32 @@ int Run(const std::vector<std::string>& positional) {
   if (!s.ok()) return ReportError(cmd, s);
 
   if (!FLAGS_out.empty()) {
-    s = bench::WriteOutputs(*report, FLAGS_out);
-    if (!s.ok()) return ReportError(cmd, s);
+    const std::string out = OutFolder();
+    StatusOr<std::string> staging = MakeStagingFolder(out);
+    if (!staging.ok()) return ReportError(cmd, staging.status());
+    auto fail = [&](const Status& status) {
+      std::error_code ec;
+      std::filesystem::remove_all(*staging, ec);
+      return ReportError(cmd, status);
+    };
+    s = bench::WriteOutputs(*report, *staging);
+    if (!s.ok()) return fail(s);
+    std::size_t figure_count = 0;
     if (FLAGS_figures) {
       std::vector<bench::Figure> figures;
-      s = bench::WriteBenchFigures(*report, FLAGS_out, &figures);
+      s = bench::WriteBenchFigures(*report, *staging, &figures);
       if (s.code() == StatusCode::kFailedPrecondition) {
         std::cerr << "warning: " << s.message() << "\n";
       } else if (!s.ok()) {
-        return ReportError(cmd, s);
-      } else {
-        std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_out
-                  << "/index.html\n";
+        return fail(s);
       }
+      figure_count = figures.size();
+    }
+    s = CommitStagingFolder(*staging, out);
+    if (!s.ok()) return fail(s);
+    if (figure_count > 0) {
+      std::cerr << "wrote " << figure_count << " figures and " << FLAGS_out
+                << "/index.html\n";
     }
     std::cerr << "wrote " << FLAGS_out
               << "/{results.json,results.csv,traces.json,context.json}\n";

@@ -7,11 +7,13 @@
 #define IMUSYSID_SRC_CLI_COMMON_H_
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gflags/gflags.h"
 #include "imusysid/report.h"
 #include "imusysid/status.h"
+#include "nlohmann/json.hpp"
 
 DECLARE_string(format);
 
@@ -49,7 +51,8 @@ const Command& BenchCommand();
 int ExitCodeFor(const Status& status);
 
 // Prints "imusysid <cmd>: error: <message>" to stderr and returns the exit
-// code for the status (2 for bad input, 1 otherwise).
+// code for the status (2 for bad input, 1 otherwise). The message is escaped
+// (EscapeForDisplay): it may quote bytes from the user's files.
 int ReportError(const std::string& command, const Status& status);
 
 // Usage error: prints the message and a hint to --help, returns 2.
@@ -63,9 +66,37 @@ void MarkFlagSet(const std::string& name);
 // The value of --format: "table" or "json" (validated by the parser).
 bool JsonOutput();
 
-// Writes `text` to stdout; when `path` is not empty, writes it atomically to
-// that file instead.
+// Writes `text` to stdout (line by line through EscapeLines); when `path` is
+// not empty, writes it as it is to that file
+// instead (WriteFileAtomically: atomic for regular files, through symbolic
+// links, streamed into "-", FIFOs and devices).
 Status EmitOutput(const std::string& text, const std::string& path);
+
+// InvalidArgument when `out` names the same file as one of `inputs` (the
+// same device and inode): replacing a log with a result would destroy it.
+Status CheckOutputIsNotInput(const std::string& out_flag,
+                             const std::string& out,
+                             const std::vector<std::string>& inputs);
+
+// Writes several files as one unit (simulate's log and its truth sidecar):
+// each is written to a temporary file beside its target first, then all are
+// renamed into place while an exclusive lock on their folder is held, so
+// that concurrent runs never leave files from two runs side by side, and a
+// failure before the renames leaves none of the new files. Targets must be
+// new names, regular files or symbolic links to them (written through);
+// anything else is refused.
+Status WriteFilesTogether(
+    const std::vector<std::pair<std::string, std::string>>& path_and_text);
+
+// `text` with each line escaped by EscapeForDisplay (control bytes and
+// invalid UTF-8 as \xNN), the line ends kept: for tables that quote strings
+// from files (a ULog's vehicle name, a CSV's column names).
+std::string EscapeLines(const std::string& text);
+
+// `j` as indented text; strings that are not valid UTF-8 (a ULog's info
+// field in Latin-1) have their bad bytes replaced by U+FFFD rather than
+// making the JSON library throw.
+std::string DumpJson(const nlohmann::ordered_json& j);
 
 }  // namespace cli
 }  // namespace imusysid

@@ -71,6 +71,9 @@ int Run(const std::vector<std::string>& positional) {
   if (FLAGS_out == path) {
     return UsageError(cmd, "--out must not be the input file '" + path + "'");
   }
+  // The same file under another name (a link, ./x): caught by inode.
+  Status same = CheckOutputIsNotInput("--out", FLAGS_out, {path});
+  if (!same.ok()) return ReportError(cmd, same);
   StatusOr<FlightLog> log = ReadLogFromFlags(path);
   if (!log.ok()) return ReportError(cmd, log.status());
   const std::string* format_meta = log->FindMetadata("format");
@@ -107,7 +110,7 @@ int Run(const std::vector<std::string>& positional) {
     j["rate_hz"] = median_dt > 0 ? 1.0 / median_dt : 0.0;
     j["columns"] = columns;
     j["precision_digits"] = write.precision;
-    std::cout << j.dump(2) << "\n";
+    std::cout << DumpJson(j) << "\n";
     return kExitOk;
   }
   std::ostringstream text;
@@ -132,7 +135,7 @@ int Run(const std::vector<std::string>& positional) {
       {"columns", column_list},
       {"digits", std::to_string(write.precision) + " significant (t: 12)"}};
   text << FormatTable({"item", "value"}, rows);
-  std::cout << text.str();
+  std::cout << EscapeLines(text.str());
   return kExitOk;
 }
 

@@ -9,6 +9,8 @@
 #include <limits>
 #include <sstream>
 
+#include "imusysid/fit_json.h"
+#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
@@ -41,58 +43,9 @@ struct Polar {
 StatusOr<Polar> LoadFit(const std::string& path) {
   StatusOr<std::string> text = ReadFileToString(path);
   if (!text.ok()) return text.status();
-  nlohmann::json j = nlohmann::json::parse(*text, nullptr, false);
-  if (j.is_discarded()) {
-    return InvalidArgumentError(path + ": not valid JSON");
-  }
-  if (j.is_array()) {
-    if (FLAGS_estimator_pick.empty()) {
-      std::ostringstream msg;
-      msg << path << ": holds " << j.size()
-          << " fits; choose one with --estimator_pick=NAME";
-      return InvalidArgumentError(msg.str());
-    }
-    nlohmann::json found;
-    for (const auto& e : j) {
-      if (e.is_object() && e.value("estimator", "") == FLAGS_estimator_pick) {
-        found = e;
-      }
-    }
-    if (found.is_null()) {
-      return NotFoundError(path + ": no fit by estimator '" +
-                           FLAGS_estimator_pick + "'");
-    }
-    j = found;
-  }
-  if (!j.is_object()) return InvalidArgumentError(path + ": not a fit object");
-  Polar p;
-  const auto raw = j.find("raw_parameters");
-  const nlohmann::json& src = (raw != j.end() && raw->is_object()) ? *raw : j;
-  for (const char* key : {"r_m", "beta_deg"}) {
-    if (!src.contains(key) || !src[key].is_number()) {
-      return InvalidArgumentError(path + ": field '" + key +
-                                  "' missing or not a number");
-    }
-  }
-  p.r = src["r_m"].get<double>();
-  p.beta = src["beta_deg"].get<double>();
-  if (j.contains("stderr") && j["stderr"].is_object()) {
-    const auto& se = j["stderr"];
-    if (se.contains("r_m") && se["r_m"].is_number()) p.r_se = se["r_m"];
-    if (se.contains("beta_deg") && se["beta_deg"].is_number()) {
-      p.beta_se = se["beta_deg"];
-    }
-  }
-  if (j.contains("warnings") && j["warnings"].is_array()) {
-    for (const auto& w : j["warnings"]) {
-      if (w.value("code", "") == "not_identifiable") {
-        return FailedPreconditionError(
-            path + ": that fit could not identify r and beta (" +
-            w.value("message", "") + ")");
-      }
-    }
-  }
-  return p;
+  StatusOr<FitPosition> p = ParseFitJson(*text, path, FLAGS_estimator_pick);
+  if (!p.ok()) return p.status();
+  return Polar{p->r_m, p->beta_deg, p->r_stderr_m, p->beta_stderr_deg};
 }
 
 int Run(const std::vector<std::string>& positional) {
@@ -121,6 +74,12 @@ int Run(const std::vector<std::string>& positional) {
     }
     before = {FLAGS_r0, FLAGS_beta0_deg, 0, 0};
     after = {FLAGS_r1, FLAGS_beta1_deg, 0, 0};
+    Status s =
+        CheckFitPosition({before.r, before.beta, 0, 0}, "--r0/--beta0_deg: ");
+    if (s.ok()) {
+      s = CheckFitPosition({after.r, after.beta, 0, 0}, "--r1/--beta1_deg: ");
+    }
+    if (!s.ok()) return ReportError(cmd, s);
   } else {
     return UsageError(cmd, "expected two fit JSON files or the four flags");
   }
@@ -147,7 +106,7 @@ int Run(const std::vector<std::string>& positional) {
                      {"dz_m", d.dz_stderr_m}};
     }
     j["frame"] = "FLU body: dx forward, dz up (negative = CoM moved down)";
-    out << j.dump(2) << "\n";
+    out << DumpJson(j) << "\n";
   } else {
     auto cm = [](double m) { return FormatNumber(100.0 * m, 4) + " cm"; };
     auto pm = [&](double se) {

@@ -26,6 +26,8 @@ int Run(const std::vector<std::string>& positional) {
     return UsageError(cmd, "give the log with --log=FILE");
   }
 
+  Status same = CheckOutputIsNotInput("--out", FLAGS_out, {path});
+  if (!same.ok()) return ReportError(cmd, same);
   StatusOr<FlightLog> log = ReadLogFromFlags(path);
   if (!log.ok()) return ReportError(cmd, log.status());
   StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);

@@ -14,11 +14,13 @@
 #include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
 #include "imusysid/log_reader.h"
+#include "imusysid/log_sanity.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem.h"
 #include "imusysid/problem_io.h"
 #include "imusysid/registry.h"
 #include "imusysid/report.h"
+#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
@@ -105,6 +107,10 @@ DEFINE_string(plot,
               "Write the per-log figures (SVG via gnuplot) and an index.html "
               "into this folder.");
 DEFINE_string(problem, "", ::imusysid::cli::ProblemFlagHelp());
+DEFINE_bool(allow_damaged,
+            false,
+            "Fit a log even when the reader had to skip more than 5 % of its "
+            "bytes (the fit then carries a damaged_log warning).");
 
 DEFINE_string(emit,
               "",
@@ -180,6 +186,11 @@ Status ApplyBounds(Problem* problem) {
 StatusOr<EstimatorOptions> OptionsFromFlags() {
   EstimatorOptions o;
   o.seed = FLAGS_seed;
+  if (!(FLAGS_max_time_s >= 0.0)) {
+    return InvalidArgumentError(
+        "--max_time_s=" + FormatShortest(FLAGS_max_time_s) +
+        "; required >= 0 (0: no limit)");
+  }
   if (FLAGS_max_time_s > 0) o.max_wall_time_s = FLAGS_max_time_s;
   o.record_trace = true;
   o.ga.num_threads = FLAGS_threads;
@@ -196,10 +207,17 @@ StatusOr<EstimatorOptions> OptionsFromFlags() {
 // `unidentifiable` gets a reason when the log itself shows r and β cannot be
 // identified (no maneuver, or no flight in the segment), whatever the fit's
 // standard errors say.
-StatusOr<std::shared_ptr<ProblemData>> DataFromLog(
-    const std::string& path, FitContext* context, std::string* unidentifiable) {
+StatusOr<std::shared_ptr<ProblemData>> DataFromLog(const std::string& path,
+                                                   FitContext* context,
+                                                   std::string* unidentifiable,
+                                                   std::string* damage) {
   StatusOr<FlightLog> log = ReadLogFromFlags(path);
   if (!log.ok()) return log.status();
+  // The gates that stop a log in the wrong units or frame, or a badly
+  // damaged one, from fitting to confident wrong numbers.
+  IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
+  if (!FLAGS_allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
+  *damage = DamageSummary(*log);
   StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
   if (!po.ok()) return po.status();
   // No maneuver and no window: fit a stretch anyway and let the
@@ -209,6 +227,7 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromLog(
   if (!fallback->empty()) std::cerr << "note: " << *fallback << "\n";
   StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
   if (!pre.ok()) return pre.status();
+  IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(pre->data, path));
   *unidentifiable =
       NoFlightReason(path, pre->data.t_s.front(), pre->data.t_s.back());
   if (unidentifiable->empty() && !fallback->empty()) {
@@ -228,10 +247,13 @@ StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
     const std::string& path, FitContext* context) {
   StatusOr<ProblemFile> file = ReadProblemCsv(path);
   if (!file.ok()) return file.status();
+  IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(file->data, path));
   if (!file->ignored_columns.empty()) {
     std::cerr << "note: " << path << ": ignoring column"
               << (file->ignored_columns.size() > 1 ? "s" : "");
-    for (const auto& c : file->ignored_columns) std::cerr << " '" << c << "'";
+    for (const auto& c : file->ignored_columns) {
+      std::cerr << " '" << EscapeForDisplay(c) << "'";
+    }
     std::cerr << " (the fit uses t, f, omega, omega_dot, v)\n";
   }
   const std::string* plane = file->FindMetadata("plane");
@@ -282,7 +304,7 @@ Status AddEmit(const std::vector<EstimateResult>& results,
     } else {
       add(&j, 0);
     }
-    *text = j.dump(2) + "\n";
+    *text = DumpJson(j) + "\n";
   } else if (best >= 0) {
     *text += AutopilotParametersToText(emitted[static_cast<std::size_t>(best)]);
   }
@@ -344,6 +366,12 @@ int Run(const std::vector<std::string>& positional) {
             "log with --log=FILE, or use --model=" +
             data_velocity_model + " with --problem"));
   }
+  for (const auto& [flag, out] :
+       {std::pair<std::string, std::string>{"--out", FLAGS_out},
+        {"--emit_out", FLAGS_emit_out}}) {
+    Status same = CheckOutputIsNotInput(flag, out, {path});
+    if (!same.ok()) return ReportError(cmd, same);
+  }
   StatusOr<EstimatorOptions> options = OptionsFromFlags();
   if (!options.ok()) return ReportError(cmd, options.status());
   StatusOr<EmitFormat> emit = EmitFormatFromString(FLAGS_emit);
@@ -364,9 +392,10 @@ int Run(const std::vector<std::string>& positional) {
 
   FitContext context;
   std::string unidentifiable;
+  std::string damage;
   StatusOr<std::shared_ptr<ProblemData>> loaded =
       from_problem ? DataFromProblemFile(path, &context)
-                   : DataFromLog(path, &context, &unidentifiable);
+                   : DataFromLog(path, &context, &unidentifiable, &damage);
   if (!loaded.ok()) return ReportError(cmd, loaded.status());
   std::shared_ptr<ProblemData> data = std::move(loaded).value();
   // Only models that read the data's velocity use the autopilot's (the
@@ -420,6 +449,13 @@ int Run(const std::vector<std::string>& positional) {
     if (!r.ok()) return ReportError(cmd, r.status());
     results.push_back(std::move(*r));
   }
+  // The reader's repairs travel with every fit: a fit of what was left of
+  // a damaged log must not look like a fit of the whole flight.
+  if (!damage.empty()) {
+    for (EstimateResult& r : results) {
+      r.warnings.push_back({"damaged_log", damage});
+    }
+  }
   if (!unidentifiable.empty()) {
     for (EstimateResult& r : results) {
       if (!r.HasWarning("not_identifiable")) {
@@ -433,9 +469,9 @@ int Run(const std::vector<std::string>& positional) {
     if (FLAGS_estimator == "all") {
       nlohmann::ordered_json arr = nlohmann::ordered_json::array();
       for (const auto& r : results) arr.push_back(ResultToJson(r, context));
-      text = arr.dump(2) + "\n";
+      text = DumpJson(arr) + "\n";
     } else {
-      text = ResultToJson(results.front(), context).dump(2) + "\n";
+      text = DumpJson(ResultToJson(results.front(), context)) + "\n";
     }
   } else {
     text = ResultsToTable(results, context);
@@ -504,6 +540,7 @@ const Command& FitCommand() {
                     "trace",
                     "emit",
                     "emit_out",
+                    "allow_damaged",
                     "out"}),
       &Run,
       /*estimator_flags=*/true};

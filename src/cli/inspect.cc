@@ -40,9 +40,13 @@ int Run(const std::vector<std::string>& positional) {
   } else if (!positional.empty() || path.empty()) {
     return UsageError(cmd, "expected exactly one log file");
   }
-  StatusOr<LogSummary> summary = SummarizeLog(path);
+  // Read once: the summary and the log come from the same bytes (and "-",
+  // standard input, can only be read once).
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return ReportError(cmd, bytes.status());
+  StatusOr<LogSummary> summary = SummarizeLogBytes(*bytes, path);
   if (!summary.ok()) return ReportError(cmd, summary.status());
-  StatusOr<FlightLog> log = ReadLogFromFlags(path);
+  StatusOr<FlightLog> log = ParseLogFromFlags(*bytes, path);
   // A binary log without a usable IMU stream is still worth describing; a
   // CSV that does not parse is simply bad input.
   if (!log.ok() && summary->format == "csv") {
@@ -145,7 +149,7 @@ int Run(const std::vector<std::string>& positional) {
   j["warnings"] = warnings;
 
   if (JsonOutput()) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << DumpJson(j) << "\n";
     return kExitOk;
   }
   std::ostringstream out;
@@ -221,7 +225,8 @@ int Run(const std::vector<std::string>& positional) {
   }
   for (const auto& n : notes) out << "note: " << n << "\n";
   for (const auto& w : warnings) out << "warning: " << w << "\n";
-  std::cout << out.str();
+  // Names, metadata and messages come from the file: escaped line by line.
+  std::cout << EscapeLines(out.str());
   return kExitOk;
 }
 

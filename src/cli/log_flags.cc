@@ -64,6 +64,14 @@ std::vector<std::string> WithLogFlags(std::vector<std::string> head,
 }
 
 StatusOr<FlightLog> ReadLogFromFlags(const std::string& path) {
+  // Read once here (not by ReadLogForFit) so that "-", standard input, works.
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return bytes.status();
+  return ParseLogFromFlags(*bytes, path);
+}
+
+StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
+                                      const std::string& path) {
   LogReadOptions options;
   options.imu_instance = FLAGS_imu;
   if (FLAGS_imu < 0 || FLAGS_imu > 2) {
@@ -76,7 +84,13 @@ StatusOr<FlightLog> ReadLogFromFlags(const std::string& path) {
     options.override_frame = true;
     options.frame = *frame;
   }
-  return ReadLogForFit(path, options);
+  // ReadLogForFit's gap policy: real autopilot logs have holes, so only
+  // other CSVs keep the whole-log gap check.
+  if (DetectLogFormat(bytes) != LogFormat::kCsv ||
+      IsConvertedBinaryLog(bytes)) {
+    options.max_gap_factor = 0.0;
+  }
+  return ParseFlightLog(bytes, path, options);
 }
 
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log) {

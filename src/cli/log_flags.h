@@ -39,8 +39,12 @@ std::vector<std::string> PreprocessFlagNames();
 std::vector<std::string> WithLogFlags(
     std::vector<std::string> head, const std::vector<std::string>& tail = {});
 
-// Reads a log with --frame and --imu through ReadLogForFit (its gap policy).
+// Reads a log with --frame and --imu, with ReadLogForFit's gap policy.
+// "-" reads standard input.
 StatusOr<FlightLog> ReadLogFromFlags(const std::string& path);
+// The same on bytes already read from `path`.
+StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
+                                      const std::string& path);
 
 // PreprocessOptions from --t_start, --t_end, --cutoff_hz, --plane,
 // --velocity, --gyro_bias. --velocity=auto picks the log's own velocity when

@@ -3,7 +3,9 @@
 // malformed value or a missing value is a usage error (exit code 2), never
 // silently ignored. `--help` on any command prints that command's flags.
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <new>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include "gflags/gflags.h"
 #include "glog/logging.h"
+#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
@@ -158,6 +161,18 @@ bool ParseFlags(const Command& c,
                      "' (expected " + info.type + ")");
       return false;
     }
+    // Unset number flags default to NaN, so gflags accepts "nan" and "inf";
+    // given explicitly they are never meant.
+    if (info.type == "double") {
+      gflags::CommandLineFlagInfo now;
+      gflags::GetCommandLineFlagInfo(name.c_str(), &now);
+      if (!std::isfinite(std::strtod(now.current_value.c_str(), nullptr))) {
+        UsageError(
+            c.name,
+            "--" + name + "=" + value + ": the value must be a finite number");
+        return false;
+      }
+    }
     MarkFlagSet(name);
   }
   return true;
@@ -173,7 +188,8 @@ int RunBehindBarrier(const Command& c,
     return c.run(positional);
   } catch (const nlohmann::json::exception& e) {
     std::cerr << "imusysid " << c.name
-              << ": error: bad JSON input: " << e.what() << "\n";
+              << ": error: bad JSON input: " << EscapeForDisplay(e.what())
+              << "\n";
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr << "imusysid " << c.name
@@ -183,6 +199,10 @@ int RunBehindBarrier(const Command& c,
   } catch (const std::exception& e) {
     std::cerr << "imusysid " << c.name << ": error: internal: " << e.what()
               << "\n";
+    return kExitInternal;
+  } catch (...) {
+    std::cerr << "imusysid " << c.name
+              << ": error: internal: an unknown exception\n";
     return kExitInternal;
   }
 }
@@ -218,7 +238,7 @@ int Main(int argc, char** argv) {
     }
     return RunBehindBarrier(*c, positional);
   }
-  std::cerr << "imusysid: unknown command '" << name << "'\n";
+  std::cerr << "imusysid: unknown command '" << EscapeForDisplay(name) << "'\n";
   PrintToolHelp();
   return kExitBadInput;
 }

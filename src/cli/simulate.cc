@@ -237,6 +237,11 @@ int Run(const std::vector<std::string>& positional) {
   if (FLAGS_out.empty()) {
     return UsageError(cmd, "--out=FILE.csv is required");
   }
+  if (FLAGS_out == "-") {
+    return UsageError(cmd,
+                      "--out must name a file: simulate writes the log and "
+                      "its truth sidecar beside it");
+  }
   Frame frame = Frame::kFlu;
   if (!FLAGS_frame.empty()) {
     StatusOr<Frame> f = FrameFromString(FLAGS_frame);
@@ -254,12 +259,12 @@ int Run(const std::vector<std::string>& positional) {
   const std::string truth_path = TruthPath(FLAGS_out);
   CsvWriteOptions write_options;
   write_options.frame = frame;
-  s = WriteFileAtomically(truth_path, TruthJson(*options, *flight));
-  if (s.ok()) s = WriteCsvLog(flight->log, FLAGS_out, write_options);
-  if (!s.ok()) {
-    std::remove(truth_path.c_str());
-    return ReportError(cmd, s);
-  }
+  // The log and its truth are one result: both or neither, and never the
+  // log of one run beside the truth of another.
+  s = WriteFilesTogether(
+      {{truth_path, TruthJson(*options, *flight)},
+       {FLAGS_out, FormatCsvLog(flight->log, write_options)}});
+  if (!s.ok()) return ReportError(cmd, s);
 
   const SimulatedFlight& f = *flight;
   if (JsonOutput()) {
@@ -280,7 +285,7 @@ int Run(const std::vector<std::string>& positional) {
     j["max_speed_mps"] = f.max_speed_mps;
     j["maneuver_s"] = {f.maneuver_start_t_s, f.maneuver_end_t_s};
     j["reference_t_s"] = f.reference_t_s;
-    std::cout << j.dump(2) << "\n";
+    std::cout << DumpJson(j) << "\n";
   } else {
     std::cout << "wrote " << FLAGS_out << " (" << f.log.size() << " samples, "
               << FormatNumber(options->rate_hz, 4) << " Hz, frame "

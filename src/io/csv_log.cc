@@ -13,6 +13,7 @@
 
 #include "imusysid/format.h"
 #include "imusysid/log.h"
+#include "imusysid/safe_text.h"
 #include "src/io/csv_text.h"
 
 namespace imusysid {
@@ -150,7 +151,15 @@ void LocateRowField(std::string_view text,
 // Field-parsing state for one data row, kept out of the loop body so the hot
 // path reads as the happy case and every failure funnels through one place.
 struct RowError {
-  enum Kind { kNone, kEmpty, kNotANumber, kNotFinite, kTooFew, kTooMany };
+  enum Kind {
+    kNone,
+    kEmpty,
+    kNotANumber,
+    kNotFinite,
+    kTooLarge,
+    kTooFew,
+    kTooMany
+  };
   Kind kind = kNone;
   std::size_t column = 0;    // index into the header
   const char* at = nullptr;  // where the offending text starts
@@ -192,6 +201,14 @@ Status RowErrorToStatus(const RowError& error,
                      "column '" + header[error.column] +
                          "': " + Quote(FieldText(error.at, line_end)) +
                          " is not a finite number");
+    case RowError::kTooLarge:
+      return ErrorAt(name,
+                     line_number,
+                     col,
+                     "column '" + header[error.column] +
+                         "': " + Quote(FieldText(error.at, line_end)) +
+                         " is beyond +/-1e100, the largest magnitude a log "
+                         "may hold (its square would overflow in the fit)");
     case RowError::kTooFew:
       return ErrorAt(name,
                      line_number,
@@ -233,8 +250,9 @@ inline bool ParseRow(std::string_view line,
                                                 : RowError::kNotANumber;
       return false;
     }
-    if (!std::isfinite(value)) {
-      error->kind = RowError::kNotFinite;
+    if (!(std::abs(value) <= kMaxAbsInputValue)) {
+      error->kind =
+          std::isfinite(value) ? RowError::kTooLarge : RowError::kNotFinite;
       error->column = c;
       error->at = bad;
       return false;
@@ -558,9 +576,35 @@ Status CheckWholeLog(const FlightLog& log,
 
 }  // namespace
 
+namespace {
+
+// True when the start of `text` is binary rather than text: a NUL byte, or
+// more than one in ten bytes a control byte or not UTF-8. A binary file that
+// is neither ULog nor DataFlash ends up here, and a "header error" quoting
+// its bytes would help nobody.
+bool LooksBinary(std::string_view text) {
+  const std::string_view head = text.substr(0, 4096);
+  if (head.find('\0') != std::string_view::npos) return true;
+  const std::string escaped = EscapeForDisplay(head);
+  // Each escaped byte grows by three characters; tabs and line ends are
+  // escaped too but belong in a CSV file.
+  std::size_t allowed = 0;
+  for (char c : head) allowed += (c == '\t' || c == '\n' || c == '\r');
+  const std::size_t odd =
+      (escaped.size() - head.size()) / 3 - std::min(allowed, head.size());
+  return odd * 10 > head.size();
+}
+
+}  // namespace
+
 StatusOr<FlightLog> ParseCsvLog(std::string_view text,
                                 const std::string& name,
                                 const CsvReadOptions& options) {
+  if (LooksBinary(text)) {
+    return InvalidArgumentError(
+        name + ": not a CSV, ULog or DataFlash log (first bytes: " +
+        HexPrefix(text) + ")");
+  }
   FlightLog log;
   log.source = name;
 

@@ -1,5 +1,7 @@
 #include "src/io/csv_text.h"
 
+#include "imusysid/safe_text.h"
+
 namespace imusysid {
 namespace internal {
 namespace {
@@ -25,12 +27,14 @@ int CharColumn(std::string_view line, const char* at) {
 }
 
 std::string Quote(std::string_view text) {
+  // Escaped: the text comes from a file and may hold control bytes or
+  // invalid UTF-8 that must not reach a terminal raw.
   std::string out = "'";
   if (text.size() > kMaxQuotedText) {
-    out.append(text.substr(0, kMaxQuotedText));
+    out += EscapeForDisplay(text.substr(0, kMaxQuotedText));
     out += "...";
   } else {
-    out.append(text);
+    out += EscapeForDisplay(text);
   }
   out += "'";
   return out;

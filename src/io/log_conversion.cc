@@ -27,8 +27,10 @@ double Median(std::vector<double> values) {
 std::size_t CleanSignal(SourceSignal* signal) {
   std::size_t kept = 0, dropped = 0;
   for (std::size_t i = 0; i < signal->t.size(); ++i) {
-    const bool ok = std::isfinite(signal->t[i]) &&
-                    std::isfinite(signal->v[i]) &&
+    // Beyond kMaxAbsInputValue counts as broken too: such a value's square
+    // would overflow in the fit.
+    const bool ok = std::abs(signal->t[i]) <= kMaxAbsInputValue &&
+                    std::abs(signal->v[i]) <= kMaxAbsInputValue &&
                     (kept == 0 || signal->t[i] > signal->t[kept - 1]);
     if (!ok) {
       ++dropped;
@@ -64,6 +66,13 @@ StatusOr<ImuSeries> CheckedSamples(const ImuSeries& imu,
         return InvalidArgumentError(
             prefix + "byte " + std::to_string(imu.offsets[i]) + ": " + what +
             " sample " + std::to_string(i) + " has a non-finite value");
+      }
+      if (std::abs(value) > kMaxAbsInputValue) {
+        return InvalidArgumentError(
+            prefix + "byte " + std::to_string(imu.offsets[i]) + ": " + what +
+            " sample " + std::to_string(i) + " has the value " +
+            FormatNumber(value, 6) +
+            ", beyond +/-1e100 (its square would overflow in the fit)");
       }
     }
     if (!clean.t.empty()) {

@@ -4,6 +4,7 @@
 #include "imusysid/log_reader.h"
 
 #include <string>
+#include <vector>
 
 namespace imusysid {
 namespace {
@@ -16,6 +17,26 @@ CsvReadOptions CsvOptions(const LogReadOptions& options) {
   csv.min_samples = options.min_samples;
   csv.max_gap_factor = options.max_gap_factor;
   return csv;
+}
+
+// Fills the damage record of a converted binary log: the reader's own notes
+// (resyncs, skipped bytes, a truncated tail), the conversion's drops (the
+// metadata keys *_skipped, *_dropped*, channel_*_missing with a non-zero
+// value) and the bytes passed over, so that a fit can say what it fitted.
+void RecordDamage(const std::vector<std::string>& reader_warnings,
+                  std::size_t skipped_bytes,
+                  std::size_t file_bytes,
+                  FlightLog* log) {
+  log->reader_warnings = reader_warnings;
+  for (const auto& [key, value] : log->metadata) {
+    const bool drop = key.find("skipped") != std::string::npos ||
+                      key.find("dropped") != std::string::npos ||
+                      key.find("_missing") != std::string::npos;
+    if (drop && value != "0")
+      log->reader_warnings.push_back(key + ": " + value);
+  }
+  log->skipped_bytes = skipped_bytes;
+  log->file_bytes = file_bytes;
 }
 
 }  // namespace
@@ -53,12 +74,27 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
                              "vehicle_attitude"};
       StatusOr<UlogData> ulog = ParseUlog(bytes, name, ulog_options);
       if (!ulog.ok()) return ulog.status();
-      return UlogToFlightLog(*ulog, name, options);
+      StatusOr<FlightLog> log = UlogToFlightLog(*ulog, name, options);
+      if (log.ok()) {
+        RecordDamage(
+            ulog->warnings,
+            ulog->stats.skipped_bytes + ulog->stats.truncated_tail_bytes,
+            bytes.size(),
+            &*log);
+      }
+      return log;
     }
     case LogFormat::kDataFlash: {
       StatusOr<DataFlashLog> df = ParseDataFlash(bytes, name);
       if (!df.ok()) return df.status();
-      return DataFlashToFlightLog(*df, name, options);
+      StatusOr<FlightLog> log = DataFlashToFlightLog(*df, name, options);
+      if (log.ok()) {
+        RecordDamage(df->warnings,
+                     df->stats.skipped_bytes + df->stats.truncated_tail_bytes,
+                     bytes.size(),
+                     &*log);
+      }
+      return log;
     }
     case LogFormat::kCsv:
       break;

@@ -3,6 +3,7 @@
 // DataFlash and CSV logs alike.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -108,6 +109,20 @@ TopicSummary Summarize(std::string name,
   return topic;
 }
 
+// A state or mode number read from a log may be any double (a field the
+// file declares as float, or damaged bytes); converting one beyond int to int
+// is undefined behaviour (found by dataflash_fuzzer).
+bool InIntRange(double value) {
+  return value >= -2147483648.0 && value <= 2147483647.0;
+}
+
+std::string StateNumberText(double value) {
+  if (InIntRange(value) && value == std::floor(value)) {
+    return std::to_string(static_cast<int>(value));
+  }
+  return FormatNumber(value, 6);
+}
+
 // Armed spans (arming_state) and mode spans (nav_state) from PX4's
 // vehicle_status, each ending at `end` when the log does not change it.
 void AppendUlogStatusSpans(const UlogData& ulog,
@@ -126,8 +141,7 @@ void AppendUlogStatusSpans(const UlogData& ulog,
         }
       }
       if (nav != nullptr) {
-        std::string label =
-            "nav_state " + std::to_string(static_cast<int>((*nav)[i]));
+        std::string label = "nav_state " + StateNumberText((*nav)[i]);
         if (mode_changes.empty() || mode_changes.back().second != label) {
           mode_changes.emplace_back(t[i], label);
         }
@@ -228,11 +242,13 @@ std::vector<std::pair<double, std::string>> DataFlashModeChanges(
     const std::vector<double> t = MessageSeconds(*mode);
     const std::vector<double>* number = mode->FindColumn("Mode");
     for (std::size_t i = 0; number != nullptr && i < t.size(); ++i) {
-      const int value = static_cast<int>((*number)[i]);
-      const char* name = copter ? CopterModeName(value) : nullptr;
+      const char* name = copter && InIntRange((*number)[i])
+                             ? CopterModeName(static_cast<int>((*number)[i]))
+                             : nullptr;
       changes.emplace_back(t[i],
-                           name != nullptr ? std::string(name)
-                                           : "mode " + std::to_string(value));
+                           name != nullptr
+                               ? std::string(name)
+                               : "mode " + StateNumberText((*number)[i]));
     }
   }
   return changes;

@@ -61,7 +61,19 @@ std::vector<Field> SplitFields(std::string_view line) {
   return fields;
 }
 
-enum class NumberError { kNone, kEmpty, kNotANumber, kOutOfRange, kNotFinite };
+// The gravity a problem file may declare, m/s^2 (the Moon's is 1.6,
+// Jupiter's 24.8).
+constexpr double kMinGravity = 0.1;
+constexpr double kMaxGravity = 100.0;
+
+enum class NumberError {
+  kNone,
+  kEmpty,
+  kNotANumber,
+  kOutOfRange,
+  kNotFinite,
+  kTooLarge
+};
 
 // Parses a whole field as a double. A leading '+' is accepted because
 // spreadsheets write it.
@@ -76,6 +88,9 @@ NumberError ParseNumber(std::string_view text, double* value) {
   if (r.ec == std::errc::result_out_of_range) return NumberError::kOutOfRange;
   if (r.ec != std::errc() || r.ptr != last) return NumberError::kNotANumber;
   if (!std::isfinite(*value)) return NumberError::kNotFinite;
+  // Finite but beyond what any regressor holds: its square, formed by every
+  // estimator, would overflow (an SVD of such a matrix crashed `linear`).
+  if (std::abs(*value) > kMaxAbsInputValue) return NumberError::kTooLarge;
   return NumberError::kNone;
 }
 
@@ -89,6 +104,10 @@ std::string NumberMessage(NumberError error, std::string_view text) {
       return Quote(text) + " is outside the range of a double";
     case NumberError::kNotFinite:
       return Quote(text) + " is not a finite number";
+    case NumberError::kTooLarge:
+      return Quote(text) +
+             " is beyond +/-1e100, the largest magnitude a problem file may "
+             "hold (its square would overflow in the fit)";
     case NumberError::kNone:
       break;
   }
@@ -229,14 +248,17 @@ StatusOr<ProblemFile> ParseProblemCsv(std::string_view text,
     if (key == "gravity") {
       double g = 0.0;
       const NumberError e = ParseNumber(value, &g);
-      if (e != NumberError::kNone || !(g > 0.0)) {
+      // A plausible range rather than just > 0: a typo such as 1e300 or
+      // 9806.65 (mm/s^2) would otherwise be fitted as a gravity.
+      if (e != NumberError::kNone || !(g >= kMinGravity && g <= kMaxGravity)) {
         return ErrorAt(
             name,
             line_number,
             CharColumn(comment, value.data()),
             "metadata 'gravity': " +
-                (e != NumberError::kNone ? NumberMessage(e, value)
-                                         : Quote(value) + " is not positive") +
+                (e != NumberError::kNone
+                     ? NumberMessage(e, value)
+                     : Quote(value) + " is outside [0.1, 100] m/s^2") +
                 "; expected the gravity in m/s^2, e.g. 9.80665");
       }
       data.gravity = g;

@@ -151,8 +151,24 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
     uniform = std::abs(t[i] - t[i - 1] - dt) <= 1e-6 * dt;
   }
   if (uniform) return ZeroPhaseLowPass(x, cutoff_hz, 1.0 / dt, order);
+  // The grid spans the whole time range at the median interval, so one
+  // corrupt time stamp (days ahead, in a damaged binary log) asked for
+  // billions of points and tens of GB. Holes real logs have (the logger
+  // pausing for minutes) stay well within this bound.
+  const double span_intervals = (t.back() - t.front()) / dt;
+  const double max_grid = 10.0 * static_cast<double>(n) + 1e6;
+  if (!(span_intervals < max_grid)) {
+    std::ostringstream msg;
+    msg << "low-pass: the samples span " << t.back() - t.front()
+        << " s at a median interval of " << dt << " s, more than " << max_grid
+        << " intervals for " << n
+        << " samples: the time stamps have a hole no resampling can bridge "
+           "(a corrupt time stamp?); choose a segment with "
+           "--t_start/--t_end";
+    return InvalidArgumentError(msg.str());
+  }
   const std::size_t m =
-      static_cast<std::size_t>(std::floor((t.back() - t.front()) / dt)) + 1;
+      static_cast<std::size_t>(std::floor(span_intervals)) + 1;
   std::vector<double> grid(m);
   std::size_t k = 0;
   for (std::size_t j = 0; j < m; ++j) {

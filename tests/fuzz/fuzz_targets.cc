@@ -3,8 +3,11 @@
 #include <string>
 #include <string_view>
 
+#include "imusysid/fit_json.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
+#include "imusysid/log_sanity.h"
+#include "imusysid/problem_io.h"
 
 namespace imusysid {
 namespace fuzz {
@@ -51,6 +54,19 @@ void FuzzDataFlash(const std::uint8_t* data, std::size_t size) {
     (void)DataFlashToFlightLog(*log, "fuzz.bin", options);
   }
   (void)SummarizeLogBytes(View(data, size), "fuzz.bin");
+}
+
+void FuzzProblemCsv(const std::uint8_t* data, std::size_t size) {
+  StatusOr<ProblemFile> file = ParseProblemCsv(View(data, size), "fuzz.csv");
+  if (!file.ok()) return;
+  (void)CheckFitSegmentSize(file->data, "fuzz.csv");
+  (void)FormatProblemCsv(file->data, file->metadata);
+}
+
+void FuzzFitJson(const std::uint8_t* data, std::size_t size) {
+  // With and without a pick: an array takes the other path.
+  (void)ParseFitJson(View(data, size), "fuzz.json", "");
+  (void)ParseFitJson(View(data, size), "fuzz.json", "ga");
 }
 
 }  // namespace fuzz

@@ -17,6 +17,10 @@ namespace fuzz {
 void FuzzCsv(const std::uint8_t* data, std::size_t size);
 void FuzzUlog(const std::uint8_t* data, std::size_t size);
 void FuzzDataFlash(const std::uint8_t* data, std::size_t size);
+// The problem CSV reader (fit --problem) and the fit JSON reader
+// (displacement's input).
+void FuzzProblemCsv(const std::uint8_t* data, std::size_t size);
+void FuzzFitJson(const std::uint8_t* data, std::size_t size);
 
 }  // namespace fuzz
 }  // namespace imusysid
