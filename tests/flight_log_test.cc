@@ -145,6 +145,42 @@ TEST(FlightLog, KeepsExtraColumnsByNameInFileOrder) {
   EXPECT_EQ(log->FindChannel("vel_e"), nullptr);
 }
 
+// The estimator columns may be empty until the estimator's first output
+// (those rows read as NaN); nowhere else is an empty cell allowed.
+TEST(FlightLog, EstimatorColumnsMayBeEmptyOnlyBeforeTheirFirstValue) {
+  std::vector<std::string> lines = {"t,ax,ay,az,gx,gy,gz,qw,qx,qy,qz,vn,ve,vd"};
+  for (int i = 0; i < 12; ++i) {
+    const std::string imu = std::to_string(i) + ",0,0,9.8,0,0,0,";
+    lines.push_back(i < 3 ? imu + ",,,,,," : imu + "1,0,0,0,0.5,0,-0.1");
+  }
+  const StatusOr<FlightLog> log = ParseCsvLog(Join(lines), kName);
+  ASSERT_TRUE(log.ok()) << log.status().ToString();
+  for (const char* channel : kEstimatorChannels) {
+    const Channel* c = log->FindChannel(channel);
+    ASSERT_NE(c, nullptr) << channel;
+    ASSERT_EQ(c->values.size(), 12u) << channel;
+    EXPECT_TRUE(std::isnan(c->values[2])) << channel;
+    EXPECT_FALSE(std::isnan(c->values[3])) << channel;
+  }
+  EXPECT_EQ(log->FindChannel("vn")->values[3], 0.5);
+
+  // Empty again after the first value: refused, naming line and column.
+  std::vector<std::string> gap = lines;
+  gap[8] = "7,0,0,9.8,0,0,0,1,0,0,0,,0,-0.1";
+  EXPECT_THAT(ParseError(Join(gap)),
+              ::testing::HasSubstr("log.csv:9:25: line 9: column 'vn': empty "
+                                   "cell after the column's first value"));
+  // An explicit nan is not a missing value.
+  std::vector<std::string> nan = lines;
+  nan[1] = "0,0,0,9.8,0,0,0,nan,,,,,,";
+  EXPECT_THAT(ParseError(Join(nan)), ::testing::HasSubstr("column 'qw'"));
+  // And an IMU column may never be empty.
+  std::vector<std::string> imu = lines;
+  imu[1] = "0,,0,9.8,0,0,0,,,,,,,";
+  EXPECT_THAT(ParseError(Join(imu)),
+              ::testing::HasSubstr("column 'ax': empty cell"));
+}
+
 TEST(FlightLog, KeepsMetadataInOrderAndIgnoresPlainComments) {
   std::vector<std::string> lines = {"# a plain comment",
                                     "# vehicle: quad X500",

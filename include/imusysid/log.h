@@ -39,6 +39,14 @@ inline constexpr const char* kChannelRoll = "roll";
 inline constexpr const char* kChannelPitch = "pitch";
 inline constexpr const char* kChannelYaw = "yaw";
 
+// The autopilot estimator's outputs as a CSV log carries them
+// (docs/log-format.md): attitude quaternion qw,qx,qy,qz (Hamilton, scalar
+// first, rotating FRD body vectors into NED) and NED velocity vn,ve,vd (m/s).
+// In these columns alone the rows before the estimator's first output may be
+// empty; they read as NaN.
+inline constexpr const char* kEstimatorChannels[7] = {
+    "qw", "qx", "qy", "qz", "vn", "ve", "vd"};
+
 struct FlightLog {
   // Where the log came from (a path), used in messages.
   std::string source;

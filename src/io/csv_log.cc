@@ -6,6 +6,8 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <iterator>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <system_error>
@@ -175,6 +177,17 @@ Status RowErrorToStatus(const RowError& error,
   const char* line_end = line.data() + line.size();
   switch (error.kind) {
     case RowError::kEmpty:
+      if (std::find(std::begin(kEstimatorChannels),
+                    std::end(kEstimatorChannels),
+                    header[error.column]) != std::end(kEstimatorChannels)) {
+        return ErrorAt(name,
+                       line_number,
+                       col,
+                       "column '" + header[error.column] +
+                           "': empty cell after the column's first value (an "
+                           "estimator column may be empty only in the rows "
+                           "before the estimator starts)");
+      }
       return ErrorAt(name,
                      line_number,
                      col,
@@ -235,6 +248,7 @@ Status RowErrorToStatus(const RowError& error,
 // false and fills `error` on the first bad field.
 inline bool ParseRow(std::string_view line,
                      const std::vector<std::vector<double>*>& dest,
+                     const std::vector<char>& empty_until_first,
                      RowError* error) {
   const char* p = line.data();
   const char* const end = p + line.size();
@@ -243,14 +257,22 @@ inline bool ParseRow(std::string_view line,
     double value;
     const char* bad;
     const char* next = ParseNumber(p, end, &value, &bad);
-    if (next == nullptr) {
+    bool missing = false;
+    if (next == nullptr && empty_until_first[c] &&
+        (bad == end || *bad == ',') &&
+        (dest[c]->empty() || std::isnan(dest[c]->back()))) {
+      // The estimator has not started yet: an empty cell is its NaN.
+      value = std::numeric_limits<double>::quiet_NaN();
+      next = bad;
+      missing = true;
+    } else if (next == nullptr) {
       error->column = c;
       error->at = bad;
       error->kind = (bad == end || *bad == ',') ? RowError::kEmpty
                                                 : RowError::kNotANumber;
       return false;
     }
-    if (!(std::abs(value) <= kMaxAbsInputValue)) {
+    if (!missing && !(std::abs(value) <= kMaxAbsInputValue)) {
       error->kind =
           std::isfinite(value) ? RowError::kTooLarge : RowError::kNotFinite;
       error->column = c;
@@ -433,6 +455,9 @@ StatusOr<CsvHeader> SplitHeader(std::string_view line,
 // vectors, every other column into log.extra under its name.
 struct ColumnBinding {
   std::vector<std::vector<double>*> dest;  // one per header column
+  // Per column: an estimator channel, which may be empty (NaN) until its
+  // first value.
+  std::vector<char> empty_until_first;
   std::size_t t_column = 0;
 };
 
@@ -480,6 +505,12 @@ StatusOr<ColumnBinding> BindColumns(const CsvHeader& header,
     if (dest[c] == nullptr) dest[c] = &log->extra[e++].values;
   }
   for (std::vector<double>* d : dest) d->reserve(row_estimate);
+  binding.empty_until_first.assign(header.names.size(), 0);
+  for (std::size_t c = 0; c < header.names.size(); ++c) {
+    for (const char* channel : kEstimatorChannels) {
+      if (header.names[c] == channel) binding.empty_until_first[c] = 1;
+    }
+  }
   binding.t_column = static_cast<std::size_t>(required_index[0]);
   return binding;
 }
@@ -507,7 +538,7 @@ StatusOr<int> ParseRows(LineReader* reader,
       }
       continue;
     }
-    if (!ParseRow(line, binding.dest, &error)) {
+    if (!ParseRow(line, binding.dest, binding.empty_until_first, &error)) {
       return RowErrorToStatus(
           error, name, reader->line_number(), line, header.names);
     }
