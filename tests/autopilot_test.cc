@@ -6,6 +6,7 @@
 #include "imusysid/autopilot.h"
 
 #include <cmath>
+#include <ostream>
 #include <random>
 #include <string>
 
@@ -50,6 +51,10 @@ struct Quadrant {
   double h;
   double z;
 };
+
+void PrintTo(const Quadrant& q, std::ostream* os) {
+  *os << "FRD (" << q.h << ", " << q.z << ") m";
+}
 
 class AutopilotQuadrantTest : public ::testing::TestWithParam<Quadrant> {};
 
@@ -141,6 +146,11 @@ TEST_P(AutopilotQuadrantTest, StandardErrorsMatchMonteCarlo) {
   EXPECT_NEAR(p->stderrs[1].second / sd_z, 1.0, 0.015);
 }
 
+std::string QuadrantName(const ::testing::TestParamInfo<Quadrant>& param) {
+  return std::string(param.param.h > 0 ? "Forward" : "Back") +
+         (param.param.z > 0 ? "Below" : "Above");
+}
+
 // One position in each quadrant of the FRD x–z (or y–z) plane, none on an
 // axis, so neither cos β nor sin β can hide a sign.
 INSTANTIATE_TEST_SUITE_P(EveryQuadrant,
@@ -148,7 +158,8 @@ INSTANTIATE_TEST_SUITE_P(EveryQuadrant,
                          ::testing::Values(Quadrant{0.12, -0.05},
                                            Quadrant{-0.08, -0.11},
                                            Quadrant{-0.15, 0.04},
-                                           Quadrant{0.06, 0.13}));
+                                           Quadrant{0.06, 0.13}),
+                         QuadrantName);
 
 TEST(Autopilot, SnippetCarriesTheNumbersItReports) {
   const EstimateResult fit = FitAt(0.1234, -0.0567, 1.0, 0.001, 0.3, 0.0);
