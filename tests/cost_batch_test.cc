@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <random>
@@ -27,24 +26,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// The same bits (so -0.0 ≠ 0.0), which EXPECT_EQ on doubles does not check.
-std::uint64_t Bits(double value) {
-  std::uint64_t bits = 0;
-  std::memcpy(&bits, &value, sizeof(bits));
-  return bits;
-}
-
-// A short flight with a measured f_z and the equation-7 v column, so every
-// built-in model (and the consistent model's f_z variant) can be made on it.
-std::shared_ptr<ProblemData> MakeData() {
-  testing::ConsistentSimOptions sim;
-  sim.rate_hz = 100.0;
-  sim.duration_s = 10.0;
-  sim.measured_fz = true;
-  sim.noise_sigma = 0.05;
-  return testing::SimulateConsistent(testing::ConsistentTruth(), sim);
-}
 
 // `count` uniform points in the model's default box, then a NaN row, a row of
 // a huge μ (whose cost overflows or fails) and a row far outside the box.
@@ -85,7 +66,7 @@ std::vector<ModelCase> BuiltinModelCases() {
 }
 
 TEST(ModelCostBatch, EqualsCostRowByRowForEveryBuiltinModel) {
-  const auto data = MakeData();
+  const auto data = testing::FlightForEveryModel();
   const std::vector<ModelCase> cases = BuiltinModelCases();
   ASSERT_GE(cases.size(), 2u);
   for (const ModelCase& c : cases) {
@@ -107,7 +88,8 @@ TEST(ModelCostBatch, EqualsCostRowByRowForEveryBuiltinModel) {
       double expected = 0.0;
       const double* x = xs.data() + static_cast<std::size_t>(i * p);
       if (!m.Cost(x, &expected) || !std::isfinite(expected)) expected = kInf;
-      EXPECT_EQ(Bits(costs[static_cast<std::size_t>(i)]), Bits(expected))
+      EXPECT_EQ(testing::Bits(costs[static_cast<std::size_t>(i)]),
+                testing::Bits(expected))
           << "row " << i << ": " << costs[static_cast<std::size_t>(i)] << " vs "
           << expected;
       if (std::isinf(expected)) ++infinite;
@@ -126,7 +108,7 @@ TEST(ModelCostBatch, EqualsCostRowByRowForEveryBuiltinModel) {
 // fused multiply-add on either side (-ffp-contract=off), so any difference is
 // a divergence of the kernel from the scalar integration.
 TEST(ConsistentCostBatch, EveryInstructionSetEqualsCostBitForBit) {
-  const auto data = MakeData();
+  const auto data = testing::FlightForEveryModel();
   ASSERT_GT(data->size(), 2 * internal::kReseedInterval)
       << "the drift re-seed must happen inside the flight";
   for (bool measured_fz : {false, true}) {
@@ -164,8 +146,8 @@ TEST(ConsistentCostBatch, EveryInstructionSetEqualsCostBitForBit) {
       std::vector<double> costs(static_cast<std::size_t>(count), -1.0);
       EXPECT_FALSE(m.CostBatchWithIsa(isa, xs.data(), count, costs.data()));
       for (int i = 0; i < count; ++i) {
-        EXPECT_EQ(Bits(costs[static_cast<std::size_t>(i)]),
-                  Bits(expected[static_cast<std::size_t>(i)]))
+        EXPECT_EQ(testing::Bits(costs[static_cast<std::size_t>(i)]),
+                  testing::Bits(expected[static_cast<std::size_t>(i)]))
             << "row " << i << ": " << costs[static_cast<std::size_t>(i)]
             << " vs " << expected[static_cast<std::size_t>(i)];
       }
@@ -175,7 +157,8 @@ TEST(ConsistentCostBatch, EveryInstructionSetEqualsCostBitForBit) {
         double one = -1.0;
         m.CostBatchWithIsa(
             isa, xs.data() + i * kNumConsistentParameters, 1, &one);
-        EXPECT_EQ(Bits(one), Bits(expected[static_cast<std::size_t>(i)]))
+        EXPECT_EQ(testing::Bits(one),
+                  testing::Bits(expected[static_cast<std::size_t>(i)]))
             << "row " << i << " alone";
       }
       std::vector<double> reversed;
@@ -185,8 +168,8 @@ TEST(ConsistentCostBatch, EveryInstructionSetEqualsCostBitForBit) {
       }
       m.CostBatchWithIsa(isa, reversed.data(), count, costs.data());
       for (int i = 0; i < count; ++i) {
-        EXPECT_EQ(Bits(costs[static_cast<std::size_t>(count - 1 - i)]),
-                  Bits(expected[static_cast<std::size_t>(i)]))
+        EXPECT_EQ(testing::Bits(costs[static_cast<std::size_t>(count - 1 - i)]),
+                  testing::Bits(expected[static_cast<std::size_t>(i)]))
             << "row " << i << " reversed";
       }
     }
@@ -194,7 +177,7 @@ TEST(ConsistentCostBatch, EveryInstructionSetEqualsCostBitForBit) {
 }
 
 TEST(ModelCostBatch, EmptyBatchWritesNothing) {
-  auto model = CreateModel("paper", MakeData());
+  auto model = CreateModel("paper", testing::FlightForEveryModel());
   ASSERT_TRUE(model.ok());
   double untouched = -1.0;
   EXPECT_TRUE((*model)->CostBatch(nullptr, 0, &untouched));
@@ -238,7 +221,7 @@ class NaNBatchModel : public Model {
 };
 
 TEST(ProblemCostBatch, EqualsCostAndCountsOneEvaluationPerRow) {
-  auto model = CreateModel("paper", MakeData());
+  auto model = CreateModel("paper", testing::FlightForEveryModel());
   ASSERT_TRUE(model.ok());
   const Problem problem(std::shared_ptr<const Model>(std::move(*model)));
   const std::vector<double> xs = CandidateRows(problem.model(), 10);
@@ -251,7 +234,8 @@ TEST(ProblemCostBatch, EqualsCostAndCountsOneEvaluationPerRow) {
   EXPECT_EQ(problem.jacobian_evaluations(), 0);
   for (int i = 0; i < count; ++i) {
     const double expected = problem.Cost(xs.data() + 4 * i);
-    EXPECT_EQ(Bits(costs[static_cast<std::size_t>(i)]), Bits(expected))
+    EXPECT_EQ(testing::Bits(costs[static_cast<std::size_t>(i)]),
+              testing::Bits(expected))
         << "row " << i;
   }
   EXPECT_EQ(problem.cost_evaluations() - before, 2 * count);
@@ -262,7 +246,8 @@ TEST(ProblemCostBatch, EqualsCostAndCountsOneEvaluationPerRow) {
 }
 
 TEST(ProblemCostBatch, NonFiniteCostsFromAnOverrideBecomeInfinity) {
-  const Problem problem(std::make_shared<NaNBatchModel>(MakeData()));
+  const Problem problem(
+      std::make_shared<NaNBatchModel>(testing::FlightForEveryModel()));
   const std::vector<double> xs = {0.5, 0, 0, 0, kNaN, 0, 0, 0, -0.5, 0, 0, 0};
   std::vector<double> costs(3);
   EXPECT_FALSE(problem.CostBatch(xs.data(), 3, costs.data()));

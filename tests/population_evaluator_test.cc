@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <random>
@@ -28,24 +27,8 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-std::uint64_t Bits(double value) {
-  std::uint64_t bits = 0;
-  std::memcpy(&bits, &value, sizeof(bits));
-  return bits;
-}
-
-// A short flight every built-in model can be made on (it has f_z and v).
-std::shared_ptr<ProblemData> MakeData() {
-  testing::ConsistentSimOptions sim;
-  sim.rate_hz = 100.0;
-  sim.duration_s = 10.0;
-  sim.measured_fz = true;
-  sim.noise_sigma = 0.05;
-  return testing::SimulateConsistent(testing::ConsistentTruth(), sim);
-}
-
 Problem MakeProblem(const std::string& model_name) {
-  auto model = CreateModel(model_name, MakeData());
+  auto model = CreateModel(model_name, testing::FlightForEveryModel());
   EXPECT_TRUE(model.ok()) << model.status().ToString();
   return Problem(std::shared_ptr<const Model>(std::move(model).value()));
 }
@@ -82,7 +65,7 @@ void ExpectSameBits(const Eigen::VectorXd& actual,
                     const Eigen::VectorXd& expected) {
   ASSERT_EQ(actual.size(), expected.size());
   for (Eigen::Index i = 0; i < actual.size(); ++i) {
-    EXPECT_EQ(Bits(actual[i]), Bits(expected[i]))
+    EXPECT_EQ(testing::Bits(actual[i]), testing::Bits(expected[i]))
         << "row " << i << ": " << actual[i] << " vs " << expected[i];
   }
 }

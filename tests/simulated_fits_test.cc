@@ -8,6 +8,8 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gtest/gtest.h"
 #include "imusysid/displacement.h"
@@ -196,18 +198,14 @@ TEST(PaperScenarios, BundledPaperTest1ShowsThePaperModelsBetaBias) {
 // --- physics the consistent model does not contain -------------------------
 
 // Fits the consistent model (varpro) to paper_test1 flown with `settings`.
-EstimateResult FitVariant(const std::string& settings, std::uint64_t seed) {
+EstimateResult FitVariant(
+    const std::vector<std::pair<std::string, std::string>>& settings,
+    std::uint64_t seed) {
   StatusOr<SimulatorOptions> options = ScenarioOptions("paper_test1");
   EXPECT_TRUE(options.ok());
   options->seed = seed;
-  std::string rest = settings;
-  while (!rest.empty()) {
-    const std::size_t comma = rest.find(',');
-    const std::string item = rest.substr(0, comma);
-    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-    const std::size_t eq = item.find('=');
-    const Status set =
-        SetSimulatorSetting(&*options, item.substr(0, eq), item.substr(eq + 1));
+  for (const auto& [name, value] : settings) {
+    const Status set = SetSimulatorSetting(&*options, name, value);
     EXPECT_TRUE(set.ok()) << set.ToString();
   }
   StatusOr<SimulatedFlight> flight = Simulate(*options);
@@ -225,7 +223,8 @@ EstimateResult FitVariant(const std::string& settings, std::uint64_t seed) {
 TEST(PaperScenarios, ConsistentModelIsUnmovedByGroundEffect) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     const EstimateResult c = FitVariant(
-        "ground_effect_rotor_radius_m=0.15,hover_altitude_m=0.4", seed);
+        {{"ground_effect_rotor_radius_m", "0.15"}, {"hover_altitude_m", "0.4"}},
+        seed);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     EXPECT_NEAR(c.parameters[kR], kPaperTest1Fit.r_m, kRTolM) << seed;
     EXPECT_NEAR(c.parameters[kBeta], kPaperTest1Fit.beta_deg, kBetaTolDeg)
@@ -241,7 +240,7 @@ TEST(PaperScenarios, ConsistentModelIsUnmovedByGroundEffect) {
 // the correlated misfit) but still do not cover the error: |error| > 2σ̂.
 TEST(PaperScenarios, ConsistentModelIsBiasedByLinearRotorDrag) {
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-    const EstimateResult c = FitVariant("rotor_drag_per_s=0.3", seed);
+    const EstimateResult c = FitVariant({{"rotor_drag_per_s", "0.3"}}, seed);
     ASSERT_TRUE(c.IsUsable()) << c.message;
     const double r_short = kPaperTest1Fit.r_m - c.parameters[kR];
     EXPECT_GT(r_short, 0.004) << seed;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -222,6 +223,27 @@ std::shared_ptr<ProblemData> SimulateConsistent(
     d->v.push_back(v_eq7);
   }
   return d;
+}
+
+}  // namespace testing
+}  // namespace imusysid
+
+namespace imusysid {
+namespace testing {
+
+std::shared_ptr<ProblemData> FlightForEveryModel() {
+  ConsistentSimOptions sim;
+  sim.rate_hz = 100.0;
+  sim.duration_s = 10.0;
+  sim.measured_fz = true;
+  sim.noise_sigma = 0.05;
+  return SimulateConsistent(ConsistentTruth(), sim);
+}
+
+std::uint64_t Bits(double value) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &value, sizeof(bits));
+  return bits;
 }
 
 }  // namespace testing

@@ -103,6 +103,15 @@ struct ConsistentSimOptions {
 std::shared_ptr<ProblemData> SimulateConsistent(
     const ConsistentTruth& truth, const ConsistentSimOptions& options);
 
+// A short flight (10 s at 100 Hz, σ = 0.05 m/s²) with a measured f_z and the
+// equation-7 v column, so every built-in model (and the consistent model's
+// f_z variant) can be made on it.
+std::shared_ptr<ProblemData> FlightForEveryModel();
+
+// The bits of a double (so -0.0 ≠ 0.0 and NaNs are told apart), which
+// EXPECT_EQ on doubles does not check.
+std::uint64_t Bits(double value);
+
 }  // namespace testing
 }  // namespace imusysid
 
