@@ -179,7 +179,8 @@ TEST(CmaesEstimator, IsRegisteredAndFitsEveryModel) {
   EXPECT_EQ(estimator->name(), "cmaes");
   for (const std::string& model_name : ModelNames()) {
     StatusOr<std::unique_ptr<Model>> model = CreateModel(
-        model_name, testing::MakeSyntheticPaperData(kTruth, 0.0, 1));
+        model_name,
+        testing::WithMotion3d(testing::MakeSyntheticPaperData(kTruth, 0.0, 1)));
     ASSERT_TRUE(model.ok()) << model.status().ToString();
     EXPECT_TRUE(estimator->Supports(**model)) << model_name;
   }

@@ -52,7 +52,7 @@ constexpr double kGaSigmas = 9.0;
 
 const std::shared_ptr<ProblemData>& StandardData() {
   static const auto* const data = new std::shared_ptr<ProblemData>(
-      MakeSyntheticPaperData(kTruth, kSigma, 2024));
+      testing::WithMotion3d(MakeSyntheticPaperData(kTruth, kSigma, 2024)));
   return *data;
 }
 

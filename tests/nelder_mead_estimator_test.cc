@@ -159,7 +159,8 @@ TEST(NelderMeadEstimator, IsRegisteredAndFitsEveryModel) {
   EXPECT_EQ(estimator->name(), "nelder-mead");
   for (const std::string& model_name : ModelNames()) {
     StatusOr<std::unique_ptr<Model>> model = CreateModel(
-        model_name, testing::MakeSyntheticPaperData(kTruth, 0.0, 1));
+        model_name,
+        testing::WithMotion3d(testing::MakeSyntheticPaperData(kTruth, 0.0, 1)));
     ASSERT_TRUE(model.ok()) << model.status().ToString();
     EXPECT_TRUE(estimator->Supports(**model)) << model_name;
   }

@@ -10,6 +10,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/model.h"
+#include "tests/test_util.h"
 #include "imusysid/parameters.h"
 #include "src/sim/synthetic_flight.h"
 
@@ -23,8 +24,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 std::shared_ptr<const ProblemData> SmallData() {
   testing::PaperFlightOptions options;
   options.samples = 300;
-  return testing::MakeSyntheticPaperData(
-      Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.05, 5, options);
+  return testing::WithMotion3d(testing::MakeSyntheticPaperData(
+      Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.05, 5, options));
 }
 
 Problem MakeProblem(const std::string& model) {

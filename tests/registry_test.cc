@@ -15,6 +15,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/model.h"
+#include "tests/test_util.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "src/sim/synthetic_flight.h"
@@ -28,8 +29,8 @@ using ::testing::HasSubstr;
 std::shared_ptr<const ProblemData> SmallData() {
   testing::PaperFlightOptions options;
   options.samples = 200;
-  return testing::MakeSyntheticPaperData(
-      Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.05, 9, options);
+  return testing::WithMotion3d(testing::MakeSyntheticPaperData(
+      Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.05, 9, options));
 }
 
 // A model outside the library: f̄_x = g sin α, nothing else, and no

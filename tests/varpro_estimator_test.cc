@@ -79,7 +79,7 @@ TEST(VarproEstimator, SupportsEveryModelWithALinearStructure) {
   EXPECT_EQ((*estimator)->name(), "varpro");
   SimOptions opt;
   opt.duration_s = 2.0;
-  const auto data = SimulateConsistent(Truth(), opt);
+  const auto data = testing::WithMotion3d(SimulateConsistent(Truth(), opt));
   for (const std::string& name : ModelNames()) {
     auto model = CreateModel(name, data);
     ASSERT_TRUE(model.ok()) << model.status().ToString();

@@ -6,6 +6,7 @@
 #ifndef IMUSYSID_MODEL_H_
 #define IMUSYSID_MODEL_H_
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -20,9 +21,32 @@
 
 namespace imusysid {
 
+// The 3-D motion a 3-D model (rigid3d) reads, one entry per sample, body frame
+// FRD (x forward, y right, z down; the autopilots' frame and the frame of the
+// IMU position they want), SI units. Empty for planar data.
+struct Motion3d {
+  using Axes = std::array<std::vector<double>, 3>;
+  Axes f;          // specific force (filtered), m/s²
+  Axes omega;      // angular rate, bias removed, filtered, rad/s
+  Axes omega_dot;  // its time derivative, rad/s²
+  Axes velocity;   // ground velocity in body axes, Rᵀ v_NED, m/s
+  Axes north;      // the NED north unit vector in body axes (row 0 of R)
+  Axes east;       // the NED east unit vector in body axes (row 1 of R)
+  // The wind (NED north, east; m/s) at which the quadratic drag's air
+  // velocity u = velocity − wind_n·north − wind_e·east is taken. Quadratic
+  // drag is not linear in the wind, so preprocessing iterates it to the
+  // fitted wind (Preprocess3d) and the model stays linear in the rest.
+  double quadratic_wind_n = 0.0;
+  double quadratic_wind_e = 0.0;
+
+  bool empty() const { return f[0].empty(); }
+};
+
 // The samples of the fit segment after preprocessing, FLU body frame, SI units.
 // Every vector has size() entries. Sample 0 is the reference instant t_a (in
-// hover, just before the maneuver) where θ and v start at zero.
+// hover, just before the maneuver) where θ and v start at zero. Data for a
+// 3-D model may join several flight windows (t still increases); θ then
+// restarts at each window and `motion` carries what the model reads.
 struct ProblemData {
   std::string source;             // log path or description, for messages
   double gravity = kGravity;      // m/s²
@@ -35,6 +59,7 @@ struct ProblemData {
   std::vector<double> theta;      // ∫ω dt from sample 0 (θ0 = 0), rad
   std::vector<double> v;          // horizontal velocity used by the paper's
                                   // model (equation 7 by default), m/s
+  Motion3d motion;                // 3-D models only; empty otherwise
 
   std::size_t size() const { return t_s.size(); }
   // Checks sizes agree, values are finite and t strictly increases.
@@ -125,7 +150,9 @@ class Model {
 
   // Registry key (ModelRegistry).
   virtual std::string_view name() const = 0;
-  // The first four parameters are always (r, β, α, μ) at kR..kMu.
+  // A planar model's first four parameters are (r, β, α, μ) at kR..kMu
+  // (ModelDescription::planar). In every model parameter kMu is the
+  // quadratic drag per unit mass μ (1/m), which the closed forms keep ≥ 0.
   virtual const std::vector<ParameterInfo>& parameter_info() const = 0;
   int num_parameters() const {
     return static_cast<int>(parameter_info().size());
@@ -196,6 +223,12 @@ struct ModelDescription {
   // made, or the log's); false when the model integrates its own from the IMU
   // and so needs the raw log behind the data.
   bool uses_data_velocity = true;
+  // True for the x–z plane models whose first four parameters are
+  // (r, β, α, μ); false for a 3-D model (rigid3d), whose results are read
+  // through its own report (rigid3d_report.h).
+  bool planar = true;
+  // True when the model needs ProblemData::motion (Preprocess3d).
+  bool needs_motion3d = false;
 };
 
 // Builds a model over valid data (the registry validates them first).

@@ -23,6 +23,7 @@
 #include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
+#include "src/cli/fit3d.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
@@ -379,6 +380,18 @@ int Run(const std::vector<std::string>& positional) {
   const EmitFormat emit_format = *emit;
   if (emit_format == EmitFormat::kNone && !FLAGS_emit_out.empty()) {
     return UsageError(cmd, "--emit_out needs --emit=px4|ardupilot");
+  }
+
+  // The 3-D model has its own pipeline: automatic windows, every IMU, a
+  // per-axis report. Its closed form is the default estimator.
+  if (!from_problem && model_name == "rigid3d") {
+    if (FLAGS_estimator == "all") {
+      return UsageError(cmd,
+                        "--estimator=all is not offered with --model=rigid3d; "
+                        "name one estimator (linear is the default)");
+    }
+    return RunFit3d(path, FlagWasSet("estimator") ? FLAGS_estimator : "linear",
+                    *options, emit_format, FLAGS_emit_out);
   }
 
   // Estimators to run, validated before any work is done.

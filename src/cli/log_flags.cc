@@ -72,10 +72,16 @@ StatusOr<FlightLog> ReadLogFromFlags(const std::string& path) {
 
 StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
                                       const std::string& path) {
+  return ParseLogFromFlags(bytes, path, FLAGS_imu);
+}
+
+StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
+                                      const std::string& path,
+                                      int imu_instance) {
   LogReadOptions options;
-  options.imu_instance = FLAGS_imu;
-  if (FLAGS_imu < 0 || FLAGS_imu > 2) {
-    return InvalidArgumentError("--imu=" + std::to_string(FLAGS_imu) +
+  options.imu_instance = imu_instance;
+  if (imu_instance < 0 || imu_instance > 2) {
+    return InvalidArgumentError("--imu=" + std::to_string(imu_instance) +
                                 "; required 0, 1 or 2");
   }
   if (!FLAGS_frame.empty()) {

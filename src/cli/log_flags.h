@@ -45,6 +45,10 @@ StatusOr<FlightLog> ReadLogFromFlags(const std::string& path);
 // The same on bytes already read from `path`.
 StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
                                       const std::string& path);
+// The same for IMU instance `imu_instance` instead of --imu.
+StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
+                                      const std::string& path,
+                                      int imu_instance);
 
 // PreprocessOptions from --t_start, --t_end, --cutoff_hz, --plane,
 // --velocity, --gyro_bias. --velocity=auto picks the log's own velocity when

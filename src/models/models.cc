@@ -8,6 +8,7 @@
 #include "imusysid/model.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
+#include "src/models/rigid3d_model.h"
 
 namespace imusysid {
 namespace {
@@ -86,6 +87,11 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
   registry->Register("consistent",
                      {"drag and thrust consistent, with attitude drift", false},
                      NewConsistentModel);
+  registry->Register("rigid3d",
+                     {"3-D rigid body: IMU position (x, y, z) from the "
+                      "autopilot's attitude and velocity",
+                      true, false, true},
+                     NewRigid3dModel);
 }
 
 const ModelRegistry& BuiltinModels() {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "Eigen/QR"
@@ -40,6 +41,20 @@ Status ProblemData::Validate() const {
   IMUSYSID_RETURN_IF_ERROR(check_size(omega_dot, "omega_dot", false));
   IMUSYSID_RETURN_IF_ERROR(check_size(theta, "theta", true));
   IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", false));
+  if (!motion.empty()) {
+    const std::pair<const Motion3d::Axes*, const char*> axes[] = {
+        {&motion.f, "f"},         {&motion.omega, "omega"},
+        {&motion.omega_dot, "omega_dot"}, {&motion.velocity, "velocity"},
+        {&motion.north, "north"}, {&motion.east, "east"}};
+    for (const auto& [a, name] : axes) {
+      for (int i = 0; i < 3; ++i) {
+        const std::string column =
+            std::string(name) + "_" + "xyz"[static_cast<std::size_t>(i)];
+        IMUSYSID_RETURN_IF_ERROR(
+            check_size((*a)[static_cast<std::size_t>(i)], column.c_str(), false));
+      }
+    }
+  }
   for (std::size_t i = 1; i < n; ++i) {
     if (!(t_s[i] > t_s[i - 1])) {
       std::ostringstream msg;

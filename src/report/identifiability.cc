@@ -104,17 +104,21 @@ void FinalizeResult(const Problem& problem,
         << "): the data do not determine every parameter";
     result->warnings.push_back({"ill_conditioned", msg.str()});
   }
-  const double se_r = result->standard_errors[kR];
+  // The r/β rule is the planar models'; a 3-D model's positions are judged
+  // axis by axis in its own report (rigid3d_report.h).
+  StatusOr<ModelDescription> description = BuiltinModels().Describe(model.name());
+  const bool planar = !description.ok() || description->planar;
+  const double se_r = planar ? result->standard_errors[kR] : 0.0;
   const double se_beta = result->standard_errors[kBeta];
   // Judge r's uncertainty against a plausible r: an unconstrained solve on
   // data without excitation can return r = 100 m with a "small" relative
   // error, which is no identification at all.
   const double r_upper = problem.upper_bounds()[kR];
   const double r = std::min(std::abs(x[kR]), r_upper);
-  if (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
+  if (planar && (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
       std::abs(x[kR]) > r_upper ||
       se_r > std::max(kMaxRelativeStderrR * r, kMinAbsoluteStderrR) ||
-      se_beta > kMaxStderrBetaDeg) {
+      se_beta > kMaxStderrBetaDeg)) {
     std::ostringstream msg;
     msg << "r and beta are not identifiable from this log (1-sigma: r +/- "
         << se_r << " m, beta +/- " << se_beta << " deg, "

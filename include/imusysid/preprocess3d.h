@@ -1,0 +1,97 @@
+// Turns a flight log with the autopilot's attitude and NED velocity into the
+// data of the 3-D model rigid3d: the flight windows chosen automatically (and
+// why each other stretch was dropped), the IMU in FRD with its gyro bias
+// removed, filtered and differentiated, and the estimator's delay estimated.
+
+#ifndef IMUSYSID_PREPROCESS3D_H_
+#define IMUSYSID_PREPROCESS3D_H_
+
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "Eigen/Core"
+#include "imusysid/log.h"
+#include "imusysid/model.h"
+#include "imusysid/status.h"
+
+namespace imusysid {
+
+struct Preprocess3dOptions {
+  // Zero-phase Butterworth low-pass applied alike to the specific force, the
+  // rates and the body velocity (as the planar preprocessing's cutoff_hz).
+  double cutoff_hz = 5.0;
+  int filter_order = 4;
+  // Savitzky–Golay differentiator for ω̇ (as the planar preprocessing).
+  double derivative_half_width_s = 0.05;
+  int derivative_degree = 3;
+
+  // An explicit window in log time, s (NaN: choose the windows
+  // automatically). The automatic exclusions below still apply inside it.
+  double t_start = std::numeric_limits<double>::quiet_NaN();
+  double t_end = std::numeric_limits<double>::quiet_NaN();
+
+  // How late the estimator channels describe the state, s: NaN estimates it
+  // (the delay in [0, max_estimator_delay_s] that fits best).
+  double estimator_delay_s = std::numeric_limits<double>::quiet_NaN();
+  double max_estimator_delay_s = 0.06;
+
+  // Automatic windows: airborne (take-off and landing found from the IMU,
+  // DetectSegments) minus edge_trim_s after take-off and before landing
+  // (ground contact and spool transients the model does not describe), minus
+  // impact_margin_s around any |f| above impact_g·g (an impact or a hard
+  // landing) and any tilt above max_tilt_deg (a flip or a crash), never
+  // across a gap longer than max_gap_factor median intervals; pieces shorter
+  // than min_window_s are dropped.
+  double edge_trim_s = 1.0;
+  double impact_g = 3.0;
+  double max_tilt_deg = 60.0;
+  double impact_margin_s = 0.5;
+  double max_gap_factor = 5.0;
+  double min_window_s = 2.0;
+
+  Status Validate() const;
+};
+
+// A stretch of the log in log time, s.
+struct Stretch3d {
+  double t0 = 0.0;
+  double t1 = 0.0;
+  std::size_t samples = 0;
+  std::string reason;  // why it was dropped (empty for a fitted window)
+};
+
+struct Preprocess3dResult {
+  // Planar fields (the x–z plane, FLU) filled so the data validate and plot;
+  // `motion` is what rigid3d reads.
+  ProblemData data;
+  std::vector<Stretch3d> windows;  // fitted, in time order
+  std::vector<Stretch3d> dropped;  // everything else, in time order
+  double estimator_delay_s = 0.0;
+  bool delay_estimated = false;
+  // RMS of the fit residual at the delay used and with none (how much the
+  // delay matters on this log), m/s²; NaN when not estimated.
+  double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();
+  double rmse_without_delay = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d gyro_bias_frd = Eigen::Vector3d::Zero();  // rad/s
+  bool gyro_bias_from_still = false;
+  double sample_rate_hz = 0.0;
+  std::vector<std::string> notes;
+};
+
+// The windows Preprocess3d would fit and the dropped stretches, without
+// building the data (`inspect`). Same errors as Preprocess3d's window step.
+StatusOr<Preprocess3dResult> SelectWindows3d(const FlightLog& log,
+                                             const Preprocess3dOptions& options);
+
+// FailedPrecondition when the log lacks the estimator channels (qw..qz or
+// roll/pitch/yaw, and vn..vd or vel_n..vel_d), when no airborne flight is
+// found (a bench or ground log), or when no window survives the exclusions;
+// InvalidArgument for bad options.
+StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
+                                          const Preprocess3dOptions& options);
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_PREPROCESS3D_H_

@@ -1,0 +1,37 @@
+// The 3-D rigid-body measurement model `rigid3d` (docs/model-3d.md): where its
+// parameters sit in a parameter vector and what they mean. The model itself
+// is registered in ModelRegistry; preprocess3d.h builds its data and
+// rigid3d_report.h reads its results.
+
+#ifndef IMUSYSID_RIGID3D_H_
+#define IMUSYSID_RIGID3D_H_
+
+#include "imusysid/parameters.h"
+
+namespace imusysid {
+
+// Parameter indices of rigid3d. Body frame FRD. The accelerometer at p reads,
+// on its x and y axes (a = ω̇, u = v_b − Rᵀw the air velocity in body axes),
+//   f_i = [a×p + ω×(ω×p)]_i + b_i + e_i f_z − k (v_b,i − (Rᵀw)_i) − μ|u₀| u₀,i
+// with f_z the measured z specific force (the thrust axis) and u₀ the air
+// velocity at the wind Motion3d::quadratic_wind_* (iterated to the fitted
+// wind by Preprocess3d), so that the model is linear in
+// (p, μ, k, b, e, k·w_N, k·w_E); docs/model-3d.md. kMu (3) is μ, as in the
+// planar models.
+inline constexpr int kPx = 0;            // IMU position, CoM → IMU, m
+inline constexpr int kPy = 1;            //
+inline constexpr int kPz = 2;            //
+inline constexpr int kDrag3dMu = kMu;    // quadratic drag per unit mass, 1/m
+inline constexpr int kRotorDrag = 4;     // rotor (linear) drag k, 1/s
+inline constexpr int kBiasX = 5;         // accelerometer bias, m/s²
+inline constexpr int kBiasY = 6;         //
+inline constexpr int kThrustToX = 7;     // e_x: thrust axis seen on x (−sin of
+                                         // the sensor's pitch misalignment)
+inline constexpr int kThrustToY = 8;     // e_y: sin of its roll misalignment
+inline constexpr int kWindNorth = 9;     // constant wind, m/s (NED)
+inline constexpr int kWindEast = 10;     //
+inline constexpr int kNumRigid3dParameters = 11;
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_RIGID3D_H_

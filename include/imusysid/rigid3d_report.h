@@ -1,0 +1,95 @@
+// What a rigid3d fit says about one IMU, judged axis by axis: the position
+// (x, y, z) FRD with its standard errors, each axis given only when the log
+// determines it (else null, with what to fly), the nuisance terms, and the
+// same in the autopilot's terms (EKF2_IMU_POS_*, INS_POSn_*).
+
+#ifndef IMUSYSID_RIGID3D_REPORT_H_
+#define IMUSYSID_RIGID3D_REPORT_H_
+
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "Eigen/Core"
+#include "imusysid/autopilot.h"
+#include "imusysid/preprocess3d.h"
+#include "imusysid/result.h"
+#include "imusysid/status.h"
+#include "nlohmann/json.hpp"
+
+namespace imusysid {
+
+struct Rigid3dReportOptions {
+  // An axis is determined when its 1σ is at most this (m): a position known
+  // to ±2σ = 1 cm is what an autopilot's lever-arm correction can use; a
+  // looser one is no better than a ruler.
+  double max_stderr_m = 0.005;
+  // And when the value itself is plausible, |p_i| ≤ this (m).
+  double max_abs_position_m = 0.5;
+  // The fit must explain the signal: RMSE at most this fraction of the RMS of
+  // the x/y specific force about its mean, else nothing is given.
+  double max_unexplained_fraction = 0.8;
+};
+
+struct ImuPosition3d {
+  int instance = 0;  // the log's IMU instance (0-based)
+  std::string source;
+  std::string estimator;
+  bool usable = false;  // the fit produced parameters
+  Eigen::Vector3d position_m = Eigen::Vector3d::Constant(
+      std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d stderr_m = Eigen::Vector3d::Constant(
+      std::numeric_limits<double>::quiet_NaN());
+  std::array<bool, 3> determined = {false, false, false};
+  // Per axis: why it is withheld and what to fly ("" when determined).
+  std::array<std::string, 3> advice;
+  // The 3 × 3 covariance of the position (the fit's kind), for baselines.
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  // Nuisance terms, for the curious and for plausibility.
+  double rotor_drag_per_s = 0.0;
+  double mu_per_m = 0.0;
+  Eigen::Vector2d bias_m_s2 = Eigen::Vector2d::Zero();
+  double misalignment_roll_deg = 0.0;
+  double misalignment_pitch_deg = 0.0;
+  Eigen::Vector2d wind_ne_m_s = Eigen::Vector2d::Zero();
+  double rmse = 0.0;         // m/s², over the x and y rows
+  double signal_rms = 0.0;   // m/s², x/y specific force about its mean
+  double estimator_delay_s = 0.0;
+  bool delay_estimated = false;
+  std::size_t samples = 0;
+  std::vector<Stretch3d> windows;
+  std::vector<std::string> warnings;  // prose, one sentence each
+};
+
+// Judges `result` (a rigid3d fit) on the data `pre` made.
+ImuPosition3d Rigid3dReport(const EstimateResult& result,
+                            const Preprocess3dResult& pre,
+                            int instance,
+                            const Rigid3dReportOptions& options = {});
+
+// Adds to each report a warning where its position disagrees with another's
+// by more than their uncertainties allow: instances of one log sit at
+// different places, but their estimates share the flight, so the check is on
+// the baseline's own significance against the fits' combined uncertainty
+// (reported as the baseline and its 1σ per pair, axes both determine).
+void CompareInstances(std::vector<ImuPosition3d>* reports);
+
+// The JSON object of `fit --model=rigid3d --format=json`:
+// imu_position_frd_m (3 numbers or null), imu_position_frd_stderr_m,
+// warnings (strings), then instance, determined, advice, windows, delay and
+// the nuisance terms.
+nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& report);
+
+// Human-readable lines for one IMU.
+std::string Rigid3dToText(const ImuPosition3d& report);
+
+// The position in the autopilot's terms, determined axes only. PX4 has one
+// EKF2_IMU_POS_* (the IMU the estimator uses, instance 0); ArduPilot has
+// INS_POS{instance+1}_*.
+StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
+    const std::vector<ImuPosition3d>& reports, EmitFormat format);
+
+}  // namespace imusysid
+
+#endif  // IMUSYSID_RIGID3D_REPORT_H_

@@ -1,0 +1,136 @@
+#include "src/cli/fit3d.h"
+
+#include <iostream>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "imusysid/log.h"
+#include "imusysid/log_reader.h"
+#include "imusysid/log_sanity.h"
+#include "imusysid/model.h"
+#include "imusysid/preprocess3d.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "imusysid/rigid3d_report.h"
+#include "src/cli/common.h"
+#include "src/cli/log_flags.h"
+
+DECLARE_bool(allow_damaged);
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+const char kCmd[] = "fit";
+
+// The IMU instances to fit: every one a binary log holds unless --imu picks
+// one; a CSV holds one.
+std::vector<int> Instances(std::string_view bytes) {
+  if (FlagWasSet("imu") || (DetectLogFormat(bytes) == LogFormat::kCsv)) {
+    return {FLAGS_imu};
+  }
+  return {0, 1, 2};
+}
+
+}  // namespace
+
+int RunFit3d(const std::string& path,
+             const std::string& estimator_name,
+             const EstimatorOptions& options,
+             EmitFormat emit,
+             const std::string& emit_out) {
+  StatusOr<std::string> bytes = ReadFileToString(path);
+  if (!bytes.ok()) return ReportError(kCmd, bytes.status());
+  StatusOr<std::unique_ptr<Estimator>> estimator =
+      BuiltinEstimators().Create(estimator_name);
+  if (!estimator.ok()) return ReportError(kCmd, estimator.status());
+
+  Preprocess3dOptions po;
+  po.cutoff_hz = FLAGS_cutoff_hz;
+  po.t_start = FLAGS_t_start;
+  po.t_end = FLAGS_t_end;
+  std::vector<ImuPosition3d> reports;
+  const std::vector<int> instances = Instances(*bytes);
+  for (int instance : instances) {
+    StatusOr<FlightLog> log = ParseLogFromFlags(*bytes, path, instance);
+    if (!log.ok()) {
+      // A further instance the log does not hold ends the list.
+      if (instance > 0 && instances.size() > 1 && !reports.empty()) break;
+      return ReportError(kCmd, log.status());
+    }
+    Status gate = CheckAccelerometer(*log);
+    if (gate.ok() && !FLAGS_allow_damaged) gate = CheckDamage(*log);
+    if (!gate.ok()) return ReportError(kCmd, gate);
+    const std::string damage = DamageSummary(*log);
+    StatusOr<Preprocess3dResult> pre = Preprocess3d(*log, po);
+    if (!pre.ok()) return ReportError(kCmd, pre.status());
+    if (reports.empty()) {
+      for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
+      // One estimator publishes for every IMU: its delay is the log's.
+      po.estimator_delay_s = pre->estimator_delay_s;
+    }
+    auto data = std::make_shared<const ProblemData>(pre->data);
+    StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
+    if (!model.ok()) return ReportError(kCmd, model.status());
+    Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+    std::cerr << "fitting rigid3d with " << estimator_name << " (IMU "
+              << instance << ", " << data->size() << " samples)...\n";
+    StatusOr<EstimateResult> result = (*estimator)->Estimate(problem, options);
+    if (!result.ok()) {
+      if (!(*estimator)->Supports(problem.model())) {
+        std::string can;
+        for (const auto& n : BuiltinEstimators().NamesSupporting(problem.model())) {
+          can += " " + n;
+        }
+        return ReportError(kCmd, Status(result.status().code(),
+                                        result.status().message() +
+                                            "; estimators that can:" + can));
+      }
+      return ReportError(kCmd, result.status());
+    }
+    ImuPosition3d report = Rigid3dReport(*result, *pre, instance);
+    if (!damage.empty()) report.warnings.push_back("damaged_log: " + damage);
+    reports.push_back(std::move(report));
+  }
+  CompareInstances(&reports);
+
+  std::string text;
+  StatusOr<AutopilotParameters> emitted =
+      FailedPreconditionError("no emit format chosen");
+  if (emit != EmitFormat::kNone) {
+    emitted = Rigid3dAutopilotParameters(reports, emit);
+    if (!emitted.ok()) return ReportError(kCmd, emitted.status());
+    StatusOr<std::vector<std::pair<std::string, double>>> current =
+        ReadLogParameters(path);
+    if (current.ok() && !current->empty()) AddCurrentValues(*current, &*emitted);
+  }
+  if (JsonOutput()) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::array();
+    for (const ImuPosition3d& r : reports) {
+      nlohmann::ordered_json one = Rigid3dToJson(r);
+      if (emitted.ok()) one["emit"] = AutopilotParametersToJson(*emitted);
+      j.push_back(std::move(one));
+    }
+    text = DumpJson(reports.size() == 1 ? j[0] : j) + "\n";
+  } else {
+    for (const ImuPosition3d& r : reports) text += Rigid3dToText(r);
+    if (emitted.ok()) text += AutopilotParametersToText(*emitted);
+  }
+  Status s = EmitOutput(text, FLAGS_out);
+  if (!s.ok()) return ReportError(kCmd, s);
+  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  if (!emit_out.empty()) {
+    s = WriteFileAtomically(emit_out, emitted->snippet);
+    if (!s.ok()) return ReportError(kCmd, s);
+    std::cerr << "wrote " << emit_out << "\n";
+  }
+  for (const ImuPosition3d& r : reports) {
+    if (!r.usable) return kExitBadInput;
+  }
+  return kExitOk;
+}
+
+}  // namespace cli
+}  // namespace imusysid

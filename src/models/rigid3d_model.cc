@@ -1,0 +1,275 @@
+#include "src/models/rigid3d_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "Eigen/QR"
+#include "glog/logging.h"
+#include "imusysid/rigid3d.h"
+
+namespace imusysid {
+namespace {
+
+constexpr int kM = Rigid3dModel::kCoefficients;
+
+// c(x) and its Jacobian ∂c/∂x: the identity but for the two wind products.
+Eigen::Matrix<double, kM, 1> Coefficients(const double* x) {
+  Eigen::Matrix<double, kM, 1> c;
+  for (int i = 0; i < kM; ++i) c[i] = x[i];
+  c[kWindNorth] = x[kRotorDrag] * x[kWindNorth];
+  c[kWindEast] = x[kRotorDrag] * x[kWindEast];
+  return c;
+}
+
+Eigen::Matrix<double, kM, kM> CoefficientJacobian(const double* x) {
+  Eigen::Matrix<double, kM, kM> d = Eigen::Matrix<double, kM, kM>::Identity();
+  d(kWindNorth, kWindNorth) = x[kRotorDrag];
+  d(kWindNorth, kRotorDrag) = x[kWindNorth];
+  d(kWindEast, kWindEast) = x[kRotorDrag];
+  d(kWindEast, kRotorDrag) = x[kWindEast];
+  return d;
+}
+
+bool AllFinite(const double* x, int n) {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(x[i])) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Rigid3dModel::Rigid3dModel(std::shared_ptr<const ProblemData> data)
+    : Model(std::move(data)) {
+  // Streamed Householder QR (TSQR): blocks of rows folded into the running
+  // factor, as stable as one QR of the whole 2n × 12 matrix without forming
+  // it.
+  constexpr Eigen::Index kBlockSamples = 1024;
+  constexpr Eigen::Index kCols = kM + 1;
+  const auto n = static_cast<Eigen::Index>(this->data().size());
+  factor_.setZero();
+  Eigen::Matrix<double, Eigen::Dynamic, kCols> stack;
+  Eigen::HouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, kCols>> qr;
+  double row[kM];
+  for (Eigen::Index start = 0; start < n; start += kBlockSamples) {
+    const Eigen::Index m = std::min(kBlockSamples, n - start);
+    stack.resize(2 * m + kCols, kCols);
+    stack.topRows<kCols>() = factor_;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      for (int axis = 0; axis < 2; ++axis) {
+        double target = 0.0;
+        Row(static_cast<std::size_t>(start + i), axis, row, &target);
+        const Eigen::Index out = kCols + 2 * i + axis;
+        for (int j = 0; j < kM; ++j) stack(out, j) = row[j];
+        stack(out, kM) = target;
+      }
+    }
+    qr.compute(stack);
+    factor_ = qr.matrixQR().topRows<kCols>().triangularView<Eigen::Upper>();
+  }
+  factor_ok_ = n > 0 && factor_.allFinite();
+}
+
+const std::vector<ParameterInfo>& Rigid3dModel::parameter_info() const {
+  // Boxes for the search methods: a flight controller sits within half a
+  // metre of the centre of mass on any multicopter this applies to; the
+  // drags, bias, misalignment and wind at their physical extremes.
+  static const std::vector<ParameterInfo> info = {
+      {"p_x", "m", -0.5, 0.5, false},
+      {"p_y", "m", -0.5, 0.5, false},
+      {"p_z", "m", -0.5, 0.5, false},
+      {"mu", "1/m", 0.0, 1.0, false},
+      {"rotor_drag", "1/s", 0.0, 2.0, true},
+      {"bias_x", "m/s^2", -2.0, 2.0, true},
+      {"bias_y", "m/s^2", -2.0, 2.0, true},
+      {"thrust_to_x", "1", -0.2, 0.2, true},
+      {"thrust_to_y", "1", -0.2, 0.2, true},
+      {"wind_n", "m/s", -20.0, 20.0, true},
+      {"wind_e", "m/s", -20.0, 20.0, true},
+  };
+  return info;
+}
+
+void Rigid3dModel::Row(std::size_t k, int axis, double* a,
+                       double* target) const {
+  const Motion3d& m = data().motion;
+  const double wx = m.omega[0][k], wy = m.omega[1][k], wz = m.omega[2][k];
+  const double ax = m.omega_dot[0][k], ay = m.omega_dot[1][k],
+               az = m.omega_dot[2][k];
+  const double vx = m.velocity[0][k], vy = m.velocity[1][k],
+               vz = m.velocity[2][k];
+  // Air velocity for the quadratic drag, at the preprocessing's wind.
+  const double ux = vx - m.quadratic_wind_n * m.north[0][k] -
+                    m.quadratic_wind_e * m.east[0][k];
+  const double uy = vy - m.quadratic_wind_n * m.north[1][k] -
+                    m.quadratic_wind_e * m.east[1][k];
+  const double uz = vz - m.quadratic_wind_n * m.north[2][k] -
+                    m.quadratic_wind_e * m.east[2][k];
+  const double air_speed = std::sqrt(ux * ux + uy * uy + uz * uz);
+  const double fz = m.f[2][k];
+  // Rows of ω̇× + ω×ω× (the lever-arm acceleration a×p + ω×(ω×p) = M p).
+  if (axis == 0) {
+    a[kPx] = -(wy * wy + wz * wz);
+    a[kPy] = wx * wy - az;
+    a[kPz] = wx * wz + ay;
+    a[kDrag3dMu] = -air_speed * ux;
+    a[kRotorDrag] = -vx;
+    a[kBiasX] = 1.0;
+    a[kBiasY] = 0.0;
+    a[kThrustToX] = fz;
+    a[kThrustToY] = 0.0;
+    a[kWindNorth] = m.north[0][k];
+    a[kWindEast] = m.east[0][k];
+    *target = m.f[0][k];
+  } else {
+    a[kPx] = wx * wy + az;
+    a[kPy] = -(wx * wx + wz * wz);
+    a[kPz] = wy * wz - ax;
+    a[kDrag3dMu] = -air_speed * uy;
+    a[kRotorDrag] = -vy;
+    a[kBiasX] = 0.0;
+    a[kBiasY] = 1.0;
+    a[kThrustToX] = 0.0;
+    a[kThrustToY] = fz;
+    a[kWindNorth] = m.north[1][k];
+    a[kWindEast] = m.east[1][k];
+    *target = m.f[1][k];
+  }
+}
+
+bool Rigid3dModel::Residuals(const double* x,
+                             double* residuals,
+                             double* jacobian) const {
+  if (!AllFinite(x, kNumRigid3dParameters)) return false;
+  const Eigen::Matrix<double, kM, 1> c = Coefficients(x);
+  Eigen::Matrix<double, kM, kM> dc;
+  if (jacobian != nullptr) dc = CoefficientJacobian(x);
+  const std::size_t n = data().size();
+  Eigen::Matrix<double, 1, kM> row;
+  double target = 0.0;
+  for (int axis = 0; axis < 2; ++axis) {
+    for (std::size_t k = 0; k < n; ++k) {
+      Row(k, axis, row.data(), &target);
+      const std::size_t out = axis * n + k;
+      residuals[out] = target - row.dot(c);
+      if (!std::isfinite(residuals[out])) return false;
+      if (jacobian != nullptr) {
+        Eigen::Map<Eigen::Matrix<double, 1, kM>> j(jacobian + out * kM);
+        j = -row * dc;
+      }
+    }
+  }
+  return true;
+}
+
+bool Rigid3dModel::Cost(const double* x, double* cost) const {
+  if (!factor_ok_) return Model::Cost(x, cost);
+  double rho[kM + 1];
+  if (!CompressedResiduals(x, rho, nullptr)) {
+    *cost = std::numeric_limits<double>::infinity();
+    return false;
+  }
+  double sum = 0.0;
+  for (double r : rho) sum += r * r;
+  *cost = 0.5 * sum;
+  return std::isfinite(*cost);
+}
+
+bool Rigid3dModel::CompressedResiduals(const double* x,
+                                       double* residuals,
+                                       double* jacobian) const {
+  if (!factor_ok_ || !AllFinite(x, kNumRigid3dParameters)) return false;
+  Eigen::Matrix<double, kM + 1, 1> augmented;
+  augmented.head<kM>() = Coefficients(x);
+  augmented[kM] = -1.0;
+  // ρ = R [c; −1] so that ‖ρ‖² = ‖A c − target‖² (the residual's sign is
+  // immaterial to the norm, gradient and JᵀJ).
+  Eigen::Map<Eigen::Matrix<double, kM + 1, 1>> rho(residuals);
+  rho = factor_ * augmented;
+  if (jacobian != nullptr) {
+    Eigen::Map<Eigen::Matrix<double, kM + 1, kM, Eigen::RowMajor>> j(jacobian);
+    j = factor_.leftCols<kM>() * CoefficientJacobian(x);
+  }
+  return rho.allFinite();
+}
+
+const std::vector<int>& Rigid3dModel::nonlinear_parameters() const {
+  static const std::vector<int> none;
+  return none;
+}
+
+bool Rigid3dModel::LinearSystem(const double* /*p*/,
+                                Eigen::MatrixXd* a,
+                                Eigen::VectorXd* target,
+                                std::vector<Eigen::MatrixXd>* d_a,
+                                Eigen::MatrixXd* d_target) const {
+  const std::size_t n = data().size();
+  const auto rows = static_cast<Eigen::Index>(2 * n);
+  if (a->rows() != rows || a->cols() != kM) a->resize(rows, kM);
+  if (target->size() != rows) target->resize(rows);
+  double row[kM];
+  for (int axis = 0; axis < 2; ++axis) {
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto out = static_cast<Eigen::Index>(axis * n + k);
+      Row(k, axis, row, &(*target)[out]);
+      for (int j = 0; j < kM; ++j) (*a)(out, j) = row[j];
+    }
+  }
+  if (d_a != nullptr) d_a->clear();
+  if (d_target != nullptr) d_target->resize(rows, 0);
+  return a->allFinite() && target->allFinite();
+}
+
+bool Rigid3dModel::TriangularFactor(const double* /*p*/,
+                                    Eigen::MatrixXd* r) const {
+  *r = factor_;
+  return factor_ok_;
+}
+
+Eigen::VectorXd Rigid3dModel::CoefficientsFromParameters(
+    const double* x) const {
+  return Coefficients(x);
+}
+
+StatusOr<Eigen::VectorXd> Rigid3dModel::ParametersFromCoefficients(
+    const Eigen::VectorXd& b, const double* /*p*/) const {
+  if (b.size() != kM || !b.allFinite()) {
+    return FailedPreconditionError("rigid3d: coefficients are not finite");
+  }
+  Eigen::VectorXd x = b;
+  // The wind enters only through k·w: without rotor drag it has no effect
+  // and no value.
+  if (!(std::abs(b[kRotorDrag]) > 1e-9)) {
+    return FailedPreconditionError(
+        "rigid3d: the fitted rotor drag is zero, so the wind cannot be "
+        "separated from it");
+  }
+  x[kWindNorth] = b[kWindNorth] / b[kRotorDrag];
+  x[kWindEast] = b[kWindEast] / b[kRotorDrag];
+  return x;
+}
+
+int Rigid3dModel::CoefficientOfParameter(int parameter) const {
+  // Coefficient i is parameter i itself except for the wind products.
+  if (parameter < 0 || parameter >= kM || parameter == kWindNorth ||
+      parameter == kWindEast) {
+    return -1;
+  }
+  return parameter;
+}
+
+StatusOr<std::unique_ptr<Model>> NewRigid3dModel(
+    std::shared_ptr<const ProblemData> data, const ModelOptions& /*options*/) {
+  if (data == nullptr || data->motion.empty()) {
+    return FailedPreconditionError(
+        "model 'rigid3d' needs the 3-D motion (attitude, NED velocity and all "
+        "three axes of the IMU), which a problem file or planar data lack; "
+        "fit a log with --model=rigid3d");
+  }
+  return std::unique_ptr<Model>(new Rigid3dModel(std::move(data)));
+}
+
+}  // namespace imusysid

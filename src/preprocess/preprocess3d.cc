@@ -1,0 +1,698 @@
+#include "imusysid/preprocess3d.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "Eigen/Geometry"
+#include "Eigen/QR"
+#include "imusysid/format.h"
+#include "imusysid/parameters.h"
+#include "imusysid/preprocess.h"
+#include "imusysid/problem.h"
+#include "src/preprocess/signal.h"
+
+namespace imusysid {
+namespace {
+
+using Axes = Motion3d::Axes;
+
+std::string Num(double value) { return FormatNumber(value, 4); }
+
+// The estimator's attitude (unit quaternions, body FRD → NED, sign-continuous
+// so that linear interpolation between neighbours is meaningful) and NED
+// velocity at every IMU sample; NaN where the estimator has not started.
+struct EstimatorTrack {
+  std::vector<Eigen::Vector4d> q;  // (w, x, y, z)
+  std::array<std::vector<double>, 3> v_ned;
+};
+
+StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
+  const std::size_t n = log.size();
+  EstimatorTrack track;
+  track.q.assign(n, Eigen::Vector4d::Constant(
+                        std::numeric_limits<double>::quiet_NaN()));
+  const Channel* q[4];
+  bool have_q = true;
+  for (int i = 0; i < 4; ++i) {
+    q[i] = log.FindChannel(kEstimatorChannels[i]);
+    have_q = have_q && q[i] != nullptr;
+  }
+  const Channel* euler[3] = {log.FindChannel(kChannelRoll),
+                             log.FindChannel(kChannelPitch),
+                             log.FindChannel(kChannelYaw)};
+  const bool have_euler =
+      euler[0] != nullptr && euler[1] != nullptr && euler[2] != nullptr;
+  const Channel* v[3];
+  bool have_v = true;
+  for (int i = 0; i < 3; ++i) {
+    v[i] = log.FindChannel(kEstimatorChannels[4 + i]);
+    have_v = have_v && v[i] != nullptr;
+  }
+  if (!have_v) {
+    const char* names[] = {kChannelVelN, kChannelVelE, kChannelVelD};
+    have_v = true;
+    for (int i = 0; i < 3; ++i) {
+      v[i] = log.FindChannel(names[i]);
+      have_v = have_v && v[i] != nullptr;
+    }
+  }
+  if (!(have_q || have_euler) || !have_v) {
+    return FailedPreconditionError(
+        log.source +
+        ": the 3-D model needs the autopilot's attitude and NED velocity "
+        "(CSV columns qw,qx,qy,qz and vn,ve,vd; in a ULog vehicle_attitude "
+        "and vehicle_local_position; in a DataFlash log ATT and a velocity "
+        "message), and this log " +
+        (have_v ? "has no attitude" : "has no NED velocity"));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    Eigen::Vector4d value;
+    if (have_q) {
+      value << q[0]->values[k], q[1]->values[k], q[2]->values[k],
+          q[3]->values[k];
+    } else {
+      const Eigen::Quaterniond r =
+          Eigen::AngleAxisd(euler[2]->values[k], Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(euler[1]->values[k], Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(euler[0]->values[k], Eigen::Vector3d::UnitX());
+      value << r.w(), r.x(), r.y(), r.z();
+    }
+    const double norm = value.norm();
+    if (std::isfinite(norm) && norm > 0.5 && norm < 2.0) {
+      value /= norm;
+      if (k > 0 && track.q[k - 1].allFinite() && value.dot(track.q[k - 1]) < 0)
+        value = -value;
+      track.q[k] = value;
+    }
+  }
+  for (int i = 0; i < 3; ++i) track.v_ned[i] = v[i]->values;
+  return track;
+}
+
+// Linear interpolation of the track at time t (clamped to the log's ends).
+bool TrackAt(const FlightLog& log, const EstimatorTrack& track, double t,
+             Eigen::Matrix3d* r, Eigen::Vector3d* v_ned) {
+  const std::vector<double>& ts = log.t_s;
+  std::size_t j = static_cast<std::size_t>(
+      std::upper_bound(ts.begin(), ts.end(), t) - ts.begin());
+  std::size_t a = j == 0 ? 0 : j - 1;
+  std::size_t b = std::min(j, ts.size() - 1);
+  double w = 0.0;
+  if (b != a) w = (t - ts[a]) / (ts[b] - ts[a]);
+  w = std::clamp(w, 0.0, 1.0);
+  Eigen::Vector4d q = (1 - w) * track.q[a] + w * track.q[b];
+  if (!q.allFinite() || q.norm() < 0.5) return false;
+  q.normalize();
+  *r = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+  for (int i = 0; i < 3; ++i) {
+    (*v_ned)[i] = (1 - w) * track.v_ned[static_cast<std::size_t>(i)][a] +
+                  w * track.v_ned[static_cast<std::size_t>(i)][b];
+  }
+  return v_ned->allFinite();
+}
+
+// FRD specific force and rate of sample k (the log holds FLU).
+Eigen::Vector3d AccelFrd(const FlightLog& log, std::size_t k) {
+  return {log.ax[k], -log.ay[k], -log.az[k]};
+}
+Eigen::Vector3d GyroFrd(const FlightLog& log, std::size_t k) {
+  return {log.gx[k], -log.gy[k], -log.gz[k]};
+}
+
+// Marks each sample with why it cannot be fitted (empty: usable), then cuts
+// the usable runs into windows.
+Status ChooseWindows(const FlightLog& log, const EstimatorTrack& track,
+                     const Preprocess3dOptions& o, Preprocess3dResult* out) {
+  const std::size_t n = log.size();
+  const std::vector<double>& t = log.t_s;
+  PreprocessOptions po;
+  StatusOr<Segments> segments = DetectSegments(log, po);
+  if (!segments.ok()) return segments.status();
+  const Segments& s = *segments;
+  if (s.still.found) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (t[k] >= s.still.t0 && t[k] <= s.still.t1) {
+        sum += GyroFrd(log, k);
+        ++count;
+      }
+    }
+    if (count > 0) {
+      out->gyro_bias_frd = sum / static_cast<double>(count);
+      out->gyro_bias_from_still = true;
+    }
+  }
+  // Flight: the detected airborne interval, or (when the log starts in the
+  // air) the whole log once the estimator shows the vehicle moving.
+  double speed_max = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double vn = track.v_ned[0][k], ve = track.v_ned[1][k],
+                 vd = track.v_ned[2][k];
+    const double speed = std::sqrt(vn * vn + ve * ve + vd * vd);
+    if (std::isfinite(speed)) speed_max = std::max(speed_max, speed);
+  }
+  const bool took_off = s.takeoff.found && s.airborne.found;
+  if (!s.airborne.found || (!took_off && speed_max < 1.0)) {
+    return FailedPreconditionError(
+        log.source +
+        ": no flight found: the vehicle never takes off (a bench or ground "
+        "log; the estimator's speed stays below " +
+        Num(std::max(speed_max, 0.0)) +
+        " m/s). The IMU position is identified from flight: fly 30 s of "
+        "roll, pitch and yaw doublets of about ±20° and log it");
+  }
+  const double air0 = took_off ? s.airborne.t0 + o.edge_trim_s : t.front();
+  const double air1 = s.airborne.t1 - (s.landing.found ? o.edge_trim_s : 0.0);
+  const double lo = std::isnan(o.t_start) ? air0 : std::max(air0, o.t_start);
+  const double hi = std::isnan(o.t_end) ? air1 : std::min(air1, o.t_end);
+
+  std::vector<const char*> reason(n, nullptr);
+  const double impact = o.impact_g * kGravity;
+  const double cos_tilt = std::cos(o.max_tilt_deg * kDegToRad);
+  std::vector<double> impacts, tilts;  // times, marked with a margin below
+  for (std::size_t k = 0; k < n; ++k) {
+    if (t[k] < lo) {
+      reason[k] = t[k] < air0 ? (took_off && t[k] >= s.airborne.t0
+                                     ? "take-off transient"
+                                     : "on the ground before take-off")
+                              : "before the requested window";
+    } else if (t[k] > hi) {
+      reason[k] = t[k] > air1 ? (t[k] <= s.airborne.t1 ? "landing transient"
+                                                       : "on the ground after "
+                                                         "landing")
+                              : "after the requested window";
+    } else if (!track.q[k].allFinite() || !std::isfinite(track.v_ned[0][k])) {
+      reason[k] = "estimator not running";
+    }
+    if (AccelFrd(log, k).norm() > impact) impacts.push_back(t[k]);
+    if (track.q[k].allFinite()) {
+      const Eigen::Vector4d& q = track.q[k];
+      // R(2,2) = cos(tilt): the body z axis against NED down.
+      const double r22 = 1 - 2 * (q[1] * q[1] + q[2] * q[2]);
+      if (r22 < cos_tilt) tilts.push_back(t[k]);
+    }
+  }
+  // Second pass: mark the margins around impacts and excess tilt.
+  auto mark = [&](const std::vector<double>& times, const char* why) {
+    for (double tc : times) {
+      auto first = std::lower_bound(t.begin(), t.end(), tc - o.impact_margin_s);
+      auto last = std::upper_bound(t.begin(), t.end(), tc + o.impact_margin_s);
+      for (auto it = first; it != last; ++it) {
+        const auto i = static_cast<std::size_t>(it - t.begin());
+        if (reason[i] == nullptr) reason[i] = why;
+      }
+    }
+  };
+  mark(impacts, "impact (|f| above the limit)");
+  mark(tilts, "attitude beyond the tilt limit (a flip or crash)");
+  const double gap = o.max_gap_factor * log.MedianDt();
+  // Runs of equal status; usable runs split at gaps.
+  std::size_t k = 0;
+  while (k < n) {
+    std::size_t e = k + 1;
+    while (e < n && reason[e] == reason[k] &&
+           !(reason[k] == nullptr && t[e] - t[e - 1] > gap)) {
+      ++e;
+    }
+    Stretch3d stretch{t[k], t[e - 1], e - k, reason[k] ? reason[k] : ""};
+    if (reason[k] == nullptr &&
+        stretch.t1 - stretch.t0 < o.min_window_s) {
+      stretch.reason = "flight piece shorter than " + Num(o.min_window_s) +
+                       " s between gaps or exclusions";
+    }
+    (stretch.reason.empty() ? out->windows : out->dropped).push_back(stretch);
+    k = e;
+  }
+  if (out->windows.empty()) {
+    return FailedPreconditionError(
+        log.source +
+        ": no flight window survives the exclusions (take-off and landing "
+        "transients, impacts, tilt beyond " +
+        Num(o.max_tilt_deg) + "°, gaps, pieces under " + Num(o.min_window_s) +
+        " s); `imusysid inspect --model=rigid3d` lists what was dropped");
+  }
+  out->sample_rate_hz = 1.0 / log.MedianDt();
+  return Status::Ok();
+}
+
+// IMU-side channels of one window (filtered specific force and rates, and
+// the rate derivative): computed once, whatever the delay.
+struct WindowImu {
+  std::vector<double> t;
+  Axes f, omega, omega_dot;
+};
+
+StatusOr<WindowImu> ImuOfWindow(const FlightLog& log, const Stretch3d& w,
+                                const Eigen::Vector3d& bias,
+                                const Preprocess3dOptions& o,
+                                double rate_hz) {
+  const auto& ts = log.t_s;
+  const auto i0 = static_cast<std::size_t>(
+      std::lower_bound(ts.begin(), ts.end(), w.t0) - ts.begin());
+  const std::size_t i1 = i0 + w.samples;
+  WindowImu out;
+  out.t.assign(ts.begin() + static_cast<std::ptrdiff_t>(i0),
+               ts.begin() + static_cast<std::ptrdiff_t>(i1));
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> f, g;
+    for (std::size_t k = i0; k < i1; ++k) {
+      f.push_back(AccelFrd(log, k)[a]);
+      g.push_back(GyroFrd(log, k)[a] - bias[a]);
+    }
+    if (o.cutoff_hz > 0) {
+      StatusOr<std::vector<double>> ff =
+          ZeroPhaseLowPassOnTimes(out.t, f, o.cutoff_hz, o.filter_order);
+      if (!ff.ok()) return ff.status().WithPrefix("--cutoff_hz");
+      StatusOr<std::vector<double>> gf =
+          ZeroPhaseLowPassOnTimes(out.t, g, o.cutoff_hz, o.filter_order);
+      if (!gf.ok()) return gf.status().WithPrefix("--cutoff_hz");
+      f = std::move(*ff);
+      g = std::move(*gf);
+    }
+    const int half = std::max(
+        o.derivative_degree,
+        static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
+    StatusOr<std::vector<double>> d =
+        SavitzkyGolayDerivative(out.t, g, half, o.derivative_degree);
+    if (!d.ok()) return d.status();
+    out.f[static_cast<std::size_t>(a)] = std::move(f);
+    out.omega[static_cast<std::size_t>(a)] = std::move(g);
+    out.omega_dot[static_cast<std::size_t>(a)] = std::move(*d);
+  }
+  return out;
+}
+
+// The full data at estimator delay `delay`: the IMU channels of every window
+// joined, with the estimator's state read at t + delay.
+StatusOr<ProblemData> DataAtDelay(const FlightLog& log,
+                                  const EstimatorTrack& track,
+                                  const std::vector<WindowImu>& windows,
+                                  const Preprocess3dOptions& o,
+                                  double delay) {
+  ProblemData d;
+  d.source = log.source;
+  Motion3d& m = d.motion;
+  for (const WindowImu& w : windows) {
+    Axes velocity, north, east;
+    for (double t : w.t) {
+      Eigen::Matrix3d r;
+      Eigen::Vector3d v_ned;
+      if (!TrackAt(log, track, t + delay, &r, &v_ned)) {
+        return FailedPreconditionError(
+            log.source + ": the estimator channels are missing at t = " +
+            Num(t + delay) + " s inside a flight window");
+      }
+      const Eigen::Vector3d vb = r.transpose() * v_ned;
+      for (std::size_t a = 0; a < 3; ++a) {
+        velocity[a].push_back(vb[static_cast<Eigen::Index>(a)]);
+        north[a].push_back(r(0, static_cast<Eigen::Index>(a)));
+        east[a].push_back(r(1, static_cast<Eigen::Index>(a)));
+      }
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (o.cutoff_hz > 0) {
+        StatusOr<std::vector<double>> vf = ZeroPhaseLowPassOnTimes(
+            w.t, velocity[a], o.cutoff_hz, o.filter_order);
+        if (!vf.ok()) return vf.status();
+        velocity[a] = std::move(*vf);
+      }
+      auto append = [](std::vector<double>* to, const std::vector<double>& x) {
+        to->insert(to->end(), x.begin(), x.end());
+      };
+      append(&m.f[a], w.f[a]);
+      append(&m.omega[a], w.omega[a]);
+      append(&m.omega_dot[a], w.omega_dot[a]);
+      append(&m.velocity[a], velocity[a]);
+      append(&m.north[a], north[a]);
+      append(&m.east[a], east[a]);
+    }
+    // The planar view (FLU x–z plane) of the same samples; θ restarts at
+    // each window.
+    double theta = 0.0;
+    for (std::size_t k = 0; k < w.t.size(); ++k) {
+      const double omega_flu = -w.omega[1][k];
+      if (k > 0) {
+        theta += 0.5 * (w.t[k] - w.t[k - 1]) * (omega_flu - w.omega[1][k - 1]);
+      }
+      d.t_s.push_back(w.t[k]);
+      d.f_x.push_back(w.f[0][k]);
+      d.f_z.push_back(-w.f[2][k]);
+      d.omega.push_back(omega_flu);
+      d.omega_dot.push_back(-w.omega_dot[1][k]);
+      d.theta.push_back(theta);
+      d.v.push_back(velocity[0][k]);
+    }
+  }
+  return d;
+}
+
+// The linear least-squares fit of rigid3d on `data`: its RMS residual and
+// the wind it finds (NaN when the rotor drag is too small to carry one).
+struct LinearFit {
+  double rmse = 0.0;
+  double wind_n = std::numeric_limits<double>::quiet_NaN();
+  double wind_e = std::numeric_limits<double>::quiet_NaN();
+};
+
+StatusOr<LinearFit> FitLinear(const ProblemData& data) {
+  // The model reads the data through a shared pointer that does not own
+  // them: the fit is done before `data` goes.
+  StatusOr<std::unique_ptr<Model>> model = CreateModel(
+      "rigid3d", std::shared_ptr<const ProblemData>(&data, [](auto*) {}));
+  if (!model.ok()) return model.status();
+  const LinearStructure* structure = (*model)->linear_structure();
+  Eigen::MatrixXd r;
+  if (!structure->TriangularFactor(nullptr, &r)) {
+    return FailedPreconditionError(data.source +
+                                   ": the 3-D regressors are not finite");
+  }
+  const Eigen::Index m = r.rows() - 1;
+  LinearFit fit;
+  fit.rmse = std::abs(r(m, m)) / std::sqrt(2.0 * static_cast<double>(data.size()));
+  // Column-scaled solve of R₁₁ b = z (rank-safe).
+  const Eigen::VectorXd scale =
+      r.topLeftCorner(m, m).colwise().norm().cwiseMax(1e-300).transpose();
+  const Eigen::MatrixXd scaled =
+      r.topLeftCorner(m, m) * scale.cwiseInverse().asDiagonal();
+  const Eigen::VectorXd b =
+      scaled.completeOrthogonalDecomposition().solve(r.col(m).head(m))
+          .cwiseQuotient(scale);
+  const StatusOr<Eigen::VectorXd> x =
+      structure->ParametersFromCoefficients(b, nullptr);
+  // The wind only where the flight determines it: the heading must turn for
+  // the wind to differ from an accelerometer bias. Its 1σ from the white
+  // covariance σ²(R₁₁ᵀR₁₁)⁻¹ of k·w, divided by k (indices: rigid3d.h,
+  // kRotorDrag 4, kWindNorth 9, kWindEast 10).
+  constexpr double kMaxWindStderrMps = 0.3;
+  const double dof = std::max(1.0, 2.0 * static_cast<double>(data.size()) -
+                                       static_cast<double>(m));
+  const double sigma2 =
+      r(m, m) * r(m, m) / dof;
+  const Eigen::MatrixXd scaled_inverse =
+      scaled.completeOrthogonalDecomposition().pseudoInverse();
+  const Eigen::MatrixXd cov = sigma2 * scale.cwiseInverse().asDiagonal() *
+                              scaled_inverse * scaled_inverse.transpose() *
+                              scale.cwiseInverse().asDiagonal();
+  if (x.ok() && (*x)[4] > 1e-3) {
+    const double se_n = std::sqrt(std::max(0.0, cov(9, 9))) / (*x)[4];
+    const double se_e = std::sqrt(std::max(0.0, cov(10, 10))) / (*x)[4];
+    if (se_n < kMaxWindStderrMps && se_e < kMaxWindStderrMps) {
+      fit.wind_n = (*x)[9];
+      fit.wind_e = (*x)[10];
+    }
+  }
+  return fit;
+}
+
+StatusOr<LinearFit> IterateQuadraticWind(ProblemData* data);
+
+// Every `step`-th sample of `data` (the motion is filtered far below the
+// rate, so a thinned copy carries the same fit for searches).
+ProblemData Thinned(const ProblemData& data, std::size_t step) {
+  if (step <= 1) return data;
+  ProblemData out;
+  out.source = data.source;
+  auto thin = [step](const std::vector<double>& x) {
+    std::vector<double> y;
+    for (std::size_t i = 0; i < x.size(); i += step) y.push_back(x[i]);
+    return y;
+  };
+  out.t_s = thin(data.t_s);
+  out.f_x = thin(data.f_x);
+  out.f_z = thin(data.f_z);
+  out.omega = thin(data.omega);
+  out.omega_dot = thin(data.omega_dot);
+  out.theta = thin(data.theta);
+  out.v = thin(data.v);
+  Motion3d& m = out.motion;
+  const Motion3d& d = data.motion;
+  for (std::size_t a = 0; a < 3; ++a) {
+    m.f[a] = thin(d.f[a]);
+    m.omega[a] = thin(d.omega[a]);
+    m.omega_dot[a] = thin(d.omega_dot[a]);
+    m.velocity[a] = thin(d.velocity[a]);
+    m.north[a] = thin(d.north[a]);
+    m.east[a] = thin(d.east[a]);
+  }
+  m.quadratic_wind_n = d.quadratic_wind_n;
+  m.quadratic_wind_e = d.quadratic_wind_e;
+  return out;
+}
+
+// The quadratic drag's wind that fits best: Nelder–Mead on the linear fit's
+// RMSE over (w_N, w_E), from `start`. Quadratic drag tells flying into the
+// wind from flying with it even where the heading never turns (where the
+// linear drag's wind is only a bias), so this finds the wind the fixed point
+// below cannot.
+void SearchQuadraticWind(ProblemData* data, Eigen::Vector2d start) {
+  constexpr int kMaxEvaluations = 80;
+  constexpr double kToleranceMps = 0.01;
+  constexpr double kMaxWindMps = 30.0;
+  auto rmse = [data](const Eigen::Vector2d& w) {
+    if (w.norm() > kMaxWindMps) return std::numeric_limits<double>::infinity();
+    data->motion.quadratic_wind_n = w[0];
+    data->motion.quadratic_wind_e = w[1];
+    StatusOr<LinearFit> fit = FitLinear(*data);
+    return fit.ok() ? fit->rmse : std::numeric_limits<double>::infinity();
+  };
+  std::array<Eigen::Vector2d, 3> x = {start, start + Eigen::Vector2d(1, 0),
+                                      start + Eigen::Vector2d(0, 1)};
+  std::array<double, 3> f = {rmse(x[0]), rmse(x[1]), rmse(x[2])};
+  for (int evaluations = 3; evaluations < kMaxEvaluations;) {
+    std::array<int, 3> order = {0, 1, 2};
+    std::sort(order.begin(), order.end(),
+              [&f](int a, int b) { return f[a] < f[b]; });
+    const int best = order[0], mid = order[1], worst = order[2];
+    if ((x[worst] - x[best]).norm() < kToleranceMps &&
+        (x[mid] - x[best]).norm() < kToleranceMps) {
+      break;
+    }
+    const Eigen::Vector2d centre = 0.5 * (x[best] + x[mid]);
+    const Eigen::Vector2d reflected = centre + (centre - x[worst]);
+    const double fr = rmse(reflected);
+    ++evaluations;
+    if (fr < f[best]) {
+      const Eigen::Vector2d expanded = centre + 2.0 * (centre - x[worst]);
+      const double fe = rmse(expanded);
+      ++evaluations;
+      if (fe < fr) {
+        x[worst] = expanded, f[worst] = fe;
+      } else {
+        x[worst] = reflected, f[worst] = fr;
+      }
+    } else if (fr < f[mid]) {
+      x[worst] = reflected, f[worst] = fr;
+    } else {
+      const Eigen::Vector2d contracted = centre + 0.5 * (x[worst] - centre);
+      const double fc = rmse(contracted);
+      ++evaluations;
+      if (fc < f[worst]) {
+        x[worst] = contracted, f[worst] = fc;
+      } else {
+        for (int i : {mid, worst}) {
+          x[i] = x[best] + 0.5 * (x[i] - x[best]);
+          f[i] = rmse(x[i]);
+          ++evaluations;
+        }
+      }
+    }
+  }
+  const int best = static_cast<int>(std::min_element(f.begin(), f.end()) -
+                                    f.begin());
+  data->motion.quadratic_wind_n = x[best][0];
+  data->motion.quadratic_wind_e = x[best][1];
+}
+
+// The quadratic drag's wind: the fixed point below where the linear drag's
+// wind is determined, then the search above on a thinned copy, set on `data`.
+Status FindQuadraticWind(ProblemData* data, double rate_hz) {
+  StatusOr<LinearFit> fixed = IterateQuadraticWind(data);
+  if (!fixed.ok()) return fixed.status();
+  const auto step = static_cast<std::size_t>(
+      std::max(1.0, std::floor(rate_hz / 50.0)));
+  ProblemData thin = Thinned(*data, step);
+  SearchQuadraticWind(&thin, {data->motion.quadratic_wind_n,
+                              data->motion.quadratic_wind_e});
+  data->motion.quadratic_wind_n = thin.motion.quadratic_wind_n;
+  data->motion.quadratic_wind_e = thin.motion.quadratic_wind_e;
+  return Status::Ok();
+}
+
+// Iterates the quadratic drag's wind to the wind the fit finds (a few
+// passes: the quadratic term is a small part of the drag, so each pass
+// shrinks the change by far more than half). Leaves it at zero when no wind
+// is found or it leaves a plausible range.
+StatusOr<LinearFit> IterateQuadraticWind(ProblemData* data) {
+  constexpr int kMaxPasses = 10;
+  constexpr double kToleranceMps = 1e-4;
+  constexpr double kMaxWindMps = 30.0;
+  StatusOr<LinearFit> fit = FitLinear(*data);
+  for (int pass = 0; pass < kMaxPasses && fit.ok(); ++pass) {
+    const double wn = fit->wind_n, we = fit->wind_e;
+    if (!std::isfinite(wn) || !std::isfinite(we) ||
+        std::hypot(wn, we) > kMaxWindMps) {
+      data->motion.quadratic_wind_n = 0.0;
+      data->motion.quadratic_wind_e = 0.0;
+      return FitLinear(*data);
+    }
+    const double change = std::hypot(wn - data->motion.quadratic_wind_n,
+                                     we - data->motion.quadratic_wind_e);
+    data->motion.quadratic_wind_n = wn;
+    data->motion.quadratic_wind_e = we;
+    fit = FitLinear(*data);
+    if (change < kToleranceMps) break;
+  }
+  return fit;
+}
+
+}  // namespace
+
+Status Preprocess3dOptions::Validate() const {
+  auto positive = [](double v, const char* name) -> Status {
+    if (!(std::isfinite(v) && v > 0)) {
+      return InvalidArgumentError(std::string(name) + " must be > 0, got " +
+                                  FormatNumber(v, 6));
+    }
+    return Status::Ok();
+  };
+  if (!(std::isfinite(cutoff_hz) && cutoff_hz >= 0)) {
+    return InvalidArgumentError("cutoff_hz must be >= 0, got " +
+                                FormatNumber(cutoff_hz, 6));
+  }
+  IMUSYSID_RETURN_IF_ERROR(
+      positive(derivative_half_width_s, "derivative_half_width_s"));
+  IMUSYSID_RETURN_IF_ERROR(positive(impact_g, "impact_g"));
+  IMUSYSID_RETURN_IF_ERROR(positive(max_tilt_deg, "max_tilt_deg"));
+  IMUSYSID_RETURN_IF_ERROR(positive(max_gap_factor, "max_gap_factor"));
+  IMUSYSID_RETURN_IF_ERROR(positive(min_window_s, "min_window_s"));
+  if (!(std::isfinite(edge_trim_s) && edge_trim_s >= 0) ||
+      !(std::isfinite(impact_margin_s) && impact_margin_s >= 0)) {
+    return InvalidArgumentError("edge_trim_s and impact_margin_s must be >= 0");
+  }
+  if (!std::isnan(estimator_delay_s) &&
+      !(std::isfinite(estimator_delay_s) && std::abs(estimator_delay_s) <= 1)) {
+    return InvalidArgumentError(
+        "estimator_delay_s must be within ±1 s, got " +
+        FormatNumber(estimator_delay_s, 6));
+  }
+  if (!(std::isfinite(max_estimator_delay_s) && max_estimator_delay_s >= 0 &&
+        max_estimator_delay_s <= 1)) {
+    return InvalidArgumentError("max_estimator_delay_s must be in [0, 1] s");
+  }
+  if (!std::isnan(t_start) && !std::isnan(t_end) && !(t_start < t_end)) {
+    return InvalidArgumentError("t_start must be before t_end");
+  }
+  return Status::Ok();
+}
+
+StatusOr<Preprocess3dResult> SelectWindows3d(
+    const FlightLog& log, const Preprocess3dOptions& options) {
+  IMUSYSID_RETURN_IF_ERROR(options.Validate());
+  if (log.size() < 10) {
+    return FailedPreconditionError(log.source + ": too few samples");
+  }
+  StatusOr<EstimatorTrack> track = ReadEstimator(log);
+  if (!track.ok()) return track.status();
+  Preprocess3dResult out;
+  IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *track, options, &out));
+  return out;
+}
+
+StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
+                                          const Preprocess3dOptions& options) {
+  IMUSYSID_RETURN_IF_ERROR(options.Validate());
+  if (log.size() < 10) {
+    return FailedPreconditionError(log.source + ": too few samples");
+  }
+  StatusOr<EstimatorTrack> track = ReadEstimator(log);
+  if (!track.ok()) return track.status();
+  Preprocess3dResult out;
+  IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *track, options, &out));
+  std::vector<WindowImu> imu;
+  for (const Stretch3d& w : out.windows) {
+    StatusOr<WindowImu> wi = ImuOfWindow(log, w, out.gyro_bias_frd, options,
+                                         out.sample_rate_hz);
+    if (!wi.ok()) return wi.status();
+    imu.push_back(std::move(*wi));
+  }
+  double delay = options.estimator_delay_s;
+  // The quadratic drag's wind, from the fit at no delay, for the scan.
+  double wind_n = 0.0, wind_e = 0.0;
+  if (std::isnan(delay)) {
+    StatusOr<ProblemData> first = DataAtDelay(log, *track, imu, options, 0.0);
+    if (!first.ok()) return first.status();
+    IMUSYSID_RETURN_IF_ERROR(FindQuadraticWind(&*first, out.sample_rate_hz));
+    wind_n = first->motion.quadratic_wind_n;
+    wind_e = first->motion.quadratic_wind_e;
+  }
+  if (std::isnan(delay)) {
+    // The delay that fits best: a scan at the log's own resolution (one
+    // sample, at most 5 ms) and a parabola through the best three.
+    const double step =
+        std::clamp(1.0 / out.sample_rate_hz, 0.0025, 0.005);
+    std::vector<double> delays, rmse;
+    for (double d = 0.0; d <= options.max_estimator_delay_s + 1e-12;
+         d += step) {
+      StatusOr<ProblemData> data = DataAtDelay(log, *track, imu, options, d);
+      if (!data.ok()) return data.status();
+      data->motion.quadratic_wind_n = wind_n;
+      data->motion.quadratic_wind_e = wind_e;
+      StatusOr<LinearFit> e = FitLinear(*data);
+      if (!e.ok()) return e.status();
+      delays.push_back(d);
+      rmse.push_back(e->rmse);
+    }
+    const auto best = static_cast<std::size_t>(
+        std::min_element(rmse.begin(), rmse.end()) - rmse.begin());
+    delay = delays[best];
+    if (best > 0 && best + 1 < delays.size()) {
+      const double a = rmse[best - 1], b = rmse[best], c = rmse[best + 1];
+      const double curvature = a - 2 * b + c;
+      if (curvature > 0) delay += 0.5 * step * (a - c) / curvature;
+    }
+    out.delay_estimated = true;
+    if (best == 0 || best + 1 == delays.size()) {
+      out.notes.push_back(
+          "the estimator delay is at the end of the range searched, so the "
+          "flight does not determine it well");
+    }
+    out.rmse_without_delay = rmse.front();
+    out.notes.push_back(
+        "estimator delay " + Num(delay * 1e3) +
+        " ms (estimated: the delay in 0.." +
+        Num(options.max_estimator_delay_s * 1e3) +
+        " ms that fits best; with none the fit's RMSE is " +
+        Num(rmse.front()) + " m/s^2 against " + Num(rmse[best]) + ")");
+  }
+  out.estimator_delay_s = delay;
+  StatusOr<ProblemData> data = DataAtDelay(log, *track, imu, options, delay);
+  if (!data.ok()) return data.status();
+  out.data = std::move(*data);
+  IMUSYSID_RETURN_IF_ERROR(FindQuadraticWind(&out.data, out.sample_rate_hz));
+  StatusOr<LinearFit> fit = FitLinear(out.data);
+  if (!fit.ok()) return fit.status();
+  if (out.delay_estimated) out.rmse_at_delay = fit->rmse;
+  IMUSYSID_RETURN_IF_ERROR(out.data.Validate());
+  std::ostringstream windows;
+  windows << out.windows.size() << " flight window"
+          << (out.windows.size() == 1 ? "" : "s") << ":";
+  for (const Stretch3d& w : out.windows) {
+    windows << " " << Num(w.t0) << "-" << Num(w.t1) << " s";
+  }
+  out.notes.insert(out.notes.begin(), windows.str());
+  if (!out.gyro_bias_from_still) {
+    out.notes.push_back(
+        "no still stretch before take-off: gyro bias not removed (the "
+        "autopilot's own calibration stands)");
+  }
+  return out;
+}
+
+}  // namespace imusysid

@@ -1,0 +1,316 @@
+#include "imusysid/rigid3d_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "imusysid/format.h"
+#include "imusysid/parameters.h"
+#include "imusysid/rigid3d.h"
+
+namespace imusysid {
+namespace {
+
+constexpr NonFiniteStyle kQuoted = NonFiniteStyle::kPrintf;
+const char* const kAxisNames[3] = {"x", "y", "z"};
+
+std::string Mm(double metres) { return FormatFixed(metres * 1e3, 1, kQuoted); }
+
+// What moves each axis into the x/y accelerometer rows (docs/model-3d.md):
+// p_x through pitch and yaw rates, p_y through roll and yaw, p_z through
+// roll and pitch accelerations.
+const char* const kAxisMotion[3] = {
+    "pitch and yaw motion; fly pitch doublets of about ±20° and yaw "
+    "doublets of about ±90°/s, 30 s in all",
+    "roll and yaw motion; fly roll doublets of about ±20° and yaw doublets "
+    "of about ±90°/s, 30 s in all",
+    "roll and pitch motion; fly roll and pitch doublets of about ±20°, "
+    "30 s in all"};
+
+double RmsAboutMean(const std::vector<double>& x) {
+  if (x.empty()) return 0.0;
+  double mean = 0.0;
+  for (double v : x) mean += v;
+  mean /= static_cast<double>(x.size());
+  double sum = 0.0;
+  for (double v : x) sum += (v - mean) * (v - mean);
+  return std::sqrt(sum / static_cast<double>(x.size()));
+}
+
+nlohmann::ordered_json Num(double v) {
+  if (!std::isfinite(v)) return nullptr;
+  return v;
+}
+
+}  // namespace
+
+ImuPosition3d Rigid3dReport(const EstimateResult& result,
+                            const Preprocess3dResult& pre,
+                            int instance,
+                            const Rigid3dReportOptions& options) {
+  ImuPosition3d out;
+  out.instance = instance;
+  out.source = pre.data.source;
+  out.estimator = result.estimator;
+  out.estimator_delay_s = pre.estimator_delay_s;
+  out.delay_estimated = pre.delay_estimated;
+  out.samples = pre.data.size();
+  out.windows = pre.windows;
+  const Motion3d& m = pre.data.motion;
+  out.signal_rms = std::sqrt(0.5 * (std::pow(RmsAboutMean(m.f[0]), 2) +
+                                    std::pow(RmsAboutMean(m.f[1]), 2)));
+  out.rmse = result.rmse;
+  out.usable = result.IsUsable() &&
+               result.parameters.size() == kNumRigid3dParameters;
+  if (!out.usable) {
+    out.warnings.push_back("the " + result.estimator +
+                           " fit failed: " + result.message);
+    for (int a = 0; a < 3; ++a) {
+      out.advice[static_cast<std::size_t>(a)] = "the fit failed";
+    }
+    return out;
+  }
+  const Eigen::VectorXd& x = result.parameters;
+  out.position_m = x.head<3>();
+  if (result.standard_errors.size() == kNumRigid3dParameters) {
+    out.stderr_m = result.standard_errors.head<3>();
+  }
+  if (result.covariance.rows() == kNumRigid3dParameters) {
+    out.covariance = result.covariance.topLeftCorner<3, 3>();
+  } else {
+    out.covariance = out.stderr_m.array().square().matrix().asDiagonal();
+  }
+  out.rotor_drag_per_s = x[kRotorDrag];
+  out.mu_per_m = x[kDrag3dMu];
+  out.bias_m_s2 = {x[kBiasX], x[kBiasY]};
+  // e_x = −sin(pitch misalignment), e_y = sin(roll misalignment)
+  // (include/imusysid/rigid3d.h).
+  out.misalignment_pitch_deg =
+      -std::asin(std::clamp(x[kThrustToX], -1.0, 1.0)) * kRadToDeg;
+  out.misalignment_roll_deg =
+      std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg;
+  out.wind_ne_m_s = {x[kWindNorth], x[kWindEast]};
+
+  const bool explains = std::isfinite(out.rmse) &&
+                        out.rmse <= options.max_unexplained_fraction *
+                                        std::max(out.signal_rms, 1e-12);
+  if (!explains) {
+    out.warnings.push_back(
+        "the model explains little of the signal (fit RMSE " +
+        FormatNumber(out.rmse, 3, kQuoted) + " m/s^2 against " +
+        FormatNumber(out.signal_rms, 3, kQuoted) +
+        " m/s^2 of x/y specific force): the log does not follow rigid-body "
+        "flight (ground contact, a wrong frame or units, or unlogged "
+        "forces); no position is given");
+  }
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    const double se = out.stderr_m[a];
+    const double p = out.position_m[a];
+    if (!explains) {
+      out.advice[i] = "the model does not explain this log";
+    } else if (!std::isfinite(se) || se > options.max_stderr_m) {
+      out.advice[i] = std::string(kAxisNames[a]) +
+                      " is not determined (1-sigma " + Mm(se) +
+                      " mm): the log has little " + kAxisMotion[a];
+    } else if (std::abs(p) > options.max_abs_position_m) {
+      out.advice[i] = std::string(kAxisNames[a]) + " = " +
+                      FormatNumber(p, 3, kQuoted) +
+                      " m is further from the centre of mass than any "
+                      "flight controller sits: the fit is not credible";
+    } else {
+      out.determined[i] = true;
+    }
+    if (!out.determined[i]) out.warnings.push_back(out.advice[i]);
+  }
+  for (const Warning& w : result.warnings) {
+    if (w.code == "ill_conditioned" || w.code == "at_bound") continue;
+    out.warnings.push_back(w.code + ": " + w.message);
+  }
+  return out;
+}
+
+void CompareInstances(std::vector<ImuPosition3d>* reports) {
+  // Chips on one flight controller sit within about 2 cm of each other.
+  constexpr double kBoardSpanM = 0.02;
+  for (std::size_t i = 0; i < reports->size(); ++i) {
+    for (std::size_t j = i + 1; j < reports->size(); ++j) {
+      ImuPosition3d& a = (*reports)[i];
+      ImuPosition3d& b = (*reports)[j];
+      for (int k = 0; k < 3; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        if (!a.determined[ku] || !b.determined[ku]) continue;
+        const double d = a.position_m[k] - b.position_m[k];
+        const double s = std::sqrt(a.stderr_m[k] * a.stderr_m[k] +
+                                   b.stderr_m[k] * b.stderr_m[k]);
+        if (std::abs(d) > 3 * s && std::abs(d) > kBoardSpanM) {
+          const std::string text =
+              "IMU " + std::to_string(a.instance) + " and IMU " +
+              std::to_string(b.instance) + " are " + Mm(d) + " +/- " + Mm(s) +
+              " mm apart on " + kAxisNames[k] +
+              ": more than their uncertainties and one flight controller's "
+              "size allow, unless they are mounted apart (check each "
+              "instance's orientation and the log's IMU mapping)";
+          a.warnings.push_back(text);
+          b.warnings.push_back(text);
+        }
+      }
+    }
+  }
+}
+
+nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
+  nlohmann::ordered_json j;
+  nlohmann::ordered_json p = nlohmann::ordered_json::array();
+  nlohmann::ordered_json se = nlohmann::ordered_json::array();
+  nlohmann::ordered_json determined = nlohmann::ordered_json::array();
+  nlohmann::ordered_json advice = nlohmann::ordered_json::array();
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    p.push_back(r.determined[i] ? Num(r.position_m[a]) : nullptr);
+    se.push_back(Num(r.stderr_m[a]));
+    determined.push_back(r.determined[i]);
+    advice.push_back(r.advice[i]);
+  }
+  j["imu_position_frd_m"] = p;
+  j["imu_position_frd_stderr_m"] = se;
+  j["warnings"] = r.warnings;
+  j["instance"] = r.instance;
+  j["log"] = r.source;
+  j["model"] = "rigid3d";
+  j["estimator"] = r.estimator;
+  j["determined"] = determined;
+  j["advice"] = advice;
+  // The fitted value of every axis, determined or not, for research use.
+  nlohmann::ordered_json raw = nlohmann::ordered_json::array();
+  for (int a = 0; a < 3; ++a) raw.push_back(Num(r.position_m[a]));
+  j["fitted_position_frd_m"] = raw;
+  j["rmse_m_s2"] = Num(r.rmse);
+  j["signal_rms_m_s2"] = Num(r.signal_rms);
+  j["samples"] = r.samples;
+  nlohmann::ordered_json windows = nlohmann::ordered_json::array();
+  for (const Stretch3d& w : r.windows) {
+    windows.push_back({{"t0_s", w.t0}, {"t1_s", w.t1}, {"samples", w.samples}});
+  }
+  j["windows"] = windows;
+  j["estimator_delay_s"] = Num(r.estimator_delay_s);
+  j["estimator_delay_estimated"] = r.delay_estimated;
+  j["rotor_drag_per_s"] = Num(r.rotor_drag_per_s);
+  j["mu_per_m"] = Num(r.mu_per_m);
+  j["accel_bias_xy_m_s2"] = {Num(r.bias_m_s2[0]), Num(r.bias_m_s2[1])};
+  j["misalignment_deg"] = {{"roll", Num(r.misalignment_roll_deg)},
+                           {"pitch", Num(r.misalignment_pitch_deg)}};
+  j["wind_ne_m_s"] = {Num(r.wind_ne_m_s[0]), Num(r.wind_ne_m_s[1])};
+  return j;
+}
+
+std::string Rigid3dToText(const ImuPosition3d& r) {
+  std::ostringstream s;
+  s << "IMU " << r.instance << " (" << r.estimator << ", " << r.samples
+    << " samples in " << r.windows.size() << " window"
+    << (r.windows.size() == 1 ? "" : "s") << ", fit RMSE "
+    << FormatNumber(r.rmse, 3, kQuoted) << " m/s^2 of "
+    << FormatNumber(r.signal_rms, 3, kQuoted) << ")\n";
+  s << "  position, CoM -> IMU, FRD (mm, 1-sigma):\n";
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    s << "    " << kAxisNames[a] << "  ";
+    if (r.determined[i]) {
+      s << Mm(r.position_m[a]) << " +/- " << Mm(r.stderr_m[a]) << "\n";
+    } else {
+      s << "withheld: " << r.advice[i] << "\n";
+    }
+  }
+  if (r.usable) {
+    s << "  estimator delay " << FormatNumber(r.estimator_delay_s * 1e3, 3)
+      << " ms" << (r.delay_estimated ? " (estimated)" : "")
+      << "; rotor drag " << FormatNumber(r.rotor_drag_per_s, 3)
+      << " 1/s, mu " << FormatNumber(r.mu_per_m, 3) << " 1/m, wind N/E "
+      << FormatNumber(r.wind_ne_m_s[0], 3) << "/"
+      << FormatNumber(r.wind_ne_m_s[1], 3) << " m/s, misalignment roll/pitch "
+      << FormatNumber(r.misalignment_roll_deg, 3) << "/"
+      << FormatNumber(r.misalignment_pitch_deg, 3) << " deg\n";
+  }
+  for (const std::string& w : r.warnings) s << "  warning: " << w << "\n";
+  return s.str();
+}
+
+StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
+    const std::vector<ImuPosition3d>& reports, EmitFormat format) {
+  if (format == EmitFormat::kNone) {
+    return FailedPreconditionError("no emit format chosen");
+  }
+  if (reports.empty()) return FailedPreconditionError("no fit to emit");
+  const bool px4 = format == EmitFormat::kPx4;
+  AutopilotParameters out;
+  out.format = format;
+  std::ostringstream s;
+  s << (px4 ? "# Onboard parameters for Vehicle 1 (QGroundControl .params)\n"
+            : "# ArduPilot parameters (.parm: NAME,VALUE)\n");
+  s << "# from imusysid fit of " << reports.front().source
+    << ": model rigid3d, estimator " << reports.front().estimator << "\n";
+  s << "# IMU position relative to the centre of mass, FRD body axes, m "
+       "(1-sigma); only the axes the log determines\n";
+  std::vector<std::string> omitted;
+  for (const ImuPosition3d& r : reports) {
+    // PX4's EKF fuses one IMU and has one position parameter set.
+    if (px4 && r.instance != 0) continue;
+    const std::string prefix =
+        px4 ? "EKF2_IMU_POS_" : "INS_POS" + std::to_string(r.instance + 1) + "_";
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      const std::string name = prefix + static_cast<char>('X' + a);
+      if (r.determined[i]) {
+        out.params.emplace_back(name, r.position_m[a]);
+        out.stderrs.emplace_back(name, r.stderr_m[a]);
+        s << "#   " << name << " = " << FormatFixed(r.position_m[a], 4, kQuoted)
+          << " +/- " << FormatNumber(r.stderr_m[a], 2, kQuoted) << "\n";
+      } else {
+        omitted.push_back(name);
+        s << "#   " << name << " not written: " << r.advice[i] << "\n";
+      }
+    }
+  }
+  if (out.params.empty()) {
+    out.withheld_reason =
+        "no axis of the IMU position is determined by this log";
+  }
+  if (!omitted.empty()) {
+    out.omitted_axis = omitted.front();
+    for (std::size_t i = 1; i < omitted.size(); ++i) {
+      out.omitted_axis += ", " + omitted[i];
+    }
+    out.omitted_note = "not determined by this log; left unchanged";
+  }
+  const ImuPosition3d& first = reports.front();
+  out.tilt_deg = first.misalignment_pitch_deg;
+  out.tilt_stderr_deg = std::numeric_limits<double>::quiet_NaN();
+  out.trim_parameter = px4 ? "SENS_BOARD_Y_OFF" : "AHRS_TRIM_Y";
+  out.trim_unit = px4 ? "deg" : "rad";
+  out.trim_value = px4 ? first.misalignment_pitch_deg
+                       : first.misalignment_pitch_deg * kDegToRad;
+  out.trim_note =
+      "the thrust-axis misalignment the fit finds (pitch " +
+      FormatNumber(first.misalignment_pitch_deg, 3, kQuoted) + " deg, roll " +
+      FormatNumber(first.misalignment_roll_deg, 3, kQuoted) +
+      " deg); it also absorbs accelerometer bias, so it is not written as a "
+      "parameter";
+  s << "# misalignment: " << out.trim_note << "\n";
+  if (px4) {
+    s << "#\n# Vehicle-Id\tComponent-Id\tName\tValue\tType\n";
+    for (const auto& [name, value] : out.params) {
+      s << "1\t1\t" << name << "\t" << FormatFixed(value, 4, kQuoted)
+        << "\t9\n";
+    }
+  } else {
+    for (const auto& [name, value] : out.params) {
+      s << name << "," << FormatFixed(value, 4, kQuoted) << "\n";
+    }
+  }
+  out.snippet = s.str();
+  return out;
+}
+
+}  // namespace imusysid
