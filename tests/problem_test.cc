@@ -10,9 +10,9 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/model.h"
-#include "tests/test_util.h"
 #include "imusysid/parameters.h"
 #include "src/sim/synthetic_flight.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {

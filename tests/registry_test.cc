@@ -15,10 +15,10 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/model.h"
-#include "tests/test_util.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "src/sim/synthetic_flight.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {

@@ -243,8 +243,8 @@ std::shared_ptr<ProblemData> FlightForEveryModel() {
 std::shared_ptr<ProblemData> WithMotion3d(std::shared_ptr<ProblemData> data) {
   Motion3d& m = data->motion;
   const std::size_t n = data->size();
-  for (auto* axes : {&m.f, &m.omega, &m.omega_dot, &m.velocity, &m.north,
-                     &m.east}) {
+  for (auto* axes :
+       {&m.f, &m.omega, &m.omega_dot, &m.velocity, &m.north, &m.east}) {
     for (auto& axis : *axes) axis.assign(n, 0.0);
   }
   // Truth: p = (0.05, −0.02, −0.03) m, μ 0.05, k 0.3, b (0.02, −0.01),
@@ -252,7 +252,8 @@ std::shared_ptr<ProblemData> WithMotion3d(std::shared_ptr<ProblemData> data) {
   const double p[3] = {0.05, -0.02, -0.03};
   for (std::size_t k = 0; k < n; ++k) {
     const double t = data->t_s[k];
-    const double w[3] = {0.6 * std::sin(2.1 * t), 0.5 * std::sin(1.3 * t + 1),
+    const double w[3] = {0.6 * std::sin(2.1 * t),
+                         0.5 * std::sin(1.3 * t + 1),
                          0.4 * std::sin(0.7 * t + 2)};
     const double a[3] = {0.6 * 2.1 * std::cos(2.1 * t),
                          0.5 * 1.3 * std::cos(1.3 * t + 1),
@@ -260,8 +261,8 @@ std::shared_ptr<ProblemData> WithMotion3d(std::shared_ptr<ProblemData> data) {
     const double yaw = 0.3 * t;
     const double north[3] = {std::cos(yaw), -std::sin(yaw), 0.0};
     const double east[3] = {std::sin(yaw), std::cos(yaw), 0.0};
-    const double v[3] = {2.0 * std::sin(0.5 * t), 1.5 * std::cos(0.7 * t),
-                         0.2 * std::sin(t)};
+    const double v[3] = {
+        2.0 * std::sin(0.5 * t), 1.5 * std::cos(0.7 * t), 0.2 * std::sin(t)};
     const double fz = -9.8 + 0.5 * std::sin(1.7 * t);
     const double u[3] = {v[0] - 1.5 * north[0] + 0.5 * east[0],
                          v[1] - 1.5 * north[1] + 0.5 * east[1],
@@ -274,10 +275,10 @@ std::shared_ptr<ProblemData> WithMotion3d(std::shared_ptr<ProblemData> data) {
     const double lever_y = a[2] * p[0] - a[0] * p[2] + w[1] * wp - ww * p[1];
     const double noise_x = 0.02 * std::sin(977.0 * t);
     const double noise_y = 0.02 * std::cos(631.0 * t);
-    m.f[0][k] = lever_x + 0.02 + 0.01 * fz - 0.3 * u[0] - 0.05 * speed * u[0] +
-                noise_x;
-    m.f[1][k] = lever_y - 0.01 - 0.005 * fz - 0.3 * u[1] -
-                0.05 * speed * u[1] + noise_y;
+    m.f[0][k] =
+        lever_x + 0.02 + 0.01 * fz - 0.3 * u[0] - 0.05 * speed * u[0] + noise_x;
+    m.f[1][k] = lever_y - 0.01 - 0.005 * fz - 0.3 * u[1] - 0.05 * speed * u[1] +
+                noise_y;
     m.f[2][k] = fz;
     for (std::size_t i = 0; i < 3; ++i) {
       m.omega[i][k] = w[i];

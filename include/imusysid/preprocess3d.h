@@ -82,8 +82,8 @@ struct Preprocess3dResult {
 
 // The windows Preprocess3d would fit and the dropped stretches, without
 // building the data (`inspect`). Same errors as Preprocess3d's window step.
-StatusOr<Preprocess3dResult> SelectWindows3d(const FlightLog& log,
-                                             const Preprocess3dOptions& options);
+StatusOr<Preprocess3dResult> SelectWindows3d(
+    const FlightLog& log, const Preprocess3dOptions& options);
 
 // FailedPrecondition when the log lacks the estimator channels (qw..qz or
 // roll/pitch/yaw, and vn..vd or vel_n..vel_d), when no airborne flight is

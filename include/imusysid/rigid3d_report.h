@@ -29,7 +29,10 @@ struct Rigid3dReportOptions {
   double max_abs_position_m = 0.5;
   // The fit must explain the signal: RMSE at most this fraction of the RMS of
   // the x/y specific force about its mean, else nothing is given.
-  double max_unexplained_fraction = 0.8;
+  double max_unexplained_fraction = 0.3;
+  // Contiguous blocks of the delete-one-block jackknife that widens the
+  // fit's σ̂ where model error varies along the flight (0: HAC σ̂ alone).
+  int jackknife_blocks = 8;
 };
 
 struct ImuPosition3d {
@@ -37,14 +40,14 @@ struct ImuPosition3d {
   std::string source;
   std::string estimator;
   bool usable = false;  // the fit produced parameters
-  Eigen::Vector3d position_m = Eigen::Vector3d::Constant(
-      std::numeric_limits<double>::quiet_NaN());
-  Eigen::Vector3d stderr_m = Eigen::Vector3d::Constant(
-      std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d position_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d stderr_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   std::array<bool, 3> determined = {false, false, false};
   // Per axis: why it is withheld and what to fly ("" when determined).
   std::array<std::string, 3> advice;
-  // The 3 × 3 covariance of the position (the fit's kind), for baselines.
+  // The position's covariance (diagonal, from the widened σ̂), for baselines.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   // Nuisance terms, for the curious and for plausibility.
   double rotor_drag_per_s = 0.0;
@@ -53,8 +56,8 @@ struct ImuPosition3d {
   double misalignment_roll_deg = 0.0;
   double misalignment_pitch_deg = 0.0;
   Eigen::Vector2d wind_ne_m_s = Eigen::Vector2d::Zero();
-  double rmse = 0.0;         // m/s², over the x and y rows
-  double signal_rms = 0.0;   // m/s², x/y specific force about its mean
+  double rmse = 0.0;        // m/s², over the x and y rows
+  double signal_rms = 0.0;  // m/s², x/y specific force about its mean
   double estimator_delay_s = 0.0;
   bool delay_estimated = false;
   std::size_t samples = 0;

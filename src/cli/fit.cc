@@ -23,8 +23,8 @@
 #include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
-#include "src/cli/fit3d.h"
 #include "src/cli/estimator_flags.h"
+#include "src/cli/fit3d.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
 
@@ -390,8 +390,11 @@ int Run(const std::vector<std::string>& positional) {
                         "--estimator=all is not offered with --model=rigid3d; "
                         "name one estimator (linear is the default)");
     }
-    return RunFit3d(path, FlagWasSet("estimator") ? FLAGS_estimator : "linear",
-                    *options, emit_format, FLAGS_emit_out);
+    return RunFit3d(path,
+                    FlagWasSet("estimator") ? FLAGS_estimator : "linear",
+                    *options,
+                    emit_format,
+                    FLAGS_emit_out);
   }
 
   // Estimators to run, validated before any work is done.

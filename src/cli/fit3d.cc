@@ -81,12 +81,14 @@ int RunFit3d(const std::string& path,
     if (!result.ok()) {
       if (!(*estimator)->Supports(problem.model())) {
         std::string can;
-        for (const auto& n : BuiltinEstimators().NamesSupporting(problem.model())) {
+        for (const auto& n :
+             BuiltinEstimators().NamesSupporting(problem.model())) {
           can += " " + n;
         }
-        return ReportError(kCmd, Status(result.status().code(),
-                                        result.status().message() +
-                                            "; estimators that can:" + can));
+        return ReportError(
+            kCmd,
+            Status(result.status().code(),
+                   result.status().message() + "; estimators that can:" + can));
       }
       return ReportError(kCmd, result.status());
     }
@@ -104,7 +106,8 @@ int RunFit3d(const std::string& path,
     if (!emitted.ok()) return ReportError(kCmd, emitted.status());
     StatusOr<std::vector<std::pair<std::string, double>>> current =
         ReadLogParameters(path);
-    if (current.ok() && !current->empty()) AddCurrentValues(*current, &*emitted);
+    if (current.ok() && !current->empty())
+      AddCurrentValues(*current, &*emitted);
   }
   if (JsonOutput()) {
     nlohmann::ordered_json j = nlohmann::ordered_json::array();

@@ -90,7 +90,9 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
   registry->Register("rigid3d",
                      {"3-D rigid body: IMU position (x, y, z) from the "
                       "autopilot's attitude and velocity",
-                      true, false, true},
+                      true,
+                      false,
+                      true},
                      NewRigid3dModel);
 }
 

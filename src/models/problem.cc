@@ -43,15 +43,18 @@ Status ProblemData::Validate() const {
   IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", false));
   if (!motion.empty()) {
     const std::pair<const Motion3d::Axes*, const char*> axes[] = {
-        {&motion.f, "f"},         {&motion.omega, "omega"},
-        {&motion.omega_dot, "omega_dot"}, {&motion.velocity, "velocity"},
-        {&motion.north, "north"}, {&motion.east, "east"}};
+        {&motion.f, "f"},
+        {&motion.omega, "omega"},
+        {&motion.omega_dot, "omega_dot"},
+        {&motion.velocity, "velocity"},
+        {&motion.north, "north"},
+        {&motion.east, "east"}};
     for (const auto& [a, name] : axes) {
       for (int i = 0; i < 3; ++i) {
         const std::string column =
             std::string(name) + "_" + "xyz"[static_cast<std::size_t>(i)];
-        IMUSYSID_RETURN_IF_ERROR(
-            check_size((*a)[static_cast<std::size_t>(i)], column.c_str(), false));
+        IMUSYSID_RETURN_IF_ERROR(check_size(
+            (*a)[static_cast<std::size_t>(i)], column.c_str(), false));
       }
     }
   }

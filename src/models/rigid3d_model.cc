@@ -93,7 +93,9 @@ const std::vector<ParameterInfo>& Rigid3dModel::parameter_info() const {
   return info;
 }
 
-void Rigid3dModel::Row(std::size_t k, int axis, double* a,
+void Rigid3dModel::Row(std::size_t k,
+                       int axis,
+                       double* a,
                        double* target) const {
   const Motion3d& m = data().motion;
   const double wx = m.omega[0][k], wy = m.omega[1][k], wz = m.omega[2][k];

@@ -35,8 +35,8 @@ struct EstimatorTrack {
 StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
   const std::size_t n = log.size();
   EstimatorTrack track;
-  track.q.assign(n, Eigen::Vector4d::Constant(
-                        std::numeric_limits<double>::quiet_NaN()));
+  track.q.assign(
+      n, Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN()));
   const Channel* q[4];
   bool have_q = true;
   for (int i = 0; i < 4; ++i) {
@@ -96,8 +96,11 @@ StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
 }
 
 // Linear interpolation of the track at time t (clamped to the log's ends).
-bool TrackAt(const FlightLog& log, const EstimatorTrack& track, double t,
-             Eigen::Matrix3d* r, Eigen::Vector3d* v_ned) {
+bool TrackAt(const FlightLog& log,
+             const EstimatorTrack& track,
+             double t,
+             Eigen::Matrix3d* r,
+             Eigen::Vector3d* v_ned) {
   const std::vector<double>& ts = log.t_s;
   std::size_t j = static_cast<std::size_t>(
       std::upper_bound(ts.begin(), ts.end(), t) - ts.begin());
@@ -127,8 +130,10 @@ Eigen::Vector3d GyroFrd(const FlightLog& log, std::size_t k) {
 
 // Marks each sample with why it cannot be fitted (empty: usable), then cuts
 // the usable runs into windows.
-Status ChooseWindows(const FlightLog& log, const EstimatorTrack& track,
-                     const Preprocess3dOptions& o, Preprocess3dResult* out) {
+Status ChooseWindows(const FlightLog& log,
+                     const EstimatorTrack& track,
+                     const Preprocess3dOptions& o,
+                     Preprocess3dResult* out) {
   const std::size_t n = log.size();
   const std::vector<double>& t = log.t_s;
   PreprocessOptions po;
@@ -222,8 +227,7 @@ Status ChooseWindows(const FlightLog& log, const EstimatorTrack& track,
       ++e;
     }
     Stretch3d stretch{t[k], t[e - 1], e - k, reason[k] ? reason[k] : ""};
-    if (reason[k] == nullptr &&
-        stretch.t1 - stretch.t0 < o.min_window_s) {
+    if (reason[k] == nullptr && stretch.t1 - stretch.t0 < o.min_window_s) {
       stretch.reason = "flight piece shorter than " + Num(o.min_window_s) +
                        " s between gaps or exclusions";
     }
@@ -249,7 +253,8 @@ struct WindowImu {
   Axes f, omega, omega_dot;
 };
 
-StatusOr<WindowImu> ImuOfWindow(const FlightLog& log, const Stretch3d& w,
+StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
+                                const Stretch3d& w,
                                 const Eigen::Vector3d& bias,
                                 const Preprocess3dOptions& o,
                                 double rate_hz) {
@@ -375,15 +380,16 @@ StatusOr<LinearFit> FitLinear(const ProblemData& data) {
   }
   const Eigen::Index m = r.rows() - 1;
   LinearFit fit;
-  fit.rmse = std::abs(r(m, m)) / std::sqrt(2.0 * static_cast<double>(data.size()));
+  fit.rmse =
+      std::abs(r(m, m)) / std::sqrt(2.0 * static_cast<double>(data.size()));
   // Column-scaled solve of R₁₁ b = z (rank-safe).
   const Eigen::VectorXd scale =
       r.topLeftCorner(m, m).colwise().norm().cwiseMax(1e-300).transpose();
   const Eigen::MatrixXd scaled =
       r.topLeftCorner(m, m) * scale.cwiseInverse().asDiagonal();
-  const Eigen::VectorXd b =
-      scaled.completeOrthogonalDecomposition().solve(r.col(m).head(m))
-          .cwiseQuotient(scale);
+  const Eigen::VectorXd b = scaled.completeOrthogonalDecomposition()
+                                .solve(r.col(m).head(m))
+                                .cwiseQuotient(scale);
   const StatusOr<Eigen::VectorXd> x =
       structure->ParametersFromCoefficients(b, nullptr);
   // The wind only where the flight determines it: the heading must turn for
@@ -391,10 +397,9 @@ StatusOr<LinearFit> FitLinear(const ProblemData& data) {
   // covariance σ²(R₁₁ᵀR₁₁)⁻¹ of k·w, divided by k (indices: rigid3d.h,
   // kRotorDrag 4, kWindNorth 9, kWindEast 10).
   constexpr double kMaxWindStderrMps = 0.3;
-  const double dof = std::max(1.0, 2.0 * static_cast<double>(data.size()) -
-                                       static_cast<double>(m));
-  const double sigma2 =
-      r(m, m) * r(m, m) / dof;
+  const double dof = std::max(
+      1.0, 2.0 * static_cast<double>(data.size()) - static_cast<double>(m));
+  const double sigma2 = r(m, m) * r(m, m) / dof;
   const Eigen::MatrixXd scaled_inverse =
       scaled.completeOrthogonalDecomposition().pseudoInverse();
   const Eigen::MatrixXd cov = sigma2 * scale.cwiseInverse().asDiagonal() *
@@ -462,13 +467,13 @@ void SearchQuadraticWind(ProblemData* data, Eigen::Vector2d start) {
     StatusOr<LinearFit> fit = FitLinear(*data);
     return fit.ok() ? fit->rmse : std::numeric_limits<double>::infinity();
   };
-  std::array<Eigen::Vector2d, 3> x = {start, start + Eigen::Vector2d(1, 0),
-                                      start + Eigen::Vector2d(0, 1)};
+  std::array<Eigen::Vector2d, 3> x = {
+      start, start + Eigen::Vector2d(1, 0), start + Eigen::Vector2d(0, 1)};
   std::array<double, 3> f = {rmse(x[0]), rmse(x[1]), rmse(x[2])};
   for (int evaluations = 3; evaluations < kMaxEvaluations;) {
     std::array<int, 3> order = {0, 1, 2};
-    std::sort(order.begin(), order.end(),
-              [&f](int a, int b) { return f[a] < f[b]; });
+    std::sort(
+        order.begin(), order.end(), [&f](int a, int b) { return f[a] < f[b]; });
     const int best = order[0], mid = order[1], worst = order[2];
     if ((x[worst] - x[best]).norm() < kToleranceMps &&
         (x[mid] - x[best]).norm() < kToleranceMps) {
@@ -504,8 +509,8 @@ void SearchQuadraticWind(ProblemData* data, Eigen::Vector2d start) {
       }
     }
   }
-  const int best = static_cast<int>(std::min_element(f.begin(), f.end()) -
-                                    f.begin());
+  const int best =
+      static_cast<int>(std::min_element(f.begin(), f.end()) - f.begin());
   data->motion.quadratic_wind_n = x[best][0];
   data->motion.quadratic_wind_e = x[best][1];
 }
@@ -515,11 +520,11 @@ void SearchQuadraticWind(ProblemData* data, Eigen::Vector2d start) {
 Status FindQuadraticWind(ProblemData* data, double rate_hz) {
   StatusOr<LinearFit> fixed = IterateQuadraticWind(data);
   if (!fixed.ok()) return fixed.status();
-  const auto step = static_cast<std::size_t>(
-      std::max(1.0, std::floor(rate_hz / 50.0)));
+  const auto step =
+      static_cast<std::size_t>(std::max(1.0, std::floor(rate_hz / 50.0)));
   ProblemData thin = Thinned(*data, step);
-  SearchQuadraticWind(&thin, {data->motion.quadratic_wind_n,
-                              data->motion.quadratic_wind_e});
+  SearchQuadraticWind(
+      &thin, {data->motion.quadratic_wind_n, data->motion.quadratic_wind_e});
   data->motion.quadratic_wind_n = thin.motion.quadratic_wind_n;
   data->motion.quadratic_wind_e = thin.motion.quadratic_wind_e;
   return Status::Ok();
@@ -578,9 +583,8 @@ Status Preprocess3dOptions::Validate() const {
   }
   if (!std::isnan(estimator_delay_s) &&
       !(std::isfinite(estimator_delay_s) && std::abs(estimator_delay_s) <= 1)) {
-    return InvalidArgumentError(
-        "estimator_delay_s must be within ±1 s, got " +
-        FormatNumber(estimator_delay_s, 6));
+    return InvalidArgumentError("estimator_delay_s must be within ±1 s, got " +
+                                FormatNumber(estimator_delay_s, 6));
   }
   if (!(std::isfinite(max_estimator_delay_s) && max_estimator_delay_s >= 0 &&
         max_estimator_delay_s <= 1)) {
@@ -617,8 +621,8 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *track, options, &out));
   std::vector<WindowImu> imu;
   for (const Stretch3d& w : out.windows) {
-    StatusOr<WindowImu> wi = ImuOfWindow(log, w, out.gyro_bias_frd, options,
-                                         out.sample_rate_hz);
+    StatusOr<WindowImu> wi =
+        ImuOfWindow(log, w, out.gyro_bias_frd, options, out.sample_rate_hz);
     if (!wi.ok()) return wi.status();
     imu.push_back(std::move(*wi));
   }
@@ -635,8 +639,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   if (std::isnan(delay)) {
     // The delay that fits best: a scan at the log's own resolution (one
     // sample, at most 5 ms) and a parabola through the best three.
-    const double step =
-        std::clamp(1.0 / out.sample_rate_hz, 0.0025, 0.005);
+    const double step = std::clamp(1.0 / out.sample_rate_hz, 0.0025, 0.005);
     std::vector<double> delays, rmse;
     for (double d = 0.0; d <= options.max_estimator_delay_s + 1e-12;
          d += step) {
@@ -664,12 +667,12 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
           "flight does not determine it well");
     }
     out.rmse_without_delay = rmse.front();
-    out.notes.push_back(
-        "estimator delay " + Num(delay * 1e3) +
-        " ms (estimated: the delay in 0.." +
-        Num(options.max_estimator_delay_s * 1e3) +
-        " ms that fits best; with none the fit's RMSE is " +
-        Num(rmse.front()) + " m/s^2 against " + Num(rmse[best]) + ")");
+    out.notes.push_back("estimator delay " + Num(delay * 1e3) +
+                        " ms (estimated: the delay in 0.." +
+                        Num(options.max_estimator_delay_s * 1e3) +
+                        " ms that fits best; with none the fit's RMSE is " +
+                        Num(rmse.front()) + " m/s^2 against " +
+                        Num(rmse[best]) + ")");
   }
   out.estimator_delay_s = delay;
   StatusOr<ProblemData> data = DataAtDelay(log, *track, imu, options, delay);

@@ -106,7 +106,8 @@ void FinalizeResult(const Problem& problem,
   }
   // The r/β rule is the planar models'; a 3-D model's positions are judged
   // axis by axis in its own report (rigid3d_report.h).
-  StatusOr<ModelDescription> description = BuiltinModels().Describe(model.name());
+  StatusOr<ModelDescription> description =
+      BuiltinModels().Describe(model.name());
   const bool planar = !description.ok() || description->planar;
   const double se_r = planar ? result->standard_errors[kR] : 0.0;
   const double se_beta = result->standard_errors[kBeta];
@@ -115,10 +116,11 @@ void FinalizeResult(const Problem& problem,
   // error, which is no identification at all.
   const double r_upper = problem.upper_bounds()[kR];
   const double r = std::min(std::abs(x[kR]), r_upper);
-  if (planar && (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
-      std::abs(x[kR]) > r_upper ||
-      se_r > std::max(kMaxRelativeStderrR * r, kMinAbsoluteStderrR) ||
-      se_beta > kMaxStderrBetaDeg)) {
+  if (planar &&
+      (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
+       std::abs(x[kR]) > r_upper ||
+       se_r > std::max(kMaxRelativeStderrR * r, kMinAbsoluteStderrR) ||
+       se_beta > kMaxStderrBetaDeg)) {
     std::ostringstream msg;
     msg << "r and beta are not identifiable from this log (1-sigma: r +/- "
         << se_r << " m, beta +/- " << se_beta << " deg, "

@@ -1,0 +1,183 @@
+// The 3-D model against the 6-DOF simulator's truth: every accelerometer
+// reading there comes from the simulated motion, never from rigid3d's
+// formula, so these are tests of physics, not of algebra. Tolerances come
+// from the spread over seeds measured on this scenario (docs/model-3d.md):
+// seed-to-seed σ of p is 0.7, 0.6 and 0.3 mm on x, y and z at 400 Hz.
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "imusysid/estimator.h"
+#include "imusysid/preprocess3d.h"
+#include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "imusysid/rigid3d_report.h"
+#include "imusysid/simulate3d.h"
+
+namespace imusysid {
+namespace {
+
+// 1.5 mm: about 2σ of the seed-to-seed spread on x, the loosest axis (the
+// issue's 1 mm is met on 25 of 30 seeds on x and on every seed on z).
+constexpr double kPositionToleranceM = 1.5e-3;
+// A baseline differences two fits of one flight: √2 × the above, rounded.
+constexpr double kBaselineToleranceM = 2.0e-3;
+
+struct Fitted {
+  std::vector<ImuPosition3d> imus;
+  Preprocess3dResult pre;
+};
+
+Fitted FitScenario(Simulator3dOptions options,
+                   const std::string& estimator = "linear") {
+  StatusOr<Simulated3dFlight> flight = Simulate3d(options);
+  EXPECT_TRUE(flight.ok()) << flight.status().ToString();
+  Fitted out;
+  if (!flight.ok()) return out;
+  for (std::size_t i = 0; i < flight->logs.size(); ++i) {
+    StatusOr<Preprocess3dResult> pre =
+        Preprocess3d(flight->logs[i], Preprocess3dOptions());
+    EXPECT_TRUE(pre.ok()) << pre.status().ToString();
+    if (!pre.ok()) return out;
+    auto data = std::make_shared<const ProblemData>(pre->data);
+    StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
+    EXPECT_TRUE(model.ok());
+    if (!model.ok()) return out;
+    Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+    StatusOr<std::unique_ptr<Estimator>> e =
+        BuiltinEstimators().Create(estimator);
+    EXPECT_TRUE(e.ok());
+    StatusOr<EstimateResult> r = (*e)->Estimate(problem, EstimatorOptions());
+    EXPECT_TRUE(r.ok());
+    if (!r.ok()) return out;
+    out.imus.push_back(Rigid3dReport(*r, *pre, static_cast<int>(i)));
+    out.pre = std::move(*pre);
+  }
+  return out;
+}
+
+Simulator3dOptions Scenario(const std::string& name) {
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions(name);
+  EXPECT_TRUE(o.ok());
+  return *o;
+}
+
+void ExpectAtTruth(const Simulator3dOptions& o,
+                   const Fitted& fit,
+                   double tolerance = kPositionToleranceM) {
+  ASSERT_EQ(fit.imus.size(), o.imus.size());
+  for (std::size_t i = 0; i < o.imus.size(); ++i) {
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_TRUE(fit.imus[i].determined[static_cast<std::size_t>(a)])
+          << "IMU " << i << " axis " << a << ": " << fit.imus[i].advice[a];
+      EXPECT_NEAR(fit.imus[i].position_m[a], o.imus[i].p_frd_m[a], tolerance)
+          << "IMU " << i << " axis " << a << " at " << o.rate_hz << " Hz";
+    }
+  }
+}
+
+TEST(Rigid3d, FigureEightGivesEveryImuAtItsTruePosition) {
+  const Simulator3dOptions o = Scenario("figure8_3d");
+  const Fitted fit = FitScenario(o);
+  ExpectAtTruth(o, fit);
+  // The estimator delay (20 ms) and the wind (1.8, −0.6) m/s are found.
+  EXPECT_NEAR(fit.pre.estimator_delay_s, o.estimator_delay_s, 2e-3);
+  ASSERT_FALSE(fit.imus.empty());
+  EXPECT_NEAR(fit.imus[0].wind_ne_m_s[0], o.wind_ned_mps[0], 0.05);
+  EXPECT_NEAR(fit.imus[0].wind_ne_m_s[1], o.wind_ned_mps[1], 0.05);
+  EXPECT_NEAR(fit.imus[0].rotor_drag_per_s, o.rotor_drag_per_s, 0.01);
+  // Baselines between instances.
+  for (std::size_t i = 1; i < fit.imus.size(); ++i) {
+    const Eigen::Vector3d fitted =
+        fit.imus[i].position_m - fit.imus[0].position_m;
+    const Eigen::Vector3d truth = o.imus[i].p_frd_m - o.imus[0].p_frd_m;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(fitted[a], truth[a], kBaselineToleranceM) << i << "/" << a;
+    }
+  }
+}
+
+TEST(Rigid3d, RatesAndDelaysAcrossTheRange) {
+  for (double rate : {200.0, 1000.0}) {
+    for (double delay : {0.0, 0.03}) {
+      Simulator3dOptions o = Scenario("figure8_3d");
+      o.rate_hz = rate;
+      o.estimator_delay_s = delay;
+      o.seed = 3;
+      o.imus.resize(1);
+      ExpectAtTruth(o, FitScenario(o));
+    }
+  }
+}
+
+// The model couples misalignment only through the thrust axis (first
+// order; the rates it reads are the sensor's, not the body's): p_x moves by
+// about 0.6 mm per degree (1.5 mm at 1°, 2.1 mm at 2°, seed 1 at 0.97 mm
+// without), so 1° is tested with that allowance on top of the usual one.
+TEST(Rigid3d, MisalignmentIsSeparatedFromThePosition) {
+  Simulator3dOptions o = Scenario("figure8_3d");
+  o.imus.resize(1);
+  o.imus[0].roll_deg = 1.0;
+  o.imus[0].pitch_deg = -1.0;
+  const Fitted fit = FitScenario(o);
+  ExpectAtTruth(o, fit, kPositionToleranceM + 0.6e-3);
+  ASSERT_EQ(fit.imus.size(), 1u);
+  // The accelerometer bias (0.02, 0.015) m/s² looks like 0.1° of tilt.
+  EXPECT_NEAR(fit.imus[0].misalignment_roll_deg, 1.0, 0.2);
+  EXPECT_NEAR(fit.imus[0].misalignment_pitch_deg, -1.0, 0.2);
+}
+
+TEST(Rigid3d, IterativeEstimatorsAgreeWithTheClosedForm) {
+  Simulator3dOptions o = Scenario("figure8_3d");
+  o.imus.resize(1);
+  const Fitted linear = FitScenario(o, "linear");
+  for (const std::string name : {"varpro", "lm"}) {
+    const Fitted other = FitScenario(o, name);
+    ASSERT_EQ(other.imus.size(), 1u);
+    for (int a = 0; a < 3; ++a) {
+      // The same least-squares problem: equal to far below the noise.
+      EXPECT_NEAR(
+          other.imus[0].position_m[a], linear.imus[0].position_m[a], 1e-6)
+          << name;
+    }
+  }
+}
+
+TEST(Rigid3d, PitchOnlyFlightWithholdsY) {
+  Simulator3dOptions o = Scenario("pitch_laps_3d");
+  o.imus.resize(1);
+  const Fitted fit = FitScenario(o);
+  ASSERT_EQ(fit.imus.size(), 1u);
+  EXPECT_FALSE(fit.imus[0].determined[1]);
+  EXPECT_THAT(fit.imus[0].advice[1], ::testing::HasSubstr("roll"));
+}
+
+TEST(Rigid3d, HoverWithholdsEveryAxis) {
+  Simulator3dOptions o = Scenario("hover_3d");
+  o.imus.resize(1);
+  const Fitted fit = FitScenario(o);
+  ASSERT_EQ(fit.imus.size(), 1u);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_FALSE(fit.imus[0].determined[static_cast<std::size_t>(a)]) << a;
+  }
+}
+
+TEST(Rigid3d, LogWithoutEstimatorChannelsIsRefused) {
+  Simulator3dOptions o = Scenario("figure8_3d");
+  o.imus.resize(1);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  FlightLog log = flight->logs[0];
+  log.extra.clear();
+  StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
+  ASSERT_FALSE(pre.ok());
+  EXPECT_EQ(pre.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("qw,qx,qy,qz"));
+}
+
+}  // namespace
+}  // namespace imusysid
