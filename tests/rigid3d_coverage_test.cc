@@ -1,6 +1,7 @@
 // Honest uncertainty of the 3-D fit: over 30 seeds of the figure-eight the
 // truth lies within ±2σ̂ of the fitted position on each axis for at least
-// 90 % of the fits (σ̂ widened by the block jackknife, rigid3d_report.h).
+// 90 % of the fits (σ̂ widened by the block jackknife and a model-error
+// floor, rigid3d_report.h).
 // Label "accuracy": 30 simulations, too slow for the sanitizer build.
 
 #include <cmath>
@@ -19,7 +20,7 @@ namespace {
 
 constexpr int kSeeds = 30;
 
-TEST(Rigid3dCoverage, TwoSigmaCoversTheTruthOnXAndY) {
+TEST(Rigid3dCoverage, TwoSigmaCoversTheTruthOnEveryAxis) {
   int covered[3] = {0, 0, 0};
   for (int seed = 1; seed <= kSeeds; ++seed) {
     StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
@@ -46,11 +47,7 @@ TEST(Rigid3dCoverage, TwoSigmaCoversTheTruthOnXAndY) {
       }
     }
   }
-  EXPECT_GE(covered[0], 27) << "x";
-  EXPECT_GE(covered[1], 27) << "y";
-  // z: 26 of 30 measured (a seed-independent 0.1 mm bias against σ̂ as small
-  // as 0.1 mm); the 90 % target is not met there, and this records it.
-  EXPECT_GE(covered[2], 25) << "z";
+  for (int a = 0; a < 3; ++a) EXPECT_GE(covered[a], 27) << "axis " << a;
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Eigen/Core"
@@ -36,6 +37,11 @@ struct Preprocess3dOptions {
   // (the delay in [0, max_estimator_delay_s] that fits best).
   double estimator_delay_s = std::numeric_limits<double>::quiet_NaN();
   double max_estimator_delay_s = 0.06;
+  // The wind (NED north, east; m/s) at which the quadratic drag is taken
+  // (Motion3d::quadratic_wind_*): NaN finds it (the flight's wind is the
+  // same for every IMU of a log, so a caller may pass the first one's on).
+  double quadratic_wind_n = std::numeric_limits<double>::quiet_NaN();
+  double quadratic_wind_e = std::numeric_limits<double>::quiet_NaN();
 
   // Automatic windows: airborne (take-off and landing found from the IMU,
   // DetectSegments) minus edge_trim_s after take-off and before landing
@@ -50,6 +56,18 @@ struct Preprocess3dOptions {
   double impact_margin_s = 0.5;
   double max_gap_factor = 5.0;
   double min_window_s = 2.0;
+  // The vehicle is on the ground until it has climbed lift_m above the
+  // lowest point so far (the estimator's vertical velocity integrated), and
+  // again once it stays within lift_m of where it comes to rest: a ground
+  // stretch with the motors running (armed, waiting) is not flight.
+  double lift_m = 0.5;
+  // And not before the first rotation (2 Hz low-passed |ω| above this,
+  // rad/s), nor after the last: a vehicle waiting on the ground, or a hover
+  // without any rotation, has nothing to fit.
+  double min_rotation_rad_s = 0.03;
+  // The autopilot's own armed spans, log time (LogSummary::armed); empty
+  // when the log does not record them. Samples outside are dropped.
+  std::vector<std::pair<double, double>> armed;
 
   Status Validate() const;
 };

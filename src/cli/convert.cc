@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "Eigen/Geometry"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
 #include "nlohmann/json.hpp"
@@ -39,6 +40,37 @@ FlightLog ForCsv(FlightLog log, const std::string& path, bool binary) {
       }
     }
     log.extra = std::move(kept);
+    // The estimator's outputs as the CSV format names them (qw..qz, vn..vd,
+    // docs/log-format.md), so `fit --model=rigid3d` reads the CSV as it
+    // reads the binary log.
+    const Channel* roll = log.FindChannel(kChannelRoll);
+    const Channel* pitch = log.FindChannel(kChannelPitch);
+    const Channel* yaw = log.FindChannel(kChannelYaw);
+    std::vector<Channel> estimator;
+    if (roll != nullptr && pitch != nullptr && yaw != nullptr) {
+      std::vector<Channel> q(4);
+      for (int i = 0; i < 4; ++i) q[i].name = kEstimatorChannels[i];
+      Eigen::Vector4d previous = Eigen::Vector4d::Zero();
+      for (std::size_t k = 0; k < log.size(); ++k) {
+        const Eigen::Quaterniond r =
+            Eigen::AngleAxisd(yaw->values[k], Eigen::Vector3d::UnitZ()) *
+            Eigen::AngleAxisd(pitch->values[k], Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(roll->values[k], Eigen::Vector3d::UnitX());
+        Eigen::Vector4d v(r.w(), r.x(), r.y(), r.z());
+        // Sign-continuous, so the columns interpolate.
+        if (v.dot(previous) < 0) v = -v;
+        previous = v;
+        for (int i = 0; i < 4; ++i) q[i].values.push_back(v[i]);
+      }
+      for (Channel& c : q) estimator.push_back(std::move(c));
+    }
+    const char* velocity[] = {kChannelVelN, kChannelVelE, kChannelVelD};
+    for (int i = 0; i < 3; ++i) {
+      if (const Channel* c = log.FindChannel(velocity[i])) {
+        estimator.push_back({kEstimatorChannels[4 + i], c->values});
+      }
+    }
+    for (Channel& c : estimator) log.extra.push_back(std::move(c));
     // The reader's "format" becomes the marker that makes `fit` read the CSV
     // like the binary log (ReadLogFromFlags, IsConvertedBinaryLog).
     std::vector<std::pair<std::string, std::string>> metadata;

@@ -278,10 +278,13 @@ Status AddEmit(const std::vector<EstimateResult>& results,
   // read: the fit stands without them).
   StatusOr<std::vector<std::pair<std::string, double>>> log_parameters =
       ReadLogParameters(context.log);
+  // Run() has read the log with this instance already, so it is valid.
+  const StatusOr<int> imu = ImuInstanceFromFlag();
+  const int imu_instance = imu.ok() ? *imu : 0;
   int best = -1;
   for (std::size_t i = 0; i < results.size(); ++i) {
     StatusOr<AutopilotParameters> p = ToAutopilotParameters(
-        results[i], format, context.plane, FLAGS_imu, context.log);
+        results[i], format, context.plane, imu_instance, context.log);
     if (!p.ok()) continue;  // an unusable fit: nothing to restate
     emitted[i] = std::move(p).value();
     if (log_parameters.ok() && !log_parameters->empty()) {

@@ -27,14 +27,36 @@ const char kCmd[] = "fit";
 
 // The IMU instances to fit: every one a binary log holds unless --imu picks
 // one; a CSV holds one.
-std::vector<int> Instances(std::string_view bytes) {
-  if (FlagWasSet("imu") || (DetectLogFormat(bytes) == LogFormat::kCsv)) {
-    return {FLAGS_imu};
+StatusOr<std::vector<int>> Instances(std::string_view bytes) {
+  StatusOr<int> imu = ImuInstanceFromFlag();
+  if (!imu.ok()) return imu.status();
+  const bool csv = DetectLogFormat(bytes) == LogFormat::kCsv;
+  if (*imu == kAllImus || (!FlagWasSet("imu") && !csv)) {
+    if (csv) return std::vector<int>{0};  // a CSV holds one IMU
+    return std::vector<int>{0, 1, 2};
   }
-  return {0, 1, 2};
+  return std::vector<int>{*imu};
 }
 
 }  // namespace
+
+Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
+                                                 const std::string& path) {
+  Preprocess3dOptions po;
+  po.cutoff_hz = FLAGS_cutoff_hz;
+  po.t_start = FLAGS_t_start;
+  po.t_end = FLAGS_t_end;
+  // The autopilot's arming record, where the log has one.
+  if (DetectLogFormat(bytes) != LogFormat::kCsv) {
+    StatusOr<LogSummary> summary = SummarizeLogBytes(bytes, path);
+    if (summary.ok()) {
+      for (const LogSegment& a : summary->armed) {
+        po.armed.emplace_back(a.start_s, a.end_s);
+      }
+    }
+  }
+  return po;
+}
 
 int RunFit3d(const std::string& path,
              const std::string& estimator_name,
@@ -47,12 +69,11 @@ int RunFit3d(const std::string& path,
       BuiltinEstimators().Create(estimator_name);
   if (!estimator.ok()) return ReportError(kCmd, estimator.status());
 
-  Preprocess3dOptions po;
-  po.cutoff_hz = FLAGS_cutoff_hz;
-  po.t_start = FLAGS_t_start;
-  po.t_end = FLAGS_t_end;
+  Preprocess3dOptions po = Preprocess3dOptionsFromFlags(*bytes, path);
   std::vector<ImuPosition3d> reports;
-  const std::vector<int> instances = Instances(*bytes);
+  StatusOr<std::vector<int>> listed = Instances(*bytes);
+  if (!listed.ok()) return ReportError(kCmd, listed.status());
+  const std::vector<int> instances = *listed;
   for (int instance : instances) {
     StatusOr<FlightLog> log = ParseLogFromFlags(*bytes, path, instance);
     if (!log.ok()) {
@@ -70,6 +91,9 @@ int RunFit3d(const std::string& path,
       for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
       // One estimator publishes for every IMU: its delay is the log's.
       po.estimator_delay_s = pre->estimator_delay_s;
+      // And the flight's wind.
+      po.quadratic_wind_n = pre->data.motion.quadratic_wind_n;
+      po.quadratic_wind_e = pre->data.motion.quadratic_wind_e;
     }
     auto data = std::make_shared<const ProblemData>(pre->data);
     StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);

@@ -8,8 +8,10 @@
 
 #include "imusysid/log_reader.h"
 #include "imusysid/preprocess.h"
+#include "imusysid/preprocess3d.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
+#include "src/cli/fit3d.h"
 #include "src/cli/log_flags.h"
 
 namespace imusysid {
@@ -148,6 +150,35 @@ int Run(const std::vector<std::string>& positional) {
   j["notes"] = notes;
   j["warnings"] = warnings;
 
+  // The windows `fit --model=rigid3d` would use, and why the rest is left.
+  std::string windows3d_error;
+  StatusOr<Preprocess3dResult> windows3d =
+      FailedPreconditionError("the log could not be read");
+  if (log.ok()) {
+    windows3d =
+        SelectWindows3d(*log, Preprocess3dOptionsFromFlags(*bytes, path));
+  }
+  {
+    nlohmann::ordered_json w;
+    if (windows3d.ok()) {
+      auto list = [](const std::vector<Stretch3d>& stretches) {
+        nlohmann::ordered_json a = nlohmann::ordered_json::array();
+        for (const Stretch3d& s : stretches) {
+          nlohmann::ordered_json one = {
+              {"t0_s", s.t0}, {"t1_s", s.t1}, {"samples", s.samples}};
+          if (!s.reason.empty()) one["reason"] = s.reason;
+          a.push_back(one);
+        }
+        return a;
+      };
+      w["windows"] = list(windows3d->windows);
+      w["dropped"] = list(windows3d->dropped);
+    } else {
+      w["refused"] = windows3d.status().message();
+    }
+    j["rigid3d"] = w;
+  }
+
   if (JsonOutput()) {
     std::cout << DumpJson(j) << "\n";
     return kExitOk;
@@ -222,6 +253,19 @@ int Run(const std::vector<std::string>& positional) {
         << " rad/s^2, RMS v " << FormatNumber(e["rms_v_m_s"].get<double>(), 4)
         << " m/s, max |pitch| "
         << FormatNumber(e["max_abs_pitch_deg"].get<double>(), 4) << " deg\n";
+  }
+  out << "\n3-D flight windows (fit --model=rigid3d)\n";
+  if (windows3d.ok()) {
+    for (const Stretch3d& w : windows3d->windows) {
+      out << "  fit      " << FormatNumber(w.t0, 6) << " - "
+          << FormatNumber(w.t1, 6) << " s (" << w.samples << " samples)\n";
+    }
+    for (const Stretch3d& w : windows3d->dropped) {
+      out << "  dropped  " << FormatNumber(w.t0, 6) << " - "
+          << FormatNumber(w.t1, 6) << " s: " << w.reason << "\n";
+    }
+  } else {
+    out << "  none: " << windows3d.status().message() << "\n";
   }
   for (const auto& n : notes) out << "note: " << n << "\n";
   for (const auto& w : warnings) out << "warning: " << w << "\n";

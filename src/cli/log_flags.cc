@@ -16,7 +16,10 @@ DEFINE_string(frame,
               "",
               "Axis frame of a CSV log's IMU columns: flu or frd. "
               "Empty: the file's '# frame:' line, else flu.");
-DEFINE_int32(imu, 0, "IMU instance to use in ULog/DataFlash logs (0, 1, 2).");
+DEFINE_string(imu,
+              "0",
+              "IMU instance to use in ULog/DataFlash logs: 0, 1, 2, or all "
+              "(fit --model=rigid3d, where every instance is the default).");
 DEFINE_double(t_start,
               std::numeric_limits<double>::quiet_NaN(),
               "Start of the fit segment, s (log time). Default: detected "
@@ -70,9 +73,26 @@ StatusOr<FlightLog> ReadLogFromFlags(const std::string& path) {
   return ParseLogFromFlags(*bytes, path);
 }
 
+StatusOr<int> ImuInstanceFromFlag() {
+  if (FLAGS_imu == "all") return kAllImus;
+  if (FLAGS_imu.size() == 1 && FLAGS_imu[0] >= '0' && FLAGS_imu[0] <= '2') {
+    return FLAGS_imu[0] - '0';
+  }
+  return InvalidArgumentError("--imu=" + FLAGS_imu +
+                              "; required 0, 1 or 2 (or all with "
+                              "--model=rigid3d)");
+}
+
 StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
                                       const std::string& path) {
-  return ParseLogFromFlags(bytes, path, FLAGS_imu);
+  StatusOr<int> imu = ImuInstanceFromFlag();
+  if (!imu.ok()) return imu.status();
+  if (*imu == kAllImus) {
+    return InvalidArgumentError(
+        "--imu=all applies to fit --model=rigid3d; pick one instance (0, 1 "
+        "or 2) here");
+  }
+  return ParseLogFromFlags(bytes, path, *imu);
 }
 
 StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,

@@ -17,7 +17,7 @@
 
 DECLARE_string(log);
 DECLARE_string(frame);
-DECLARE_int32(imu);
+DECLARE_string(imu);
 DECLARE_double(t_start);
 DECLARE_double(t_end);
 DECLARE_double(cutoff_hz);
@@ -38,6 +38,10 @@ std::vector<std::string> PreprocessFlagNames();
 // LogFlagNames() and PreprocessFlagNames(), then `tail` (--help order).
 std::vector<std::string> WithLogFlags(
     std::vector<std::string> head, const std::vector<std::string>& tail = {});
+
+// --imu as an instance, or kAllImus for "all"; InvalidArgument otherwise.
+inline constexpr int kAllImus = -1;
+StatusOr<int> ImuInstanceFromFlag();
 
 // Reads a log with --frame and --imu, with ReadLogForFit's gap policy.
 // "-" reads standard input.

@@ -63,13 +63,18 @@ StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
     }
   }
   if (!(have_q || have_euler) || !have_v) {
+    const bool have_attitude = have_q || have_euler;
     return FailedPreconditionError(
         log.source +
         ": the 3-D model needs the autopilot's attitude and NED velocity "
         "(CSV columns qw,qx,qy,qz and vn,ve,vd; in a ULog vehicle_attitude "
         "and vehicle_local_position; in a DataFlash log ATT and a velocity "
-        "message), and this log " +
-        (have_v ? "has no attitude" : "has no NED velocity"));
+        "message), and this log has " +
+        (!have_attitude && !have_v
+             ? "neither"
+             : (have_v ? "no attitude" : "no NED velocity")) +
+        "; log the estimator's outputs (PX4 logs them by default) and fly "
+        "again");
   }
   for (std::size_t k = 0; k < n; ++k) {
     Eigen::Vector4d value;
@@ -136,6 +141,7 @@ Status ChooseWindows(const FlightLog& log,
                      Preprocess3dResult* out) {
   const std::size_t n = log.size();
   const std::vector<double>& t = log.t_s;
+  const double median_dt = log.MedianDt();
   PreprocessOptions po;
   StatusOr<Segments> segments = DetectSegments(log, po);
   if (!segments.ok()) return segments.status();
@@ -173,8 +179,124 @@ Status ChooseWindows(const FlightLog& log,
         " m/s). The IMU position is identified from flight: fly 30 s of "
         "roll, pitch and yaw doublets of about ±20° and log it");
   }
-  const double air0 = took_off ? s.airborne.t0 + o.edge_trim_s : t.front();
-  const double air1 = s.airborne.t1 - (s.landing.found ? o.edge_trim_s : 0.0);
+  double air0 = took_off ? s.airborne.t0 + o.edge_trim_s : t.front();
+  double air1 = s.airborne.t1 - (s.landing.found ? o.edge_trim_s : 0.0);
+  auto armed_at = [&o](double time) {
+    if (o.armed.empty()) return true;
+    for (const auto& [a, b] : o.armed) {
+      if (time >= a && time <= b) return true;
+    }
+    return false;
+  };
+  // Lift-off and touch-down from the estimator's climb: h(t) = ∫ −v_d dt,
+  // on the ground until h is lift_m above its lowest value since the last
+  // arming, and again from the last time it is lift_m above its lowest value
+  // after. (An estimator drifts on the ground for minutes before arming, so
+  // the climb counts from the arming.)
+  {
+    std::vector<double> h(n, 0.0);
+    for (std::size_t k = 1; k < n; ++k) {
+      const double a = track.v_ned[2][k - 1], b = track.v_ned[2][k];
+      // Not across a logging gap: the velocity there is unknown.
+      const double dt = t[k] - t[k - 1];
+      const double step = (std::isfinite(a) && std::isfinite(b) &&
+                           dt <= o.max_gap_factor * median_dt)
+                              ? -0.5 * (a + b) * dt
+                              : 0.0;
+      h[k] = h[k - 1] + step;
+    }
+    double low = h.front();
+    std::size_t lift = n;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!armed_at(t[k])) continue;
+      if (k > 0 && !armed_at(t[k - 1])) low = h[k];
+      low = std::min(low, h[k]);
+      if (h[k] > low + o.lift_m) {
+        lift = k;
+        break;
+      }
+    }
+    low = h.back();
+    std::size_t land = 0;
+    for (std::size_t k = n; k-- > 0;) {
+      if (!armed_at(t[k])) continue;
+      if (k + 1 < n && !armed_at(t[k + 1])) low = h[k];
+      low = std::min(low, h[k]);
+      if (h[k] > low + o.lift_m) {
+        land = k;
+        break;
+      }
+    }
+    if (lift < n && land > lift) {
+      air0 = std::max(air0, t[lift]);
+      air1 = std::min(air1, t[land]);
+    }
+  }
+  std::vector<bool> still(n, false);
+  // An estimator that drifts while the vehicle waits on the ground armed
+  // (ArduPilot's climbed 0.5 m in 3 s on log171) fools the climb rule, so
+  // the flight also starts no earlier than the first rotation: the 2 Hz
+  // low-passed rate above min_rotation_rad_s. At rest a gyro reads noise and
+  // motor vibration, which the low-pass removes.
+  {
+    // Each axis low-passed before the norm: the norm of raw samples would
+    // rectify vibration and noise into a false rotation.
+    constexpr double kRotationCutoffHz = 2.0;
+    const double rate = 1.0 / median_dt;
+    StatusOr<std::vector<double>> smooth = std::vector<double>(n, 0.0);
+    for (int a = 0; a < 3 && smooth.ok(); ++a) {
+      std::vector<double> axis(n);
+      for (std::size_t k = 0; k < n; ++k) {
+        axis[k] = GyroFrd(log, k)[a] - out->gyro_bias_frd[a];
+      }
+      StatusOr<std::vector<double>> filtered =
+          rate > 2.5 * kRotationCutoffHz
+              ? ZeroPhaseLowPassOnTimes(t, axis, kRotationCutoffHz)
+              : StatusOr<std::vector<double>>(axis);
+      if (!filtered.ok()) {
+        smooth = filtered.status();
+        break;
+      }
+      for (std::size_t k = 0; k < n; ++k) {
+        (*smooth)[k] += (*filtered)[k] * (*filtered)[k];
+      }
+    }
+    if (smooth.ok()) {
+      for (double& v : *smooth) v = std::sqrt(v);
+    }
+    if (smooth.ok()) {
+      std::size_t first = n, last = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        if (armed_at(t[k]) && (*smooth)[k] > o.min_rotation_rad_s) {
+          if (first == n) first = k;
+          last = k;
+        }
+      }
+      if (first < n) {
+        air0 = std::max(air0, t[first]);
+        air1 = std::min(air1, t[last]);
+      } else {
+        air1 = air0;  // never rotates: nothing to fit
+      }
+      // Stretches of at least min_window_s without rotation inside the
+      // flight (the vehicle put down between flights, a motionless hover)
+      // carry nothing for the lever arm and, on the ground, forces the
+      // model does not describe: marked here, dropped below.
+      std::size_t k = 0;
+      while (k < n) {
+        if ((*smooth)[k] > o.min_rotation_rad_s) {
+          ++k;
+          continue;
+        }
+        std::size_t e = k;
+        while (e < n && (*smooth)[e] <= o.min_rotation_rad_s) ++e;
+        if (t[e - 1] - t[k] >= o.min_window_s) {
+          for (std::size_t i = k; i < e; ++i) still[i] = true;
+        }
+        k = e;
+      }
+    }
+  }
   const double lo = std::isnan(o.t_start) ? air0 : std::max(air0, o.t_start);
   const double hi = std::isnan(o.t_end) ? air1 : std::min(air1, o.t_end);
 
@@ -183,7 +305,9 @@ Status ChooseWindows(const FlightLog& log,
   const double cos_tilt = std::cos(o.max_tilt_deg * kDegToRad);
   std::vector<double> impacts, tilts;  // times, marked with a margin below
   for (std::size_t k = 0; k < n; ++k) {
-    if (t[k] < lo) {
+    if (!armed_at(t[k])) {
+      reason[k] = "not armed (the autopilot's record)";
+    } else if (t[k] < lo) {
       reason[k] = t[k] < air0 ? (took_off && t[k] >= s.airborne.t0
                                      ? "take-off transient"
                                      : "on the ground before take-off")
@@ -195,6 +319,10 @@ Status ChooseWindows(const FlightLog& log,
                               : "after the requested window";
     } else if (!track.q[k].allFinite() || !std::isfinite(track.v_ned[0][k])) {
       reason[k] = "estimator not running";
+    } else if (still[k]) {
+      reason[k] =
+          "no rotation for 2 s or more (on the ground, or a hover without "
+          "motion)";
     }
     if (AccelFrd(log, k).norm() > impact) impacts.push_back(t[k]);
     if (track.q[k].allFinite()) {
@@ -217,7 +345,7 @@ Status ChooseWindows(const FlightLog& log,
   };
   mark(impacts, "impact (|f| above the limit)");
   mark(tilts, "attitude beyond the tilt limit (a flip or crash)");
-  const double gap = o.max_gap_factor * log.MedianDt();
+  const double gap = o.max_gap_factor * median_dt;
   // Runs of equal status; usable runs split at gaps.
   std::size_t k = 0;
   while (k < n) {
@@ -238,11 +366,13 @@ Status ChooseWindows(const FlightLog& log,
     return FailedPreconditionError(
         log.source +
         ": no flight window survives the exclusions (take-off and landing "
-        "transients, impacts, tilt beyond " +
+        "transients, stretches without rotation, impacts, tilt beyond " +
         Num(o.max_tilt_deg) + "°, gaps, pieces under " + Num(o.min_window_s) +
-        " s); `imusysid inspect --model=rigid3d` lists what was dropped");
+        " s; `imusysid inspect` lists what was dropped and why). The IMU "
+        "position shows only in rotation: fly roll, pitch and yaw doublets of "
+        "about ±20°, 30 s in all");
   }
-  out->sample_rate_hz = 1.0 / log.MedianDt();
+  out->sample_rate_hz = 1.0 / median_dt;
   return Status::Ok();
 }
 
@@ -626,24 +756,63 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
     if (!wi.ok()) return wi.status();
     imu.push_back(std::move(*wi));
   }
-  double delay = options.estimator_delay_s;
-  // The quadratic drag's wind, from the fit at no delay, for the scan.
-  double wind_n = 0.0, wind_e = 0.0;
-  if (std::isnan(delay)) {
-    StatusOr<ProblemData> first = DataAtDelay(log, *track, imu, options, 0.0);
-    if (!first.ok()) return first.status();
-    IMUSYSID_RETURN_IF_ERROR(FindQuadraticWind(&*first, out.sample_rate_hz));
-    wind_n = first->motion.quadratic_wind_n;
-    wind_e = first->motion.quadratic_wind_e;
+  // The searches (delay, wind) run on a copy thinned to about 50 Hz after
+  // filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
+  // 400 Hz log then costs what a 50 Hz one does.
+  const auto thin_step = static_cast<std::size_t>(
+      std::max(1.0, std::floor(out.sample_rate_hz / 50.0)));
+  std::vector<WindowImu> thin_imu = imu;
+  for (WindowImu& w : thin_imu) {
+    auto thin = [thin_step](std::vector<double>* x) {
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < x->size(); i += thin_step)
+        (*x)[j++] = (*x)[i];
+      x->resize(j);
+    };
+    thin(&w.t);
+    for (std::size_t a = 0; a < 3; ++a) {
+      thin(&w.f[a]);
+      thin(&w.omega[a]);
+      thin(&w.omega_dot[a]);
+    }
   }
+  const double thin_rate = out.sample_rate_hz / static_cast<double>(thin_step);
+  const bool wind_given = !std::isnan(options.quadratic_wind_n) &&
+                          !std::isnan(options.quadratic_wind_e);
+  double wind_n = wind_given ? options.quadratic_wind_n : 0.0;
+  double wind_e = wind_given ? options.quadratic_wind_e : 0.0;
+  auto find_wind = [&](double d) -> Status {
+    if (wind_given) return Status::Ok();
+    StatusOr<ProblemData> thin = DataAtDelay(log, *track, thin_imu, options, d);
+    if (!thin.ok()) return thin.status();
+    IMUSYSID_RETURN_IF_ERROR(FindQuadraticWind(&*thin, thin_rate));
+    wind_n = thin->motion.quadratic_wind_n;
+    wind_e = thin->motion.quadratic_wind_e;
+    return Status::Ok();
+  };
+
+  double delay = options.estimator_delay_s;
   if (std::isnan(delay)) {
-    // The delay that fits best: a scan at the log's own resolution (one
-    // sample, at most 5 ms) and a parabola through the best three.
-    const double step = std::clamp(1.0 / out.sample_rate_hz, 0.0025, 0.005);
+    // The wind at no delay (the fixed point alone: cheap, and close enough
+    // for comparing delays), then the delay that fits best: a 10 ms grid,
+    // then the log's own resolution (one sample, at most 5 ms) around its
+    // best, and a parabola through the best three.
+    if (!wind_given) {
+      StatusOr<ProblemData> thin =
+          DataAtDelay(log, *track, thin_imu, options, 0.0);
+      if (!thin.ok()) return thin.status();
+      StatusOr<LinearFit> fixed = IterateQuadraticWind(&*thin);
+      if (!fixed.ok()) return fixed.status();
+      wind_n = thin->motion.quadratic_wind_n;
+      wind_e = thin->motion.quadratic_wind_e;
+    }
     std::vector<double> delays, rmse;
-    for (double d = 0.0; d <= options.max_estimator_delay_s + 1e-12;
-         d += step) {
-      StatusOr<ProblemData> data = DataAtDelay(log, *track, imu, options, d);
+    auto try_delay = [&](double d) -> Status {
+      for (double seen : delays) {
+        if (std::abs(seen - d) < 1e-9) return Status::Ok();
+      }
+      StatusOr<ProblemData> data =
+          DataAtDelay(log, *track, thin_imu, options, d);
       if (!data.ok()) return data.status();
       data->motion.quadratic_wind_n = wind_n;
       data->motion.quadratic_wind_e = wind_e;
@@ -651,14 +820,46 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
       if (!e.ok()) return e.status();
       delays.push_back(d);
       rmse.push_back(e->rmse);
+      return Status::Ok();
+    };
+    constexpr double kCoarseS = 0.01;
+    for (double d = 0.0; d <= options.max_estimator_delay_s + 1e-12;
+         d += kCoarseS) {
+      IMUSYSID_RETURN_IF_ERROR(try_delay(d));
     }
+    const double coarse_best = delays[static_cast<std::size_t>(
+        std::min_element(rmse.begin(), rmse.end()) - rmse.begin())];
+    const double step = std::clamp(1.0 / out.sample_rate_hz, 0.0025, 0.005);
+    for (double d = coarse_best - kCoarseS; d <= coarse_best + kCoarseS + 1e-12;
+         d += step) {
+      if (d >= -1e-12 && d <= options.max_estimator_delay_s + 1e-12) {
+        IMUSYSID_RETURN_IF_ERROR(try_delay(std::max(0.0, d)));
+      }
+    }
+    // In delay order for the parabola.
+    std::vector<std::size_t> order(delays.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(
+        order.begin(), order.end(), [&delays](std::size_t a, std::size_t b) {
+          return delays[a] < delays[b];
+        });
+    std::vector<double> sorted_d, sorted_r;
+    for (std::size_t i : order) {
+      sorted_d.push_back(delays[i]);
+      sorted_r.push_back(rmse[i]);
+    }
+    delays = sorted_d;
+    rmse = sorted_r;
     const auto best = static_cast<std::size_t>(
         std::min_element(rmse.begin(), rmse.end()) - rmse.begin());
     delay = delays[best];
-    if (best > 0 && best + 1 < delays.size()) {
+    if (best > 0 && best + 1 < delays.size() &&
+        std::abs((delays[best] - delays[best - 1]) -
+                 (delays[best + 1] - delays[best])) < 1e-9) {
+      const double h = delays[best] - delays[best - 1];
       const double a = rmse[best - 1], b = rmse[best], c = rmse[best + 1];
       const double curvature = a - 2 * b + c;
-      if (curvature > 0) delay += 0.5 * step * (a - c) / curvature;
+      if (curvature > 0) delay += 0.5 * h * (a - c) / curvature;
     }
     out.delay_estimated = true;
     if (best == 0 || best + 1 == delays.size()) {
@@ -675,13 +876,17 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                         Num(rmse[best]) + ")");
   }
   out.estimator_delay_s = delay;
+  IMUSYSID_RETURN_IF_ERROR(find_wind(delay));
   StatusOr<ProblemData> data = DataAtDelay(log, *track, imu, options, delay);
   if (!data.ok()) return data.status();
   out.data = std::move(*data);
-  IMUSYSID_RETURN_IF_ERROR(FindQuadraticWind(&out.data, out.sample_rate_hz));
-  StatusOr<LinearFit> fit = FitLinear(out.data);
-  if (!fit.ok()) return fit.status();
-  if (out.delay_estimated) out.rmse_at_delay = fit->rmse;
+  out.data.motion.quadratic_wind_n = wind_n;
+  out.data.motion.quadratic_wind_e = wind_e;
+  if (out.delay_estimated) {
+    StatusOr<LinearFit> fit = FitLinear(out.data);
+    if (!fit.ok()) return fit.status();
+    out.rmse_at_delay = fit->rmse;
+  }
   IMUSYSID_RETURN_IF_ERROR(out.data.Validate());
   std::ostringstream windows;
   windows << out.windows.size() << " flight window"

@@ -43,6 +43,52 @@ double RmsAboutMean(const std::vector<double>& x) {
   return std::sqrt(sum / static_cast<double>(x.size()));
 }
 
+// The triangular factor of rigid3d's [A target] on samples [i0, i1) of
+// `data`. False when it cannot be formed.
+bool SliceFactor(const ProblemData& data,
+                 std::size_t i0,
+                 std::size_t i1,
+                 Eigen::MatrixXd* r) {
+  auto piece = std::make_shared<ProblemData>();
+  piece->source = data.source;
+  auto cut = [i0, i1](const std::vector<double>& x) {
+    return std::vector<double>(x.begin() + static_cast<std::ptrdiff_t>(i0),
+                               x.begin() + static_cast<std::ptrdiff_t>(i1));
+  };
+  piece->t_s = cut(data.t_s);
+  piece->f_x = cut(data.f_x);
+  piece->f_z = cut(data.f_z);
+  piece->omega = cut(data.omega);
+  piece->omega_dot = cut(data.omega_dot);
+  piece->theta = cut(data.theta);
+  piece->v = cut(data.v);
+  const Motion3d& m = data.motion;
+  for (std::size_t a = 0; a < 3; ++a) {
+    piece->motion.f[a] = cut(m.f[a]);
+    piece->motion.omega[a] = cut(m.omega[a]);
+    piece->motion.omega_dot[a] = cut(m.omega_dot[a]);
+    piece->motion.velocity[a] = cut(m.velocity[a]);
+    piece->motion.north[a] = cut(m.north[a]);
+    piece->motion.east[a] = cut(m.east[a]);
+  }
+  piece->motion.quadratic_wind_n = m.quadratic_wind_n;
+  piece->motion.quadratic_wind_e = m.quadratic_wind_e;
+  StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", piece);
+  if (!model.ok()) return false;
+  return (*model)->linear_structure()->TriangularFactor(nullptr, r);
+}
+
+// The position a factor gives (column-pivoted solve; NaN when singular).
+Eigen::Vector3d PositionOfFactor(const Eigen::MatrixXd& r) {
+  const Eigen::Index m = r.cols() - 1;
+  const Eigen::VectorXd coef =
+      r.topLeftCorner(m, m).colPivHouseholderQr().solve(r.col(m).head(m));
+  if (!coef.allFinite()) {
+    return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  return coef.head<3>();
+}
+
 // Delete-one-block jackknife standard errors of the position from a
 // least-squares fit on `blocks` contiguous pieces of the data: R factors of
 // each block (rigid3d's linear structure), each leave-one-out fit from the
@@ -60,36 +106,8 @@ Eigen::Vector3d JackknifeStderr(const ProblemData& data, int blocks) {
         n * static_cast<std::size_t>(b) / static_cast<std::size_t>(blocks);
     const std::size_t i1 =
         n * static_cast<std::size_t>(b + 1) / static_cast<std::size_t>(blocks);
-    auto piece = std::make_shared<ProblemData>();
-    piece->source = data.source;
-    auto cut = [i0, i1](const std::vector<double>& x) {
-      return std::vector<double>(x.begin() + static_cast<std::ptrdiff_t>(i0),
-                                 x.begin() + static_cast<std::ptrdiff_t>(i1));
-    };
-    piece->t_s = cut(data.t_s);
-    piece->f_x = cut(data.f_x);
-    piece->f_z = cut(data.f_z);
-    piece->omega = cut(data.omega);
-    piece->omega_dot = cut(data.omega_dot);
-    piece->theta = cut(data.theta);
-    piece->v = cut(data.v);
-    const Motion3d& m = data.motion;
-    for (std::size_t a = 0; a < 3; ++a) {
-      piece->motion.f[a] = cut(m.f[a]);
-      piece->motion.omega[a] = cut(m.omega[a]);
-      piece->motion.omega_dot[a] = cut(m.omega_dot[a]);
-      piece->motion.velocity[a] = cut(m.velocity[a]);
-      piece->motion.north[a] = cut(m.north[a]);
-      piece->motion.east[a] = cut(m.east[a]);
-    }
-    piece->motion.quadratic_wind_n = m.quadratic_wind_n;
-    piece->motion.quadratic_wind_e = m.quadratic_wind_e;
-    StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", piece);
-    if (!model.ok()) return nan;
     Eigen::MatrixXd r;
-    if (!(*model)->linear_structure()->TriangularFactor(nullptr, &r)) {
-      return nan;
-    }
+    if (!SliceFactor(data, i0, i1, &r)) return nan;
     factors.push_back(std::move(r));
   }
   const Eigen::Index cols = factors.front().cols();
@@ -187,6 +205,7 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     if (std::isfinite(jackknife[a]) && !(out.stderr_m[a] >= jackknife[a])) {
       out.stderr_m[a] = jackknife[a];
     }
+    out.stderr_m[a] = std::hypot(out.stderr_m[a], options.model_error_floor_m);
   }
   out.covariance = out.stderr_m.array().square().matrix().asDiagonal();
   out.rotor_drag_per_s = x[kRotorDrag];
@@ -231,6 +250,42 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       out.determined[i] = true;
     }
     if (!out.determined[i]) out.warnings.push_back(out.advice[i]);
+  }
+  // Agreement between windows: each window's own fit against the whole
+  // fit, with σ̂ scaled to the window's share of the samples. A window that
+  // disagrees beyond 4σ on a determined axis (and by more than 5 mm) means
+  // the flight is not one rigid body with one set of parameters (a payload
+  // shifted, a bad stretch): the axis is withheld.
+  if (pre.windows.size() >= 2) {
+    std::size_t start = 0;
+    for (const Stretch3d& w : pre.windows) {
+      const std::size_t end = start + w.samples;
+      Eigen::MatrixXd r;
+      if (end <= pre.data.size() && w.samples >= 200 &&
+          SliceFactor(pre.data, start, end, &r)) {
+        const Eigen::Vector3d pw = PositionOfFactor(r);
+        const double share = std::sqrt(static_cast<double>(out.samples) /
+                                       static_cast<double>(w.samples));
+        for (int a = 0; a < 3; ++a) {
+          const auto i = static_cast<std::size_t>(a);
+          const double sw = out.stderr_m[a] * share;
+          const double d = pw[a] - out.position_m[a];
+          if (out.determined[i] && std::isfinite(d) &&
+              std::abs(d) > std::max(4 * sw, 0.005)) {
+            out.determined[i] = false;
+            out.advice[i] =
+                std::string(kAxisNames[a]) + " is withheld: the window " +
+                FormatNumber(w.t0, 5) + "-" + FormatNumber(w.t1, 5) +
+                " s alone gives " + Mm(pw[a]) + " mm against " +
+                Mm(out.position_m[a]) + " +/- " + Mm(out.stderr_m[a]) +
+                " mm from the whole flight (did the payload or "
+                "the mounting change between windows?)";
+            out.warnings.push_back(out.advice[i]);
+          }
+        }
+      }
+      start = end;
+    }
   }
   for (const Warning& w : result.warnings) {
     if (w.code == "ill_conditioned" || w.code == "at_bound") continue;

@@ -1,0 +1,152 @@
+// `fit --model=rigid3d` and `inspect` as a user meets them: the JSON the
+// issue names (imu_position_frd_m with null for a withheld axis, its
+// standard errors, warnings as strings), --imu=all, refusals with exit 2,
+// and the real logs with no window flags.
+
+#include <string>
+
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "nlohmann/json.hpp"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace {
+
+using ::testing::HasSubstr;
+using testing::RunCli;
+
+// A simulated figure-eight written once (truth IMU 1 at 50, −20, −30 mm).
+const std::string& FigureEight() {
+  static const std::string* const path = [] {
+    const std::string dir = testing::MakeTempDir();
+    const auto r =
+        RunCli("simulate --scenario=figure8_3d --out=" + dir + "/F.csv");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return new std::string(dir + "/F.csv");
+  }();
+  return *path;
+}
+
+TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
+  const auto r =
+      RunCli("fit --log=" + FigureEight() + " --model=rigid3d --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.is_object());
+  ASSERT_EQ(j["imu_position_frd_m"].size(), 3u);
+  ASSERT_EQ(j["imu_position_frd_stderr_m"].size(), 3u);
+  ASSERT_TRUE(j["warnings"].is_array());
+  for (const auto& w : j["warnings"]) EXPECT_TRUE(w.is_string());
+  const double truth[3] = {0.05, -0.02, -0.03};
+  for (int a = 0; a < 3; ++a) {
+    ASSERT_TRUE(j["imu_position_frd_m"][a].is_number()) << a;
+    // 1.5 mm: rigid3d_test.cc's tolerance on this flight.
+    EXPECT_NEAR(j["imu_position_frd_m"][a].get<double>(), truth[a], 1.5e-3);
+    EXPECT_GT(j["imu_position_frd_stderr_m"][a].get<double>(), 0.0);
+  }
+  EXPECT_THAT(r.err, HasSubstr("flight window"));
+  EXPECT_THAT(r.err, HasSubstr("estimator delay"));
+}
+
+TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
+  const std::string dir = testing::MakeTempDir();
+  ASSERT_EQ(RunCli("simulate --scenario=pitch_laps_3d --out=" + dir + "/P.csv")
+                .exit_code,
+            0);
+  const auto r = RunCli("fit --log=" + dir +
+                        "/P.csv --model=rigid3d --imu=all --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.is_object()) << "a CSV holds one IMU";
+  EXPECT_TRUE(j["imu_position_frd_m"][1].is_null());
+  bool advised = false;
+  for (const auto& w : j["warnings"]) {
+    advised = advised || w.get<std::string>().find("roll") != std::string::npos;
+  }
+  EXPECT_TRUE(advised) << r.out;
+}
+
+TEST(Rigid3dCli, HoverIsRefusedWithExitTwo) {
+  const std::string dir = testing::MakeTempDir();
+  ASSERT_EQ(
+      RunCli("simulate --scenario=hover_3d --out=" + dir + "/H.csv").exit_code,
+      0);
+  const auto r = RunCli("fit --log=" + dir + "/H.csv --model=rigid3d");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("doublets"));
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(Rigid3dCli, ImuFlagIsChecked) {
+  const auto r =
+      RunCli("fit --log=" + FigureEight() + " --model=rigid3d --imu=7");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--imu=7"));
+  const auto planar = RunCli("fit --log=" + FigureEight() + " --imu=all");
+  EXPECT_EQ(planar.exit_code, 2);
+  EXPECT_THAT(planar.err, HasSubstr("rigid3d"));
+}
+
+TEST(Rigid3dCli, InspectListsTheWindowsFitUses) {
+  const auto r = RunCli("inspect " + FigureEight() + " --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j["rigid3d"]["windows"].is_array());
+  ASSERT_FALSE(j["rigid3d"]["windows"].empty());
+  const auto fit =
+      RunCli("fit --log=" + FigureEight() + " --model=rigid3d --format=json");
+  const nlohmann::json f = nlohmann::json::parse(fit.out);
+  ASSERT_EQ(f["windows"].size(), j["rigid3d"]["windows"].size());
+  for (std::size_t i = 0; i < f["windows"].size(); ++i) {
+    EXPECT_EQ(f["windows"][i]["t0_s"], j["rigid3d"]["windows"][i]["t0_s"]);
+    EXPECT_EQ(f["windows"][i]["t1_s"], j["rigid3d"]["windows"][i]["t1_s"]);
+  }
+  for (const auto& d : j["rigid3d"]["dropped"]) {
+    EXPECT_FALSE(d["reason"].get<std::string>().empty());
+  }
+}
+
+TEST(Rigid3dRealLogs, BenchLogsAreRefusedAndTheCrashIsCutOut) {
+  IMUSYSID_REQUIRE_REAL_DATA();
+  const std::string dir = testing::RealDataDir();
+  for (const char* bench : {"pyulog__sample.ulg",
+                            "pyulog__sample_log_small.ulg",
+                            "pyulog__sample_appended_multiple.ulg"}) {
+    const auto r = RunCli("fit --log=" + dir + "/" + bench +
+                          " --model=rigid3d --emit=px4");
+    EXPECT_EQ(r.exit_code, 2) << bench;
+    EXPECT_THAT(r.err, HasSubstr("no flight found")) << bench;
+  }
+  // S250 logs no attitude or velocity estimate: refused, saying so.
+  const auto s250 =
+      RunCli("fit --log=" + dir +
+             "/impulse-response__S250_flight3_log1.ulg --model=rigid3d");
+  EXPECT_EQ(s250.exit_code, 2);
+  EXPECT_THAT(s250.err, HasSubstr("attitude"));
+  // log171: every IMU instance fitted, the crash at 239 s and the wait on
+  // the ground before 83 s left out, and an answer or a reasoned refusal
+  // per axis.
+  const auto log171 =
+      RunCli("fit --log=" + dir +
+             "/dronekit-la-testdata__log171.bin --model=rigid3d "
+             "--emit=ardupilot --format=json");
+  ASSERT_EQ(log171.exit_code, 0) << log171.err;
+  const nlohmann::json j = nlohmann::json::parse(log171.out);
+  ASSERT_TRUE(j.is_array());
+  EXPECT_EQ(j.size(), 3u);
+  for (const auto& imu : j) {
+    for (const auto& w : imu["windows"]) {
+      EXPECT_GE(w["t0_s"].get<double>(), 82.9);
+      EXPECT_LE(w["t1_s"].get<double>(), 239.0);
+    }
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_TRUE(imu["imu_position_frd_m"][a].is_number() ||
+                  !imu["advice"][a].get<std::string>().empty());
+    }
+    EXPECT_EQ(imu["emit"]["format"], "ardupilot");
+  }
+}
+
+}  // namespace
+}  // namespace imusysid
