@@ -98,13 +98,17 @@ TEST(Rigid3d, FigureEightGivesEveryImuAtItsTruePosition) {
   EXPECT_NEAR(fit.imus[0].wind_ne_m_s[0], o.wind_ned_mps[0], 0.05);
   EXPECT_NEAR(fit.imus[0].wind_ne_m_s[1], o.wind_ned_mps[1], 0.05);
   EXPECT_NEAR(fit.imus[0].rotor_drag_per_s, o.rotor_drag_per_s, 0.01);
-  // Baselines between instances.
-  for (std::size_t i = 1; i < fit.imus.size(); ++i) {
-    const Eigen::Vector3d fitted =
-        fit.imus[i].position_m - fit.imus[0].position_m;
-    const Eigen::Vector3d truth = o.imus[i].p_frd_m - o.imus[0].p_frd_m;
+  // Baselines between instances, as CompareInstances reports them.
+  std::vector<ImuPosition3d> imus = fit.imus;
+  CompareInstances(&imus);
+  ASSERT_EQ(imus[0].baselines.size(), imus.size() - 1);
+  for (const ImuPosition3d::Baseline& b : imus[0].baselines) {
+    const auto other = static_cast<std::size_t>(b.to_instance);
+    const Eigen::Vector3d truth = o.imus[0].p_frd_m - o.imus[other].p_frd_m;
     for (int a = 0; a < 3; ++a) {
-      EXPECT_NEAR(fitted[a], truth[a], kBaselineToleranceM) << i << "/" << a;
+      EXPECT_NEAR(b.difference_m[a], truth[a], kBaselineToleranceM)
+          << other << "/" << a;
+      EXPECT_GT(b.stderr_m[a], 0.0);
     }
   }
 }
@@ -205,6 +209,20 @@ TEST(Rigid3d, InspectsWindowsAsFitUsesThem) {
   EXPECT_GE(pre->windows.back().t1, 58.0);
   ASSERT_FALSE(pre->dropped.empty());
   EXPECT_THAT(pre->dropped.front().reason, ::testing::HasSubstr("ground"));
+}
+
+TEST(Rigid3d, GyroInDegreesPerSecondIsRefused) {
+  Simulator3dOptions o = Scenario("figure8_3d");
+  o.imus.resize(1);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  FlightLog log = flight->logs[0];
+  for (auto* axis : {&log.gx, &log.gy, &log.gz}) {
+    for (double& v : *axis) v *= kRadToDeg;
+  }
+  StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
+  ASSERT_FALSE(pre.ok());
+  EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("deg/s"));
 }
 
 TEST(Rigid3d, LogWithoutEstimatorChannelsIsRefused) {

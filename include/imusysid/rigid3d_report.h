@@ -68,6 +68,14 @@ struct ImuPosition3d {
   std::size_t samples = 0;
   std::vector<Stretch3d> windows;
   std::vector<std::string> warnings;  // prose, one sentence each
+  // From CompareInstances: this IMU's position minus another instance's,
+  // on the axes both determine (NaN elsewhere), with its 1σ.
+  struct Baseline {
+    int to_instance = 0;
+    Eigen::Vector3d difference_m;
+    Eigen::Vector3d stderr_m;
+  };
+  std::vector<Baseline> baselines;
 };
 
 // Judges `result` (a rigid3d fit) on the data `pre` made.

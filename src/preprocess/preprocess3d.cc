@@ -160,6 +160,27 @@ Status ChooseWindows(const FlightLog& log,
       out->gyro_bias_from_still = true;
     }
   }
+  // A gyro offset far beyond any MEMS gyro's (a few °/s at most) at rest
+  // means a wrong unit (°/s read as rad/s) or a broken sensor.
+  constexpr double kMaxGyroOffsetRadS = 0.2;
+  if (out->gyro_bias_frd.norm() > kMaxGyroOffsetRadS) {
+    return FailedPreconditionError(
+        log.source + ": the gyro reads " + Num(out->gyro_bias_frd.norm()) +
+        " rad/s while the vehicle is still (a MEMS gyro's offset is a few "
+        "deg/s at most): check the gyro's units (rad/s) and calibration");
+  }
+  // A stuck axis (one value throughout) cannot carry a rotation.
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& g = a == 0 ? log.gx : (a == 1 ? log.gy : log.gz);
+    if (n > 100 && std::all_of(g.begin(), g.end(), [&g](double v) {
+          return v == g.front();
+        })) {
+      return FailedPreconditionError(
+          log.source + ": gyro axis " + "xyz"[a] + " reads " + Num(g.front()) +
+          " rad/s in every sample: the sensor is stuck or the column is not "
+          "a gyro");
+    }
+  }
   // Flight: the detected airborne interval, or (when the log starts in the
   // air) the whole log once the estimator shows the vehicle moving.
   double speed_max = 0.0;
@@ -687,6 +708,66 @@ StatusOr<LinearFit> IterateQuadraticWind(ProblemData* data) {
   return fit;
 }
 
+// Checks the gyro against the estimator's attitude over the windows: the
+// rotation the gyro integrates over 0.2 s steps against the rotation between
+// the estimator's attitudes, per body axis. A gyro in °/s, a wrong frame
+// (FLU data labelled FRD turns y and z around) or a mis-mapped axis shows as
+// a scale far from 1 or a negative one. FailedPrecondition names the axis.
+Status CheckGyroAgainstAttitude(const FlightLog& log,
+                                const EstimatorTrack& track,
+                                const std::vector<Stretch3d>& windows,
+                                const Eigen::Vector3d& bias) {
+  constexpr double kStepS = 0.2;
+  // Below this much rotation (rad², summed) the check has nothing to judge.
+  constexpr double kMinRotation = 1.0;
+  Eigen::Vector3d cross = Eigen::Vector3d::Zero();
+  Eigen::Vector3d gyro_sq = Eigen::Vector3d::Zero();
+  Eigen::Vector3d att_sq = Eigen::Vector3d::Zero();
+  const std::vector<double>& t = log.t_s;
+  for (const Stretch3d& w : windows) {
+    auto k = static_cast<std::size_t>(
+        std::lower_bound(t.begin(), t.end(), w.t0) - t.begin());
+    const std::size_t end = k + w.samples;
+    while (k + 1 < end) {
+      std::size_t e = k;
+      Eigen::Vector3d integrated = Eigen::Vector3d::Zero();
+      while (e + 1 < end && t[e + 1] - t[k] <= kStepS) {
+        integrated += 0.5 * (t[e + 1] - t[e]) *
+                      (GyroFrd(log, e) + GyroFrd(log, e + 1) - 2 * bias);
+        ++e;
+      }
+      if (e == k) break;
+      const Eigen::Vector4d& qa = track.q[k];
+      const Eigen::Vector4d& qb = track.q[e];
+      if (qa.allFinite() && qb.allFinite()) {
+        const Eigen::Quaterniond a(qa[0], qa[1], qa[2], qa[3]);
+        const Eigen::Quaterniond b(qb[0], qb[1], qb[2], qb[3]);
+        const Eigen::AngleAxisd relative(a.conjugate() * b);
+        const Eigen::Vector3d rotation = relative.angle() * relative.axis();
+        cross += rotation.cwiseProduct(integrated);
+        gyro_sq += integrated.cwiseAbs2();
+        att_sq += rotation.cwiseAbs2();
+      }
+      k = e;
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (att_sq[a] < kMinRotation * 0.01 || gyro_sq[a] <= 0) continue;
+    const double scale = cross[a] / gyro_sq[a];  // attitude ≈ scale · gyro
+    if (scale < 0.7 || scale > 1.4) {
+      return FailedPreconditionError(
+          log.source + ": the gyro's " + "xyz"[a] +
+          " axis does not match the estimator's attitude (it turns " +
+          Num(scale) + " times as far as the gyro integrates): " +
+          (scale < 0 ? "the axis is reversed (is the log's frame right? FLU "
+                       "data labelled frd turn y and z around)"
+                     : (scale < 0.1 ? "the gyro looks like deg/s, not rad/s"
+                                    : "check the gyro's units and axes")));
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status Preprocess3dOptions::Validate() const {
@@ -749,6 +830,8 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   if (!track.ok()) return track.status();
   Preprocess3dResult out;
   IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *track, options, &out));
+  IMUSYSID_RETURN_IF_ERROR(
+      CheckGyroAgainstAttitude(log, *track, out.windows, out.gyro_bias_frd));
   std::vector<WindowImu> imu;
   for (const Stretch3d& w : out.windows) {
     StatusOr<WindowImu> wi =

@@ -301,12 +301,21 @@ void CompareInstances(std::vector<ImuPosition3d>* reports) {
     for (std::size_t j = i + 1; j < reports->size(); ++j) {
       ImuPosition3d& a = (*reports)[i];
       ImuPosition3d& b = (*reports)[j];
+      ImuPosition3d::Baseline ab, ba;
+      ab.to_instance = b.instance;
+      ba.to_instance = a.instance;
       for (int k = 0; k < 3; ++k) {
         const auto ku = static_cast<std::size_t>(k);
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        ab.difference_m[k] = ba.difference_m[k] = nan;
+        ab.stderr_m[k] = ba.stderr_m[k] = nan;
         if (!a.determined[ku] || !b.determined[ku]) continue;
         const double d = a.position_m[k] - b.position_m[k];
         const double s = std::sqrt(a.stderr_m[k] * a.stderr_m[k] +
                                    b.stderr_m[k] * b.stderr_m[k]);
+        ab.difference_m[k] = d;
+        ba.difference_m[k] = -d;
+        ab.stderr_m[k] = ba.stderr_m[k] = s;
         if (std::abs(d) > 3 * s && std::abs(d) > kBoardSpanM) {
           const std::string text =
               "IMU " + std::to_string(a.instance) + " and IMU " +
@@ -319,6 +328,8 @@ void CompareInstances(std::vector<ImuPosition3d>* reports) {
           b.warnings.push_back(text);
         }
       }
+      a.baselines.push_back(ab);
+      b.baselines.push_back(ba);
     }
   }
 }
@@ -365,6 +376,18 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["misalignment_deg"] = {{"roll", Num(r.misalignment_roll_deg)},
                            {"pitch", Num(r.misalignment_pitch_deg)}};
   j["wind_ne_m_s"] = {Num(r.wind_ne_m_s[0]), Num(r.wind_ne_m_s[1])};
+  nlohmann::ordered_json baselines = nlohmann::ordered_json::array();
+  for (const ImuPosition3d::Baseline& b : r.baselines) {
+    baselines.push_back(
+        {{"to_instance", b.to_instance},
+         {"difference_frd_m",
+          {Num(b.difference_m[0]),
+           Num(b.difference_m[1]),
+           Num(b.difference_m[2])}},
+         {"stderr_m",
+          {Num(b.stderr_m[0]), Num(b.stderr_m[1]), Num(b.stderr_m[2])}}});
+  }
+  j["baselines"] = baselines;
   return j;
 }
 
@@ -394,6 +417,19 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
       << FormatNumber(r.wind_ne_m_s[1], 3) << " m/s, misalignment roll/pitch "
       << FormatNumber(r.misalignment_roll_deg, 3) << "/"
       << FormatNumber(r.misalignment_pitch_deg, 3) << " deg\n";
+  }
+  for (const ImuPosition3d::Baseline& b : r.baselines) {
+    if (!b.difference_m.array().isFinite().any()) continue;
+    s << "  minus IMU " << b.to_instance << " (mm, 1-sigma):";
+    for (int a = 0; a < 3; ++a) {
+      s << " " << kAxisNames[a] << " ";
+      if (std::isfinite(b.difference_m[a])) {
+        s << Mm(b.difference_m[a]) << " +/- " << Mm(b.stderr_m[a]);
+      } else {
+        s << "-";
+      }
+    }
+    s << "\n";
   }
   for (const std::string& w : r.warnings) s << "  warning: " << w << "\n";
   return s.str();
