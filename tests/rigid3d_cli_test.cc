@@ -3,6 +3,8 @@
 // standard errors, warnings as strings), --imu=all, refusals with exit 2,
 // and the real logs with no window flags.
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "gmock/gmock.h"
@@ -105,6 +107,28 @@ TEST(Rigid3dCli, InspectListsTheWindowsFitUses) {
   for (const auto& d : j["rigid3d"]["dropped"]) {
     EXPECT_FALSE(d["reason"].get<std::string>().empty());
   }
+}
+
+TEST(Rigid3dCli, TwoRecordingsInOneCsvUseTheLongest) {
+  const std::string text = [] {
+    std::ifstream in(FigureEight());
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }();
+  // The header ends at the first line starting with "t,"; a short first
+  // recording (its first 2000 rows) then the whole flight again.
+  const std::size_t header_end = text.find('\n', text.find("\nt,") + 1) + 1;
+  std::size_t cut = header_end;
+  for (int i = 0; i < 2000; ++i) cut = text.find('\n', cut) + 1;
+  const std::string two = text.substr(0, cut) + text.substr(header_end);
+  const std::string path = testing::WriteTempFile("two.csv", two);
+  const auto r = RunCli("fit --log=" + path + " --model=rigid3d --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("2 recordings; using the longest"));
+  const auto i = RunCli("inspect " + path);
+  ASSERT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_THAT(i.out, HasSubstr("2 recordings"));
 }
 
 TEST(Rigid3dRealLogs, BenchLogsAreRefusedAndTheCrashIsCutOut) {

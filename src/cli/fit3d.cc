@@ -14,6 +14,7 @@
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
 #include "imusysid/rigid3d_report.h"
+#include "imusysid/sessions.h"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
 
@@ -65,6 +66,14 @@ int RunFit3d(const std::string& path,
              const std::string& emit_out) {
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return ReportError(kCmd, bytes.status());
+  // Several recordings in one CSV: the longest ordered one, said so.
+  if (DetectLogFormat(*bytes) == LogFormat::kCsv) {
+    OrderedPiece piece = LongestOrderedCsvPiece(*bytes, path);
+    if (!piece.note.empty()) {
+      std::cerr << "note: " << piece.note << "\n";
+      *bytes = std::move(piece.text);
+    }
+  }
   StatusOr<std::unique_ptr<Estimator>> estimator =
       BuiltinEstimators().Create(estimator_name);
   if (!estimator.ok()) return ReportError(kCmd, estimator.status());

@@ -9,6 +9,7 @@
 #include "imusysid/log_reader.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
+#include "imusysid/sessions.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/fit3d.h"
@@ -46,6 +47,15 @@ int Run(const std::vector<std::string>& positional) {
   // standard input, can only be read once).
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return ReportError(cmd, bytes.status());
+  // Several recordings in one CSV: described as fit uses it (the longest).
+  std::string sessions_note;
+  if (DetectLogFormat(*bytes) == LogFormat::kCsv) {
+    OrderedPiece piece = LongestOrderedCsvPiece(*bytes, path);
+    if (!piece.note.empty()) {
+      sessions_note = piece.note;
+      *bytes = std::move(piece.text);
+    }
+  }
   StatusOr<LogSummary> summary = SummarizeLogBytes(*bytes, path);
   if (!summary.ok()) return ReportError(cmd, summary.status());
   StatusOr<FlightLog> log = ParseLogFromFlags(*bytes, path);
@@ -60,6 +70,7 @@ int Run(const std::vector<std::string>& positional) {
   j["format"] = summary->format;
   if (!summary->vehicle.empty()) j["vehicle"] = summary->vehicle;
   std::vector<std::string> notes;
+  if (!sessions_note.empty()) notes.push_back(sessions_note);
   std::vector<std::string> warnings = summary->warnings;
   if (log.ok()) {
     const FlightLog& l = *log;
