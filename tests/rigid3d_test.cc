@@ -4,6 +4,8 @@
 // from the spread over seeds measured on this scenario (docs/model-3d.md):
 // seed-to-seed σ of p is 0.7, 0.6 and 0.3 mm on x, y and z at 400 Hz.
 
+#include "imusysid/rigid3d.h"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -236,6 +238,66 @@ TEST(Rigid3d, LogWithoutEstimatorChannelsIsRefused) {
   ASSERT_FALSE(pre.ok());
   EXPECT_EQ(pre.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("qw,qx,qy,qz"));
+}
+
+}  // namespace
+}  // namespace imusysid
+
+namespace imusysid {
+namespace {
+
+// The IMU-only model on the same flight with the estimator's channels
+// removed. Its velocity comes from its own integration, so it is cm-grade
+// where rigid3d is mm-grade: over seeds 1–4 the largest error was 7.2 mm
+// (x, whose σ̂ was 30 mm), hence 10 mm here.
+constexpr double kImuOnlyToleranceM = 10e-3;
+
+TEST(Rigid3dImu, FigureEightFromTheImuAlone) {
+  Simulator3dOptions o = Scenario("figure8_3d");
+  o.imus.resize(1);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  FlightLog log = flight->logs[0];
+  log.extra.clear();
+  StatusOr<Preprocess3dResult> pre =
+      Preprocess3dImuOnly(log, Preprocess3dOptions());
+  ASSERT_TRUE(pre.ok()) << pre.status().ToString();
+  auto data = std::make_shared<const ProblemData>(pre->data);
+  StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d_imu", data);
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  const Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+  std::vector<EstimateResult> results;
+  for (const std::string name : {"varpro", "lm"}) {
+    StatusOr<std::unique_ptr<Estimator>> e = BuiltinEstimators().Create(name);
+    ASSERT_TRUE(e.ok());
+    StatusOr<EstimateResult> r = (*e)->Estimate(problem, EstimatorOptions());
+    ASSERT_TRUE(r.ok()) << r.status().ToString();
+    ASSERT_TRUE(r->IsUsable()) << r->message;
+    results.push_back(*r);
+  }
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(
+        results[0].parameters[a], o.imus[0].p_frd_m[a], kImuOnlyToleranceM)
+        << a;
+    // One least-squares problem: both find its optimum.
+    EXPECT_NEAR(results[1].parameters[a], results[0].parameters[a], 1e-4);
+  }
+  // The drag the flight was simulated with.
+  EXPECT_NEAR(results[0].parameters[kRotorDrag], o.rotor_drag_per_s, 0.03);
+  EXPECT_NEAR(results[0].parameters[kDrag3dMu], o.mu, 0.01);
+  // The GA, with a time budget, fits it through the ordinary interface.
+  EstimatorOptions ga_options;
+  ga_options.max_wall_time_s = 3.0;
+  StatusOr<EstimateResult> ga =
+      (*BuiltinEstimators().Create("ga"))->Estimate(problem, ga_options);
+  ASSERT_TRUE(ga.ok()) << ga.status().ToString();
+  ASSERT_TRUE(ga->IsUsable());
+  // In 3 s it gets well below its start, not to the optimum (0.18 against
+  // varpro's 0.11 m/s² measured; the GA is a seed for LM, as in ga+lm).
+  const double start_rmse =
+      problem.CostToRmse(problem.Cost(problem.initial_guess().data()));
+  EXPECT_LT(ga->rmse, 0.5 * start_rmse);
+  EXPECT_GE(ga->rmse, results[0].rmse * (1 - 1e-9));
 }
 
 }  // namespace

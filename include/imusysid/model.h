@@ -38,6 +38,10 @@ struct Motion3d {
   // fitted wind (Preprocess3d) and the model stays linear in the rest.
   double quadratic_wind_n = 0.0;
   double quadratic_wind_e = 0.0;
+  // Which samples give residuals (1) and which only carry an integration
+  // through (0): the IMU-only model integrates velocity over the whole span
+  // from rest but fits the flight windows alone. Empty: every sample.
+  std::vector<unsigned char> fitted;
 
   bool empty() const { return f[0].empty(); }
 };

@@ -110,6 +110,18 @@ StatusOr<Preprocess3dResult> SelectWindows3d(
 StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                           const Preprocess3dOptions& options);
 
+// The data of the IMU-only model rigid3d_imu, for a log without the
+// estimator's channels: the attitude integrated from the gyro (bias from the
+// still stretch removed) from the level and heading-zero attitude the
+// accelerometer shows at rest, on one gap-free span from that rest to the
+// end of the last flight window; `motion.fitted` marks the windows, chosen as
+// Preprocess3d chooses them (without the estimator's velocity: no climb
+// rule). `motion.velocity` is zero (the model integrates its own), the wind
+// is in the frame of the starting heading. FailedPrecondition without a
+// still stretch to start from, or as Preprocess3d.
+StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
+    const FlightLog& log, const Preprocess3dOptions& options);
+
 }  // namespace imusysid
 
 #endif  // IMUSYSID_PREPROCESS3D_H_

@@ -13,6 +13,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/autopilot.h"
+#include "imusysid/model.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/result.h"
 #include "imusysid/status.h"
@@ -38,13 +39,30 @@ struct Rigid3dReportOptions {
   // mean error of z was 0.1 mm while σ̂ could be as small as 0.1 mm), which
   // no error bar computed from one flight can see.
   double model_error_floor_m = 0.25e-3;
+  // A jackknife σ̂ of the position computed by the caller (the IMU-only
+  // model, whose blocks must be refitted whole: LeaveBlockOutMasks); NaN:
+  // computed here from rigid3d's linear structure.
+  Eigen::Vector3d jackknife_stderr_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
+
+// The fitted-sample masks of a delete-one-block jackknife over the fitted
+// samples of `data` (Motion3d::fitted, or all): `blocks` contiguous blocks
+// of equal count, each mask leaving one out.
+std::vector<std::vector<unsigned char>> LeaveBlockOutMasks(
+    const ProblemData& data, int blocks);
+
+// The jackknife σ̂ from the positions fitted with each mask left out,
+// scaled by t(0.975, K−1)/1.96 as rigid3d's own.
+Eigen::Vector3d JackknifeFromEstimates(
+    const std::vector<Eigen::Vector3d>& estimates);
 
 struct ImuPosition3d {
   int instance = 0;  // the log's IMU instance (0-based)
   std::string source;
   std::string estimator;
-  bool usable = false;  // the fit produced parameters
+  std::string model = "rigid3d";  // or rigid3d_imu
+  bool usable = false;            // the fit produced parameters
   Eigen::Vector3d position_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector3d stderr_m =

@@ -387,14 +387,16 @@ int Run(const std::vector<std::string>& positional) {
 
   // The 3-D model has its own pipeline: automatic windows, every IMU, a
   // per-axis report. Its closed form is the default estimator.
-  if (!from_problem && model_name == "rigid3d") {
+  if (!from_problem &&
+      (model_name == "rigid3d" || model_name == "rigid3d_imu")) {
     if (FLAGS_estimator == "all") {
       return UsageError(cmd,
                         "--estimator=all is not offered with --model=rigid3d; "
                         "name one estimator (linear is the default)");
     }
     return RunFit3d(path,
-                    FlagWasSet("estimator") ? FLAGS_estimator : "linear",
+                    model_name,
+                    FlagWasSet("estimator") ? FLAGS_estimator : "",
                     *options,
                     emit_format,
                     FLAGS_emit_out);

@@ -39,6 +39,16 @@ StatusOr<std::vector<int>> Instances(std::string_view bytes) {
   return std::vector<int>{*imu};
 }
 
+bool HasEstimatorChannels(const FlightLog& log) {
+  const bool attitude = (log.FindChannel(kEstimatorChannels[0]) != nullptr) ||
+                        (log.FindChannel(kChannelRoll) != nullptr &&
+                         log.FindChannel(kChannelPitch) != nullptr &&
+                         log.FindChannel(kChannelYaw) != nullptr);
+  const bool velocity = log.FindChannel(kEstimatorChannels[4]) != nullptr ||
+                        log.FindChannel(kChannelVelN) != nullptr;
+  return attitude && velocity;
+}
+
 }  // namespace
 
 Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
@@ -60,7 +70,8 @@ Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
 }
 
 int RunFit3d(const std::string& path,
-             const std::string& estimator_name,
+             const std::string& requested_model,
+             const std::string& requested_estimator,
              const EstimatorOptions& options,
              EmitFormat emit,
              const std::string& emit_out) {
@@ -74,12 +85,11 @@ int RunFit3d(const std::string& path,
       *bytes = std::move(piece.text);
     }
   }
-  StatusOr<std::unique_ptr<Estimator>> estimator =
-      BuiltinEstimators().Create(estimator_name);
-  if (!estimator.ok()) return ReportError(kCmd, estimator.status());
 
   Preprocess3dOptions po = Preprocess3dOptionsFromFlags(*bytes, path);
   std::vector<ImuPosition3d> reports;
+  std::string model_name = requested_model;
+  std::string estimator_name = requested_estimator;
   StatusOr<std::vector<int>> listed = Instances(*bytes);
   if (!listed.ok()) return ReportError(kCmd, listed.status());
   const std::vector<int> instances = *listed;
@@ -94,7 +104,20 @@ int RunFit3d(const std::string& path,
     if (gate.ok() && !FLAGS_allow_damaged) gate = CheckDamage(*log);
     if (!gate.ok()) return ReportError(kCmd, gate);
     const std::string damage = DamageSummary(*log);
-    StatusOr<Preprocess3dResult> pre = Preprocess3d(*log, po);
+    // Without the estimator's attitude and velocity, the IMU-only variant.
+    if (model_name == "rigid3d" && !HasEstimatorChannels(*log)) {
+      std::cerr << "note: the log has no attitude and velocity estimate: "
+                   "model rigid3d_imu (attitude from the gyro, velocity "
+                   "integrated with the drag model)\n";
+      model_name = "rigid3d_imu";
+    }
+    if (estimator_name.empty()) {
+      // The closed form where the model is linear, else variable projection.
+      estimator_name = model_name == "rigid3d" ? "linear" : "varpro";
+    }
+    StatusOr<Preprocess3dResult> pre = model_name == "rigid3d"
+                                           ? Preprocess3d(*log, po)
+                                           : Preprocess3dImuOnly(*log, po);
     if (!pre.ok()) return ReportError(kCmd, pre.status());
     if (reports.empty()) {
       for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
@@ -105,11 +128,15 @@ int RunFit3d(const std::string& path,
       po.quadratic_wind_e = pre->data.motion.quadratic_wind_e;
     }
     auto data = std::make_shared<const ProblemData>(pre->data);
-    StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
+    StatusOr<std::unique_ptr<Model>> model = CreateModel(model_name, data);
     if (!model.ok()) return ReportError(kCmd, model.status());
     Problem problem(std::shared_ptr<const Model>(std::move(*model)));
-    std::cerr << "fitting rigid3d with " << estimator_name << " (IMU "
-              << instance << ", " << data->size() << " samples)...\n";
+    StatusOr<std::unique_ptr<Estimator>> estimator =
+        BuiltinEstimators().Create(estimator_name);
+    if (!estimator.ok()) return ReportError(kCmd, estimator.status());
+    std::cerr << "fitting " << model_name << " with " << estimator_name
+              << " (IMU " << instance << ", " << data->size()
+              << " samples)...\n";
     StatusOr<EstimateResult> result = (*estimator)->Estimate(problem, options);
     if (!result.ok()) {
       if (!(*estimator)->Supports(problem.model())) {
@@ -125,7 +152,27 @@ int RunFit3d(const std::string& path,
       }
       return ReportError(kCmd, result.status());
     }
-    ImuPosition3d report = Rigid3dReport(*result, *pre, instance);
+    Rigid3dReportOptions report_options;
+    if (model_name == "rigid3d_imu" && result->IsUsable()) {
+      // The IMU-only model integrates over the whole span: its jackknife
+      // refits the model with each block's residuals left out.
+      std::vector<Eigen::Vector3d> estimates;
+      for (auto& mask :
+           LeaveBlockOutMasks(*data, report_options.jackknife_blocks)) {
+        auto masked = std::make_shared<ProblemData>(*data);
+        masked->motion.fitted = std::move(mask);
+        StatusOr<std::unique_ptr<Model>> m = CreateModel(model_name, masked);
+        if (!m.ok()) break;
+        Problem block(std::shared_ptr<const Model>(std::move(*m)));
+        (void)block.SetInitialGuess(result->parameters);
+        StatusOr<EstimateResult> r = (*estimator)->Estimate(block, options);
+        if (!r.ok() || !r->IsUsable()) break;
+        estimates.push_back(r->parameters.head<3>());
+      }
+      report_options.jackknife_stderr_m = JackknifeFromEstimates(estimates);
+    }
+    ImuPosition3d report =
+        Rigid3dReport(*result, *pre, instance, report_options);
     if (!damage.empty()) report.warnings.push_back("damaged_log: " + damage);
     reports.push_back(std::move(report));
   }

@@ -21,9 +21,13 @@ namespace cli {
 Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
                                                  const std::string& path);
 
-// Runs the 3-D fit of the log at `path` with the estimator named
-// `estimator` and returns the process exit code. `emit_out` may be empty.
+// Runs the 3-D fit of the log at `path` with model `model` ("rigid3d",
+// which falls back to "rigid3d_imu" on a log without the estimator's
+// channels, or "rigid3d_imu") and the estimator named `estimator` (empty:
+// the model's default, linear or varpro) and returns the process exit code.
+// `emit_out` may be empty.
 int RunFit3d(const std::string& path,
+             const std::string& model,
              const std::string& estimator,
              const EstimatorOptions& options,
              EmitFormat emit,

@@ -8,6 +8,7 @@
 #include "imusysid/model.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
+#include "src/models/rigid3d_imu_model.h"
 #include "src/models/rigid3d_model.h"
 
 namespace imusysid {
@@ -94,6 +95,13 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
                       false,
                       true},
                      NewRigid3dModel);
+  registry->Register("rigid3d_imu",
+                     {"3-D rigid body from the IMU alone: attitude from the "
+                      "gyro, velocity integrated with the drag model",
+                      false,
+                      false,
+                      true},
+                     NewRigid3dImuModel);
 }
 
 const ModelRegistry& BuiltinModels() {

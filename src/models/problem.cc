@@ -41,6 +41,11 @@ Status ProblemData::Validate() const {
   IMUSYSID_RETURN_IF_ERROR(check_size(omega_dot, "omega_dot", false));
   IMUSYSID_RETURN_IF_ERROR(check_size(theta, "theta", true));
   IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", false));
+  if (!motion.fitted.empty() && motion.fitted.size() != n) {
+    return InvalidArgumentError(source + ": problem column 'fitted' has " +
+                                std::to_string(motion.fitted.size()) +
+                                " samples, t has " + std::to_string(n));
+  }
   if (!motion.empty()) {
     const std::pair<const Motion3d::Axes*, const char*> axes[] = {
         {&motion.f, "f"},

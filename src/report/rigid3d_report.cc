@@ -127,13 +127,29 @@ Eigen::Vector3d JackknifeStderr(const ProblemData& data, int blocks) {
     if (!coef.allFinite()) return nan;
     estimates.push_back(coef.head<3>());
   }
+  return JackknifeFromEstimates(estimates);
+}
+
+nlohmann::ordered_json Num(double v) {
+  if (!std::isfinite(v)) return nullptr;
+  return v;
+}
+
+}  // namespace
+
+Eigen::Vector3d JackknifeFromEstimates(
+    const std::vector<Eigen::Vector3d>& estimates) {
+  const int blocks = static_cast<int>(estimates.size());
+  if (blocks < 3) {
+    return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto& e : estimates) mean += e;
   mean /= blocks;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& e : estimates) sum += (e - mean).cwiseAbs2();
   // A jackknife σ̂ from K blocks has K − 1 degrees of freedom: scaled by
-  // t(0.975, K−1) / 1.96 so that ±2σ̂ keeps its 95 % meaning (1.21 at K = 8).
+  // t(0.975, K−1) / 1.96 so that ±2σ̂ keeps its 95 % meaning (1.15 at K = 10).
   const double t975[] = {12.71,
                          4.303,
                          3.182,
@@ -158,12 +174,30 @@ Eigen::Vector3d JackknifeStderr(const ProblemData& data, int blocks) {
   return (sum * (blocks - 1.0) / blocks).cwiseSqrt() * (t / 1.96);
 }
 
-nlohmann::ordered_json Num(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  return v;
+std::vector<std::vector<unsigned char>> LeaveBlockOutMasks(
+    const ProblemData& data, int blocks) {
+  const Motion3d& m = data.motion;
+  const std::size_t n = data.size();
+  std::vector<std::size_t> fitted;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (m.fitted.empty() || m.fitted[k] != 0) fitted.push_back(k);
+  }
+  std::vector<std::vector<unsigned char>> masks;
+  if (blocks < 3 || fitted.size() < static_cast<std::size_t>(blocks) * 50) {
+    return masks;
+  }
+  for (int b = 0; b < blocks; ++b) {
+    std::vector<unsigned char> mask(n, 0);
+    for (std::size_t k : fitted) mask[k] = 1;
+    const std::size_t i0 = fitted.size() * static_cast<std::size_t>(b) /
+                           static_cast<std::size_t>(blocks);
+    const std::size_t i1 = fitted.size() * static_cast<std::size_t>(b + 1) /
+                           static_cast<std::size_t>(blocks);
+    for (std::size_t i = i0; i < i1; ++i) mask[fitted[i]] = 0;
+    masks.push_back(std::move(mask));
+  }
+  return masks;
 }
-
-}  // namespace
 
 ImuPosition3d Rigid3dReport(const EstimateResult& result,
                             const Preprocess3dResult& pre,
@@ -173,6 +207,7 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   out.instance = instance;
   out.source = pre.data.source;
   out.estimator = result.estimator;
+  out.model = result.model;
   out.estimator_delay_s = pre.estimator_delay_s;
   out.delay_estimated = pre.delay_estimated;
   out.samples = pre.data.size();
@@ -199,8 +234,15 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   // σ̂ widened to the jackknife's where that is larger (see JackknifeStderr):
   // over 30 simulated figure-eights the HAC σ̂ alone was half the
   // seed-to-seed spread.
+  // (rigid3d only: the IMU-only model integrates across the whole span, so
+  // its blocks cannot be fitted on their own.)
+  const bool algebraic = result.model == "rigid3d";
   const Eigen::Vector3d jackknife =
-      JackknifeStderr(pre.data, options.jackknife_blocks);
+      options.jackknife_stderr_m.allFinite()
+          ? options.jackknife_stderr_m
+          : (algebraic ? JackknifeStderr(pre.data, options.jackknife_blocks)
+                       : Eigen::Vector3d::Constant(
+                             std::numeric_limits<double>::quiet_NaN()));
   for (int a = 0; a < 3; ++a) {
     if (std::isfinite(jackknife[a]) && !(out.stderr_m[a] >= jackknife[a])) {
       out.stderr_m[a] = jackknife[a];
@@ -256,7 +298,7 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   // disagrees beyond 4σ on a determined axis (and by more than 5 mm) means
   // the flight is not one rigid body with one set of parameters (a payload
   // shifted, a bad stretch): the axis is withheld.
-  if (pre.windows.size() >= 2) {
+  if (algebraic && pre.windows.size() >= 2) {
     std::size_t start = 0;
     for (const Stretch3d& w : pre.windows) {
       const std::size_t end = start + w.samples;
@@ -352,7 +394,7 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["warnings"] = r.warnings;
   j["instance"] = r.instance;
   j["log"] = r.source;
-  j["model"] = "rigid3d";
+  j["model"] = r.model;
   j["estimator"] = r.estimator;
   j["determined"] = determined;
   j["advice"] = advice;
