@@ -85,6 +85,25 @@ void BM_ParseDataFlash(benchmark::State& state, const char* name) {
                           static_cast<std::int64_t>(bytes.size()));
 }
 
+// What ReadFlightLog does with a DataFlash log: decode every message, then
+// convert the IMU, EKF velocity and attitude.
+void BM_DataFlashToFlightLog(benchmark::State& state, const char* name) {
+  std::string bytes;
+  if (!Load(state, name, &bytes)) return;
+  LogReadOptions options;
+  options.max_gap_factor = 0;
+  for (auto _ : state) {
+    StatusOr<FlightLog> log = ParseFlightLog(bytes, name, options);
+    if (!log.ok()) {
+      state.SkipWithError(log.status().message().c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(log->t_s.data());
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(bytes.size()));
+}
+
 BENCHMARK_CAPTURE(BM_ParseUlog, sample, "pyulog__sample.ulg")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
@@ -105,6 +124,11 @@ BENCHMARK_CAPTURE(BM_UlogToFlightLog, sample, "pyulog__sample.ulg")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK_CAPTURE(BM_ParseDataFlash, log171, "dronekit-la-testdata__log171.bin")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_DataFlashToFlightLog,
+                  log171,
+                  "dronekit-la-testdata__log171.bin")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
