@@ -106,11 +106,9 @@ StatusOr<FlightLog> ReadFlightLog(const std::string& path,
                                   const LogReadOptions& options) {
   StatusOr<std::string> read = ReadFileToString(path);
   if (!read.ok()) return read.status();
-  const std::string& bytes = *read;
-  if (DetectLogFormat(bytes) == LogFormat::kCsv) {
-    return ReadCsvLog(path, CsvOptions(options));
-  }
-  return ParseFlightLog(bytes, path, options);
+  // Parsed from the bytes already read: reading a CSV again held two copies
+  // of the file at once.
+  return ParseFlightLog(*read, path, options);
 }
 
 }  // namespace imusysid
