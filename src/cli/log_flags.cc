@@ -75,9 +75,12 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
   return ParseLogFromFlags(bytes, path, FLAGS_imu);
 }
 
-StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
-                                      const std::string& path,
-                                      int imu_instance) {
+namespace {
+
+// The reading options --imu (as `imu_instance`) and --frame ask for, with
+// ReadLogForFit's gap policy for `bytes`.
+StatusOr<LogReadOptions> LogReadOptionsFromFlags(std::string_view bytes,
+                                                 int imu_instance) {
   LogReadOptions options;
   options.imu_instance = imu_instance;
   if (imu_instance < 0 || imu_instance > 2) {
@@ -96,7 +99,27 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
       IsConvertedBinaryLog(bytes)) {
     options.max_gap_factor = 0.0;
   }
-  return ParseFlightLog(bytes, path, options);
+  return options;
+}
+
+}  // namespace
+
+StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
+                                      const std::string& path,
+                                      int imu_instance) {
+  StatusOr<LogReadOptions> options =
+      LogReadOptionsFromFlags(bytes, imu_instance);
+  if (!options.ok()) return options.status();
+  return ParseFlightLog(bytes, path, *options);
+}
+
+StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
+                                          const std::string& path,
+                                          FlightLog log) {
+  StatusOr<LogReadOptions> options = LogReadOptionsFromFlags(bytes, FLAGS_imu);
+  if (!options.ok()) return options.status();
+  IMUSYSID_RETURN_IF_ERROR(FinishCsvLog(bytes, path, *options, &log));
+  return log;
 }
 
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log) {

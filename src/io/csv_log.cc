@@ -3,6 +3,8 @@
 // row, every malformed input an error that names the file, line, column and
 // offending text.
 
+#include "src/io/csv_log.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -624,6 +626,21 @@ StatusOr<int> ParseRows(LineReader* reader,
   return last_row_line;
 }
 
+// The first sample that follows a hole in time longer than max_gap_factor
+// median intervals (0: none, or the check is off); `median` receives the
+// median interval when the check runs.
+std::size_t FindGap(const FlightLog& log,
+                    const CsvReadOptions& options,
+                    double* median) {
+  if (!(options.max_gap_factor > 0.0) || log.size() < 2) return 0;
+  *median = log.MedianDt();
+  const double limit = options.max_gap_factor * *median;
+  for (std::size_t i = 1; i < log.size(); ++i) {
+    if (log.t_s[i] - log.t_s[i - 1] > limit) return i;
+  }
+  return 0;
+}
+
 // The checks that need every row: enough samples, and no hole in time longer
 // than max_gap_factor median intervals (placed by rescanning `body`).
 Status CheckWholeLog(const FlightLog& log,
@@ -640,24 +657,21 @@ Status CheckWholeLog(const FlightLog& log,
                        (log.size() == 1 ? "" : "s") + ", fewer than the " +
                        std::to_string(options.min_samples) + " the fit needs");
   }
-  if (options.max_gap_factor > 0.0 && log.size() >= 2) {
-    const double median = log.MedianDt();
-    const double limit = options.max_gap_factor * median;
-    for (std::size_t i = 1; i < log.size(); ++i) {
-      const double gap = log.t_s[i] - log.t_s[i - 1];
-      if (gap <= limit) continue;
-      int line_number, column;
-      LocateRowField(body, i, t_column, &line_number, &column);
-      return ErrorAt(name,
-                     line_number,
-                     column,
-                     "column 't': gap of " + FormatNumber(gap, 6) +
-                         " s from t=" + FormatNumber(log.t_s[i - 1], 12) +
-                         " to t=" + FormatNumber(log.t_s[i], 12) + " exceeds " +
-                         FormatNumber(options.max_gap_factor, 6) +
-                         " x the median interval " + FormatNumber(median, 6) +
-                         " s; the log has a hole");
-    }
+  double median = 0.0;
+  const std::size_t i = FindGap(log, options, &median);
+  if (i > 0) {
+    const double gap = log.t_s[i] - log.t_s[i - 1];
+    int line_number, column;
+    LocateRowField(body, i, t_column, &line_number, &column);
+    return ErrorAt(name,
+                   line_number,
+                   column,
+                   "column 't': gap of " + FormatNumber(gap, 6) +
+                       " s from t=" + FormatNumber(log.t_s[i - 1], 12) +
+                       " to t=" + FormatNumber(log.t_s[i], 12) + " exceeds " +
+                       FormatNumber(options.max_gap_factor, 6) +
+                       " x the median interval " + FormatNumber(median, 6) +
+                       " s; the log has a hole");
   }
   return Status::Ok();
 }
@@ -736,6 +750,34 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
   }
   return log;
 }
+
+namespace internal {
+
+Status FinishRelaxedCsvLog(std::string_view text,
+                           const std::string& name,
+                           const CsvReadOptions& options,
+                           FlightLog* log) {
+  double median = 0.0;
+  if (log->size() < options.min_samples ||
+      FindGap(*log, options, &median) != 0) {
+    StatusOr<FlightLog> strict = ParseCsvLog(text, name, options);
+    if (!strict.ok()) return strict.status();
+    *log = std::move(strict).value();
+    return Status::Ok();
+  }
+  // ParseCsvLog flips y and z when the frame it settles on is FRD; the
+  // relaxed read settled on the file's own frame.
+  const Frame frame =
+      options.override_frame ? options.frame : log->source_frame;
+  if ((frame == Frame::kFrd) != (log->source_frame == Frame::kFrd)) {
+    FlipYZ(&log->ay, &log->az);
+    FlipYZ(&log->gy, &log->gz);
+  }
+  log->source_frame = frame;
+  return Status::Ok();
+}
+
+}  // namespace internal
 
 StatusOr<FlightLog> ReadCsvLog(const std::string& path,
                                const CsvReadOptions& options) {

@@ -4,7 +4,10 @@
 #include "imusysid/log_reader.h"
 
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "src/io/csv_log.h"
 
 namespace imusysid {
 namespace {
@@ -100,6 +103,13 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
       break;
   }
   return ParseCsvLog(bytes, name, CsvOptions(options));
+}
+
+Status FinishCsvLog(std::string_view bytes,
+                    const std::string& name,
+                    const LogReadOptions& options,
+                    FlightLog* log) {
+  return internal::FinishRelaxedCsvLog(bytes, name, CsvOptions(options), log);
 }
 
 StatusOr<FlightLog> ReadFlightLog(const std::string& path,
