@@ -1,8 +1,8 @@
 // Peak memory of reading, preprocessing and fitting a CSV log, and of fitting
 // a problem file, against the file's size (docs/failure-modes.md states the
 // multiple). Each measurement runs in a fresh process (this binary
-// re-executed with --memory_child=PATH or --memory_problem_child=PATH), so
-// its peak resident set is the fit's alone and not the benchmark's own.
+// re-executed with --memory_child=...), so its peak resident set is the
+// fit's alone and not the benchmark's own.
 // Counters: log_MB, columns_MB (the parsed columns: 8 bytes per value),
 // peak_MB, peak_per_log_byte, and peak_per_budget: the peak over issue 11's
 // budget of twice the parsed columns plus the file's size (at most 1 meets
@@ -34,38 +34,49 @@
 namespace imusysid {
 namespace {
 
+// --memory_child=KIND:MODEL:ESTIMATOR:PATH runs one fit in this process:
+// KIND is "log" (read, preprocessed as `fit` does) or "problem" (a problem
+// file, fitted as it is).
 constexpr char kChildFlag[] = "--memory_child=";
-constexpr char kProblemChildFlag[] = "--memory_problem_child=";
 
-// What `fit --model=consistent --estimator=varpro` does with a log, through
+// What `fit --model=MODEL --estimator=ESTIMATOR` does with `path`, through
 // the library. Returns the process exit code.
-int FitInThisProcess(const std::string& path) {
-  StatusOr<FlightLog> log = ReadFlightLog(path);
-  if (!log.ok()) return 2;
-  StatusOr<PreprocessResult> prepared = Preprocess(*log, PreprocessOptions{});
-  if (!prepared.ok()) return 2;
-  auto data = std::make_shared<ProblemData>(std::move(prepared->data));
-  StatusOr<std::unique_ptr<Model>> model = CreateModel("consistent", data);
+int FitInThisProcess(const std::string& kind,
+                     const std::string& model_name,
+                     const std::string& estimator_name,
+                     const std::string& path) {
+  std::shared_ptr<ProblemData> data;
+  if (kind == "problem") {
+    StatusOr<ProblemFile> file = ReadProblemCsv(path);
+    if (!file.ok()) return 2;
+    data = std::make_shared<ProblemData>(std::move(file->data));
+  } else {
+    StatusOr<FlightLog> log = ReadFlightLog(path);
+    if (!log.ok()) return 2;
+    StatusOr<PreprocessResult> prepared = Preprocess(*log, PreprocessOptions{});
+    if (!prepared.ok()) return 2;
+    data = std::make_shared<ProblemData>(std::move(prepared->data));
+  }
+  StatusOr<std::unique_ptr<Model>> model = CreateModel(model_name, data);
   if (!model.ok()) return 1;
   const Problem problem(std::shared_ptr<const Model>(std::move(model).value()));
-  StatusOr<std::unique_ptr<Estimator>> varpro =
-      BuiltinEstimators().Create("varpro");
-  if (!varpro.ok()) return 1;
-  return (*varpro)->Estimate(problem, EstimatorOptions{}).ok() ? 0 : 1;
+  StatusOr<std::unique_ptr<Estimator>> estimator =
+      BuiltinEstimators().Create(estimator_name);
+  if (!estimator.ok()) return 1;
+  return (*estimator)->Estimate(problem, EstimatorOptions{}).ok() ? 0 : 1;
 }
 
-// What `fit --problem=PATH --model=consistent --estimator=varpro` does.
-int FitProblemInThisProcess(const std::string& path) {
-  StatusOr<ProblemFile> file = ReadProblemCsv(path);
-  if (!file.ok()) return 2;
-  auto data = std::make_shared<ProblemData>(std::move(file->data));
-  StatusOr<std::unique_ptr<Model>> model = CreateModel("consistent", data);
-  if (!model.ok()) return 1;
-  const Problem problem(std::shared_ptr<const Model>(std::move(model).value()));
-  StatusOr<std::unique_ptr<Estimator>> varpro =
-      BuiltinEstimators().Create("varpro");
-  if (!varpro.ok()) return 1;
-  return (*varpro)->Estimate(problem, EstimatorOptions{}).ok() ? 0 : 1;
+// Parses the value of --memory_child and runs the fit.
+int RunChild(const std::string& value) {
+  std::string fields[3];
+  std::size_t start = 0;
+  for (std::string& field : fields) {
+    const std::size_t colon = value.find(':', start);
+    if (colon == std::string::npos) return 3;
+    field = value.substr(start, colon - start);
+    start = colon + 1;
+  }
+  return FitInThisProcess(fields[0], fields[1], fields[2], value.substr(start));
 }
 
 // A file written for the measurements: its path, its size and the size of
@@ -155,12 +166,13 @@ TestFile ProblemFileOfRows(std::size_t rows) {
   return WriteTestFile(key, FormatProblemCsv(data), columns);
 }
 
-// Runs the fit in a child process; its peak resident set in bytes, or -1.
-double ChildPeakRss(const char* child_flag, const std::string& path) {
+// Runs `job` (--memory_child's value) in a child process; its peak resident
+// set in bytes, or -1.
+double ChildPeakRss(const std::string& job) {
   const pid_t pid = fork();
   if (pid < 0) return -1.0;
   if (pid == 0) {
-    const std::string flag = child_flag + path;
+    const std::string flag = kChildFlag + job;
     execl("/proc/self/exe",
           "memory_benchmark",
           flag.c_str(),
@@ -175,8 +187,11 @@ double ChildPeakRss(const char* child_flag, const std::string& path) {
   return static_cast<double>(usage.ru_maxrss) * 1024.0;  // KiB on Linux
 }
 
+// Fits `file` (`kind` "log" or "problem") with `model_and_estimator`
+// ("MODEL:ESTIMATOR") in a fresh process.
 void MeasurePeak(benchmark::State& state,
-                 const char* child_flag,
+                 const char* kind,
+                 const char* model_and_estimator,
                  const TestFile& file) {
   if (file.path.empty()) {
     state.SkipWithError("could not write the file");
@@ -184,7 +199,8 @@ void MeasurePeak(benchmark::State& state,
   }
   double peak = 0.0;
   for (auto _ : state) {
-    peak = ChildPeakRss(child_flag, file.path);
+    peak = ChildPeakRss(std::string(kind) + ":" + model_and_estimator + ":" +
+                        file.path);
     if (peak < 0.0) {
       state.SkipWithError("the fit failed in the child process");
       return;
@@ -200,8 +216,12 @@ void MeasurePeak(benchmark::State& state,
 
 // Argument: the IMU rate of the simulated 69.5 s flight (250 Hz is the
 // bundled logs' 1.4 MB; 4 kHz makes ~23 MB).
+// `fit --model=consistent --estimator=varpro`.
 void BM_FitPeakMemory(benchmark::State& state) {
-  MeasurePeak(state, kChildFlag, LogAtRate(static_cast<int>(state.range(0))));
+  MeasurePeak(state,
+              "log",
+              "consistent:varpro",
+              LogAtRate(static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_FitPeakMemory)
     ->Arg(250)
@@ -210,21 +230,36 @@ BENCHMARK(BM_FitPeakMemory)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
-// A big log: 600 s at 4 kHz.
-void BM_FitPeakMemory600s4kHz(benchmark::State& state) {
-  MeasurePeak(state, kChildFlag, LogAtRate(4000, /*long_flight=*/true));
+// A big log, 600 s at 4 kHz, with the paper model's `linear` (whose memory
+// is O(1) beyond the data, so the reading and preprocessing show) and with
+// the consistent model's `varpro` (which holds several n x 4 matrices).
+void BM_FitPeakMemory600s4kHz(benchmark::State& state, const char* fit) {
+  MeasurePeak(state, "log", fit, LogAtRate(4000, /*long_flight=*/true));
 }
-BENCHMARK(BM_FitPeakMemory600s4kHz)
+BENCHMARK_CAPTURE(BM_FitPeakMemory600s4kHz, paper_linear, "paper:linear")
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_FitPeakMemory600s4kHz,
+                  consistent_varpro,
+                  "consistent:varpro")
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
-// Argument: the problem file's rows.
-void BM_FitProblemPeakMemory(benchmark::State& state) {
+// Argument: the problem file's rows. `fit --problem`'s default, the paper
+// model with `ga+lm`, and the consistent model's `varpro`.
+void BM_FitProblemPeakMemory(benchmark::State& state, const char* fit) {
   MeasurePeak(state,
-              kProblemChildFlag,
+              "problem",
+              fit,
               ProblemFileOfRows(static_cast<std::size_t>(state.range(0))));
 }
-BENCHMARK(BM_FitProblemPeakMemory)
+BENCHMARK_CAPTURE(BM_FitProblemPeakMemory, paper_ga_lm, "paper:ga+lm")
+    ->Arg(1000000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_FitProblemPeakMemory,
+                  consistent_varpro,
+                  "consistent:varpro")
     ->Arg(1000000)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
@@ -236,12 +271,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg.rfind(imusysid::kChildFlag, 0) == 0) {
-      return imusysid::FitInThisProcess(
-          arg.substr(std::strlen(imusysid::kChildFlag)));
-    }
-    if (arg.rfind(imusysid::kProblemChildFlag, 0) == 0) {
-      return imusysid::FitProblemInThisProcess(
-          arg.substr(std::strlen(imusysid::kProblemChildFlag)));
+      return imusysid::RunChild(arg.substr(std::strlen(imusysid::kChildFlag)));
     }
   }
   benchmark::Initialize(&argc, argv);
