@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -127,6 +128,9 @@ struct FieldSlot {
 struct Layout {
   std::size_t message_index;
   std::vector<FieldSlot> slots;
+  // False for a message DataFlashReadOptions::messages leaves out: only its
+  // record offsets are kept.
+  bool decode = true;
   // PARM and MSG records also feed DataFlashLog::parameters and texts; these
   // are the columns they read (-1: none), found once here rather than by
   // name for every record.
@@ -145,10 +149,13 @@ int IndexOf(const std::vector<std::string>& names, const char* name) {
 
 class Parser {
  public:
-  Parser(std::string_view bytes, const std::string& name)
+  Parser(std::string_view bytes,
+         const std::string& name,
+         const DataFlashReadOptions& options)
       : data_(reinterpret_cast<const unsigned char*>(bytes.data())),
         size_(bytes.size()),
-        name_(name) {}
+        name_(name),
+        options_(options) {}
 
   StatusOr<DataFlashLog> Parse();
 
@@ -167,6 +174,7 @@ class Parser {
   const unsigned char* data_;
   std::size_t size_;
   const std::string& name_;
+  const DataFlashReadOptions& options_;
   DataFlashLog out_;
   int lengths_[256] = {};  // record length per id, 0 = undefined
   int layout_index_[256];  // into layouts_, -1 for FMT/undefined
@@ -309,17 +317,27 @@ void Parser::HandleFmt(std::size_t pos) {
   }
   message.columns.resize(message.column_names.size());
   message.string_columns.resize(message.string_column_names.size());
+  layout.decode = options_.messages.empty() ||
+                  std::find(options_.messages.begin(),
+                            options_.messages.end(),
+                            message.name) != options_.messages.end();
   const std::size_t expected = counts_[static_cast<std::size_t>(type)];
-  for (std::vector<double>& column : message.columns) column.reserve(expected);
-  for (std::vector<std::string>& column : message.string_columns) {
-    column.reserve(expected);
-  }
   message.offsets.reserve(expected);
-  if (message.name == "PARM") {
+  if (!layout.decode) {
+    // Neither columns nor PARM/MSG bookkeeping for a message left out.
+  } else if (message.name == "PARM") {
     layout.parameter_name = IndexOf(message.string_column_names, "Name");
     layout.parameter_value = IndexOf(message.column_names, "Value");
   } else if (message.name == "MSG") {
     layout.text = IndexOf(message.string_column_names, "Message");
+  }
+  if (layout.decode) {
+    for (std::vector<double>& column : message.columns) {
+      column.reserve(expected);
+    }
+    for (std::vector<std::string>& column : message.string_columns) {
+      column.reserve(expected);
+    }
   }
   for (const DataFlashMessage& existing : out_.messages) {
     if (existing.name == message.name) {
@@ -338,6 +356,10 @@ void Parser::HandleFmt(std::size_t pos) {
 
 void Parser::Decode(std::size_t pos, const Layout& layout) {
   DataFlashMessage& message = out_.messages[layout.message_index];
+  if (!layout.decode) {
+    message.offsets.push_back(pos);
+    return;
+  }
   const unsigned char* record = data_ + pos;
   for (const FieldSlot& slot : layout.slots) {
     if (slot.index < 0) continue;
@@ -486,8 +508,9 @@ bool LooksLikeDataFlash(std::string_view bytes) {
 }
 
 StatusOr<DataFlashLog> ParseDataFlash(std::string_view bytes,
-                                      const std::string& name) {
-  Parser parser(bytes, name);
+                                      const std::string& name,
+                                      const DataFlashReadOptions& options) {
+  Parser parser(bytes, name, options);
   return parser.Parse();
 }
 

@@ -88,7 +88,11 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
       return log;
     }
     case LogFormat::kDataFlash: {
-      StatusOr<DataFlashLog> df = ParseDataFlash(bytes, name);
+      // Only the messages the conversion reads are decoded.
+      DataFlashReadOptions df_options;
+      df_options.messages = {
+          "IMU", "IMU2", "IMU3", "XKF1", "NKF1", "EKF1", "ATT", "MSG"};
+      StatusOr<DataFlashLog> df = ParseDataFlash(bytes, name, df_options);
       if (!df.ok()) return df.status();
       StatusOr<FlightLog> log = DataFlashToFlightLog(*df, name, options);
       if (log.ok()) {
