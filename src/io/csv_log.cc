@@ -636,7 +636,7 @@ std::size_t FindGap(const FlightLog& log,
   *median = log.MedianDt();
   const double limit = options.max_gap_factor * *median;
   for (std::size_t i = 1; i < log.size(); ++i) {
-    if (log.t_s[i] - log.t_s[i - 1] > limit) return i;
+    if (!(log.t_s[i] - log.t_s[i - 1] <= limit)) return i;
   }
   return 0;
 }
