@@ -7,6 +7,7 @@
 
 #include "gtest/gtest.h"
 #include "imusysid/dataflash.h"
+#include "imusysid/log.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -223,6 +224,41 @@ TEST(DataFlashReader, RealLog171MatchesSourcesAndWorkedExample) {
   EXPECT_EQ(log->FindParameter("AHRS_ORIENTATION"), 12);
   EXPECT_NEAR(*log->FindParameter("AHRS_TRIM_X"), 0.0205, 5e-5);
   EXPECT_EQ(log->FindMessage("ERR")->size(), 2u);
+}
+
+// Decoding only some messages leaves the rest of the result as a full read
+// gives it: the same messages, records, warnings and listed columns.
+TEST(DataFlashReader, MessageFilterDecodesOnlyTheListedMessages) {
+  IMUSYSID_REQUIRE_REAL_DATA();
+  StatusOr<std::string> bytes = ReadFileToString(
+      testing::RealDataDir() + "/dronekit-la-testdata__log171.bin");
+  ASSERT_TRUE(bytes.ok());
+  StatusOr<DataFlashLog> full = ParseDataFlash(*bytes, "log171.bin");
+  DataFlashReadOptions options;
+  options.messages = {"IMU", "MSG"};
+  StatusOr<DataFlashLog> some = ParseDataFlash(*bytes, "log171.bin", options);
+  ASSERT_TRUE(full.ok() && some.ok());
+  ASSERT_EQ(some->messages.size(), full->messages.size());
+  for (std::size_t m = 0; m < full->messages.size(); ++m) {
+    const DataFlashMessage& a = full->messages[m];
+    const DataFlashMessage& b = some->messages[m];
+    EXPECT_EQ(b.name, a.name);
+    EXPECT_EQ(b.column_names, a.column_names);
+    EXPECT_EQ(b.offsets, a.offsets);
+    const bool listed = a.name == "IMU" || a.name == "MSG";
+    for (std::size_t k = 0; k < a.columns.size(); ++k) {
+      if (listed) {
+        EXPECT_EQ(b.columns[k], a.columns[k]) << a.name;
+      } else {
+        EXPECT_TRUE(b.columns[k].empty()) << a.name;
+      }
+    }
+  }
+  EXPECT_EQ(some->texts, full->texts);
+  EXPECT_TRUE(some->parameters.empty());
+  EXPECT_FALSE(full->parameters.empty());
+  EXPECT_EQ(some->warnings, full->warnings);
+  EXPECT_EQ(some->stats.records, full->stats.records);
 }
 
 TEST(DataFlashReader, TruncatedRealLogPrefixesNeverFail) {

@@ -233,6 +233,74 @@ TEST(LogReader, CsvIsDispatchedToTheCsvReader) {
   EXPECT_NEAR(summary->topics[0].rate_hz, 100, 1e-6);
 }
 
+// inspect parses a CSV once: SummarizeCsvLog then FinishCsvLog must give
+// exactly what SummarizeLogBytes and ParseFlightLog give, values, frame and
+// errors alike.
+TEST(LogReader, OneCsvParseGivesTheSummaryAndTheLog) {
+  const auto make = [](const std::string& frame, int rows, int hole_at) {
+    std::string csv = frame.empty() ? "" : "# frame: " + frame + "\n";
+    csv += "t,ax,ay,az,gx,gy,gz,qw\n";
+    for (int i = 0; i < rows; ++i) {
+      const double t = 0.01 * i + (i >= hole_at ? 5.0 : 0.0);
+      csv += std::to_string(t) + ",0.5," + std::to_string(0.1 * i) +
+             ",9.8,-0.2,0.1," + std::to_string(-0.03 * i) + "," +
+             (i < 3 ? "" : "1") + "\n";
+    }
+    return csv;
+  };
+  const std::vector<std::string> texts = {make("", 20, 99),
+                                          make("frd", 20, 99),
+                                          make("flu", 20, 99),
+                                          make("", 20, 12),
+                                          make("frd", 5, 99),
+                                          "t,ax\n1,2\n"};
+  for (const std::string& text : texts) {
+    for (int variant = 0; variant < 4; ++variant) {
+      LogReadOptions options;
+      options.override_frame = variant == 1 || variant == 2;
+      options.frame = variant == 1 ? Frame::kFrd : Frame::kFlu;
+      if (variant == 3) options.max_gap_factor = 0;
+      SCOPED_TRACE(text.substr(0, 20) + " variant " + std::to_string(variant));
+      const StatusOr<LogSummary> expected_summary =
+          SummarizeLogBytes(text, "log.csv");
+      const StatusOr<FlightLog> expected =
+          ParseFlightLog(text, "log.csv", options);
+      FlightLog log;
+      const StatusOr<LogSummary> summary =
+          SummarizeCsvLog(text, "log.csv", &log);
+      ASSERT_EQ(summary.ok(), expected_summary.ok());
+      if (!summary.ok()) {
+        EXPECT_EQ(summary.status().ToString(),
+                  expected_summary.status().ToString());
+        continue;
+      }
+      EXPECT_EQ(summary->topics[0].count, expected_summary->topics[0].count);
+      const Status finished = FinishCsvLog(text, "log.csv", options, &log);
+      ASSERT_EQ(finished.ok(), expected.ok());
+      if (!finished.ok()) {
+        EXPECT_EQ(finished.ToString(), expected.status().ToString());
+        continue;
+      }
+      EXPECT_EQ(log.source_frame, expected->source_frame);
+      ASSERT_EQ(log.size(), expected->size());
+      for (std::size_t i = 0; i < log.size(); ++i) {
+        for (auto column : {&FlightLog::t_s,
+                            &FlightLog::ax,
+                            &FlightLog::ay,
+                            &FlightLog::az,
+                            &FlightLog::gx,
+                            &FlightLog::gy,
+                            &FlightLog::gz}) {
+          EXPECT_EQ(testing::Bits((log.*column)[i]),
+                    testing::Bits((expected.value().*column)[i]));
+        }
+      }
+      ASSERT_EQ(log.extra.size(), expected->extra.size());
+      EXPECT_EQ(log.metadata, expected->metadata);
+    }
+  }
+}
+
 TEST(LogReader, MissingFileIsNotFound) {
   StatusOr<FlightLog> log = ReadFlightLog("/nonexistent/x.ulg");
   ASSERT_FALSE(log.ok());

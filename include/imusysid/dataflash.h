@@ -73,6 +73,16 @@ struct DataFlashLog {
 
 inline constexpr std::size_t kMaxDataFlashWarnings = 50;
 
+struct DataFlashReadOptions {
+  // When non-empty, only messages with these names have their fields
+  // decoded; the others keep their definition and record offsets (so size()
+  // still counts their records) but their columns stay empty, and PARM and
+  // MSG feed `parameters` and `texts` only when listed. Decoding every field
+  // of every message as a double is most of a full read's memory and time;
+  // reading the IMU needs a few messages.
+  std::vector<std::string> messages;
+};
+
 // True when `bytes` starts with A3 95 80 (the FMT record describing FMT).
 bool LooksLikeDataFlash(std::string_view bytes);
 
@@ -91,8 +101,10 @@ bool LooksLikeDataFlash(std::string_view bytes);
 // Hard failures (InvalidArgument "name: byte N: ..."): the file does not
 // start with A3 95 80, or it holds no FMT record that could be decoded.
 // Linear time; memory proportional to the file size.
-StatusOr<DataFlashLog> ParseDataFlash(std::string_view bytes,
-                                      const std::string& name);
+StatusOr<DataFlashLog> ParseDataFlash(
+    std::string_view bytes,
+    const std::string& name,
+    const DataFlashReadOptions& options = DataFlashReadOptions());
 
 // Reads `path` and calls ParseDataFlash.
 StatusOr<DataFlashLog> ReadDataFlash(const std::string& path);

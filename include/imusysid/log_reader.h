@@ -108,6 +108,20 @@ StatusOr<std::vector<std::pair<std::string, double>>> ReadLogParameters(
 StatusOr<LogSummary> SummarizeLogBytes(std::string_view bytes,
                                        const std::string& name);
 
+// One parse of a CSV log for a caller that needs both its summary and the
+// log ParseFlightLog gives (`inspect`). SummarizeCsvLog returns what
+// SummarizeLogBytes returns for `bytes` and fills `log` with the log it read
+// (no sample-count or gap check, the file's own frame); FinishCsvLog then
+// turns that log into what ParseFlightLog(bytes, name, options) returns, or
+// returns that call's error.
+StatusOr<LogSummary> SummarizeCsvLog(std::string_view bytes,
+                                     const std::string& name,
+                                     FlightLog* log);
+Status FinishCsvLog(std::string_view bytes,
+                    const std::string& name,
+                    const LogReadOptions& options,
+                    FlightLog* log);
+
 }  // namespace imusysid
 
 #endif  // IMUSYSID_LOG_READER_H_

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "imusysid/log_reader.h"
 #include "imusysid/preprocess.h"
@@ -44,21 +45,27 @@ int Run(const std::vector<std::string>& positional) {
     return UsageError(cmd, "expected exactly one log file");
   }
   // Read once: the summary and the log come from the same bytes (and "-",
-  // standard input, can only be read once).
+  // standard input, can only be read once). A CSV is also parsed once: the
+  // summary's parse becomes the log.
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return ReportError(cmd, bytes.status());
   // Several recordings in one CSV: described as fit uses it (the longest).
   std::string sessions_note;
-  if (DetectLogFormat(*bytes) == LogFormat::kCsv) {
+  const bool csv = DetectLogFormat(*bytes) == LogFormat::kCsv;
+  if (csv) {
     OrderedPiece piece = LongestOrderedCsvPiece(*bytes, path);
     if (!piece.note.empty()) {
       sessions_note = piece.note;
       *bytes = std::move(piece.text);
     }
   }
-  StatusOr<LogSummary> summary = SummarizeLogBytes(*bytes, path);
+  FlightLog csv_log;
+  StatusOr<LogSummary> summary = csv ? SummarizeCsvLog(*bytes, path, &csv_log)
+                                     : SummarizeLogBytes(*bytes, path);
   if (!summary.ok()) return ReportError(cmd, summary.status());
-  StatusOr<FlightLog> log = ParseLogFromFlags(*bytes, path);
+  StatusOr<FlightLog> log =
+      csv ? FinishCsvLogFromFlags(*bytes, path, std::move(csv_log))
+          : ParseLogFromFlags(*bytes, path);
   // A binary log without a usable IMU stream is still worth describing; a
   // CSV that does not parse is simply bad input.
   if (!log.ok() && summary->format == "csv") {

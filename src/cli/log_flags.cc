@@ -95,9 +95,12 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
   return ParseLogFromFlags(bytes, path, *imu);
 }
 
-StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
-                                      const std::string& path,
-                                      int imu_instance) {
+namespace {
+
+// The reading options --imu (as `imu_instance`) and --frame ask for, with
+// ReadLogForFit's gap policy for `bytes`.
+StatusOr<LogReadOptions> LogReadOptionsFromFlags(std::string_view bytes,
+                                                 int imu_instance) {
   LogReadOptions options;
   options.imu_instance = imu_instance;
   if (imu_instance < 0 || imu_instance > 2) {
@@ -116,7 +119,31 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
       IsConvertedBinaryLog(bytes)) {
     options.max_gap_factor = 0.0;
   }
-  return ParseFlightLog(bytes, path, options);
+  return options;
+}
+
+}  // namespace
+
+StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
+                                      const std::string& path,
+                                      int imu_instance) {
+  StatusOr<LogReadOptions> options =
+      LogReadOptionsFromFlags(bytes, imu_instance);
+  if (!options.ok()) return options.status();
+  return ParseFlightLog(bytes, path, *options);
+}
+
+StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
+                                          const std::string& path,
+                                          FlightLog log) {
+  StatusOr<int> imu = ImuInstanceFromFlag();
+  if (!imu.ok()) return imu.status();
+  // A CSV holds one IMU: "all" is that one.
+  StatusOr<LogReadOptions> options =
+      LogReadOptionsFromFlags(bytes, *imu == kAllImus ? 0 : *imu);
+  if (!options.ok()) return options.status();
+  IMUSYSID_RETURN_IF_ERROR(FinishCsvLog(bytes, path, *options, &log));
+  return log;
 }
 
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log) {

@@ -53,6 +53,11 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
 StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
                                       const std::string& path,
                                       int imu_instance);
+// ParseLogFromFlags(bytes, path) for a CSV log that SummarizeCsvLog already
+// read from `bytes` into `log`, without parsing it again.
+StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
+                                          const std::string& path,
+                                          FlightLog log);
 
 // PreprocessOptions from --t_start, --t_end, --cutoff_hz, --plane,
 // --velocity, --gyro_bias. --velocity=auto picks the log's own velocity when

@@ -1,6 +1,9 @@
 // Reading the documented CSV log format (docs/log-format.md) into a
-// FlightLog: one pass over the text without copying lines, every malformed
-// input an error that names the file, line, column and offending text.
+// FlightLog: one pass over the text without copying lines or allocating per
+// row, every malformed input an error that names the file, line, column and
+// offending text.
+
+#include "src/io/csv_log.h"
 
 #include <algorithm>
 #include <charconv>
@@ -52,6 +55,19 @@ class LineReader {
     return true;
   }
   int line_number() const { return line_number_; }
+
+  // The unread text.
+  const char* pos() const { return pos_; }
+  const char* end() const { return end_; }
+
+  // Consumes a line the caller has read itself: `stop` is where its text ends,
+  // followed by "\n", "\r\n", a lone '\r' at the end of the text, or the end.
+  void SkipLine(const char* stop) {
+    pos_ = stop;
+    if (pos_ < end_ && *pos_ == '\r') ++pos_;
+    if (pos_ < end_ && *pos_ == '\n') ++pos_;
+    ++line_number_;
+  }
 
  private:
   const char* pos_;
@@ -301,6 +317,34 @@ inline bool ParseRow(std::string_view line,
   return true;
 }
 
+// Parses a data row in the form writers produce (FormatCsvLog, spreadsheets,
+// pandas): one number per column without blanks, '+' or empty cells, within
+// +/-kMaxAbsInputValue, the line ended by "\n", "\r\n" or the end of the text.
+// Stores the values in `row` and returns where the row's text ends (before
+// its line break). Returns nullptr for any other form, which ParseRow then
+// reads (and reports) as it always has: both take the numbers from
+// std::from_chars over the same characters, so the values are identical and
+// this path only skips the line search, the blank handling and the per-field
+// bookkeeping.
+inline const char* ParsePlainRow(const char* p,
+                                 const char* end,
+                                 std::size_t num_columns,
+                                 double* row) {
+  for (std::size_t c = 0;;) {
+    const std::from_chars_result result = std::from_chars(p, end, row[c]);
+    if (result.ec != std::errc() || !(std::abs(row[c]) <= kMaxAbsInputValue)) {
+      return nullptr;
+    }
+    p = result.ptr;
+    if (++c == num_columns) break;
+    if (p == end || *p != ',') return nullptr;
+    ++p;
+  }
+  if (p == end || *p == '\n') return p;
+  if (*p == '\r' && (p + 1 == end || p[1] == '\n')) return p;
+  return nullptr;
+}
+
 void FlipYZ(std::vector<double>* y, std::vector<double>* z) {
   for (double& v : *y) v = -v;
   for (double& v : *z) v = -v;
@@ -525,22 +569,37 @@ StatusOr<int> ParseRows(LineReader* reader,
                         CommentHandler* comments,
                         FlightLog* log) {
   const std::size_t t_column = binding.t_column;
+  const std::size_t num_columns = binding.dest.size();
+  std::vector<double> row(num_columns);
   std::string_view line;
   std::string_view previous_line;
   int previous_t_line = 0;
   int last_row_line = header.line;
   RowError error;
-  while (reader->Next(&line)) {
-    const LineKind kind = Classify(line);
-    if (kind != LineKind::kContent) {
-      if (kind == LineKind::kComment) {
-        IMUSYSID_RETURN_IF_ERROR(comments->Handle(line, reader->line_number()));
+  while (true) {
+    const char* row_end =
+        ParsePlainRow(reader->pos(), reader->end(), num_columns, row.data());
+    if (row_end != nullptr) {
+      for (std::size_t c = 0; c < num_columns; ++c) {
+        binding.dest[c]->push_back(row[c]);
       }
-      continue;
-    }
-    if (!ParseRow(line, binding.dest, binding.empty_until_first, &error)) {
-      return RowErrorToStatus(
-          error, name, reader->line_number(), line, header.names);
+      line = std::string_view(
+          reader->pos(), static_cast<std::size_t>(row_end - reader->pos()));
+      reader->SkipLine(row_end);
+    } else {
+      if (!reader->Next(&line)) break;
+      const LineKind kind = Classify(line);
+      if (kind != LineKind::kContent) {
+        if (kind == LineKind::kComment) {
+          IMUSYSID_RETURN_IF_ERROR(
+              comments->Handle(line, reader->line_number()));
+        }
+        continue;
+      }
+      if (!ParseRow(line, binding.dest, binding.empty_until_first, &error)) {
+        return RowErrorToStatus(
+            error, name, reader->line_number(), line, header.names);
+      }
     }
     const std::size_t n = log->t_s.size();
     if (n >= 2 && !(log->t_s[n - 1] > log->t_s[n - 2])) {
@@ -567,6 +626,21 @@ StatusOr<int> ParseRows(LineReader* reader,
   return last_row_line;
 }
 
+// The first sample that follows a hole in time longer than max_gap_factor
+// median intervals (0: none, or the check is off); `median` receives the
+// median interval when the check runs.
+std::size_t FindGap(const FlightLog& log,
+                    const CsvReadOptions& options,
+                    double* median) {
+  if (!(options.max_gap_factor > 0.0) || log.size() < 2) return 0;
+  *median = log.MedianDt();
+  const double limit = options.max_gap_factor * *median;
+  for (std::size_t i = 1; i < log.size(); ++i) {
+    if (!(log.t_s[i] - log.t_s[i - 1] <= limit)) return i;
+  }
+  return 0;
+}
+
 // The checks that need every row: enough samples, and no hole in time longer
 // than max_gap_factor median intervals (placed by rescanning `body`).
 Status CheckWholeLog(const FlightLog& log,
@@ -583,24 +657,21 @@ Status CheckWholeLog(const FlightLog& log,
                        (log.size() == 1 ? "" : "s") + ", fewer than the " +
                        std::to_string(options.min_samples) + " the fit needs");
   }
-  if (options.max_gap_factor > 0.0 && log.size() >= 2) {
-    const double median = log.MedianDt();
-    const double limit = options.max_gap_factor * median;
-    for (std::size_t i = 1; i < log.size(); ++i) {
-      const double gap = log.t_s[i] - log.t_s[i - 1];
-      if (gap <= limit) continue;
-      int line_number, column;
-      LocateRowField(body, i, t_column, &line_number, &column);
-      return ErrorAt(name,
-                     line_number,
-                     column,
-                     "column 't': gap of " + FormatNumber(gap, 6) +
-                         " s from t=" + FormatNumber(log.t_s[i - 1], 12) +
-                         " to t=" + FormatNumber(log.t_s[i], 12) + " exceeds " +
-                         FormatNumber(options.max_gap_factor, 6) +
-                         " x the median interval " + FormatNumber(median, 6) +
-                         " s; the log has a hole");
-    }
+  double median = 0.0;
+  const std::size_t i = FindGap(log, options, &median);
+  if (i > 0) {
+    const double gap = log.t_s[i] - log.t_s[i - 1];
+    int line_number, column;
+    LocateRowField(body, i, t_column, &line_number, &column);
+    return ErrorAt(name,
+                   line_number,
+                   column,
+                   "column 't': gap of " + FormatNumber(gap, 6) +
+                       " s from t=" + FormatNumber(log.t_s[i - 1], 12) +
+                       " to t=" + FormatNumber(log.t_s[i], 12) + " exceeds " +
+                       FormatNumber(options.max_gap_factor, 6) +
+                       " x the median interval " + FormatNumber(median, 6) +
+                       " s; the log has a hole");
   }
   return Status::Ok();
 }
@@ -655,10 +726,12 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
       SplitHeader(*header_line, reader.line_number(), name);
   if (!header.ok()) return header.status();
 
-  // One newline per row is a tight upper bound for well-formed files; the
-  // count runs at memchr speed and saves every regrowth.
-  const std::size_t row_estimate =
-      static_cast<std::size_t>(std::count(body.begin(), body.end(), '\n')) + 1;
+  // Reserved from the first rows' length rather than a count of the line
+  // breaks, which was a second pass over the text.
+  const std::size_t row_estimate = internal::EstimateRows(
+      std::string_view(reader.pos(),
+                       static_cast<std::size_t>(reader.end() - reader.pos())),
+      header->names.size() + kNumRequired);
   StatusOr<ColumnBinding> binding =
       BindColumns(*header, name, row_estimate, &log);
   if (!binding.ok()) return binding.status();
@@ -677,6 +750,34 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
   }
   return log;
 }
+
+namespace internal {
+
+Status FinishRelaxedCsvLog(std::string_view text,
+                           const std::string& name,
+                           const CsvReadOptions& options,
+                           FlightLog* log) {
+  double median = 0.0;
+  if (log->size() < options.min_samples ||
+      FindGap(*log, options, &median) != 0) {
+    StatusOr<FlightLog> strict = ParseCsvLog(text, name, options);
+    if (!strict.ok()) return strict.status();
+    *log = std::move(strict).value();
+    return Status::Ok();
+  }
+  // ParseCsvLog flips y and z when the frame it settles on is FRD; the
+  // relaxed read settled on the file's own frame.
+  const Frame frame =
+      options.override_frame ? options.frame : log->source_frame;
+  if ((frame == Frame::kFrd) != (log->source_frame == Frame::kFrd)) {
+    FlipYZ(&log->ay, &log->az);
+    FlipYZ(&log->gy, &log->gz);
+  }
+  log->source_frame = frame;
+  return Status::Ok();
+}
+
+}  // namespace internal
 
 StatusOr<FlightLog> ReadCsvLog(const std::string& path,
                                const CsvReadOptions& options) {

@@ -1,5 +1,8 @@
 #include "src/io/csv_text.h"
 
+#include <algorithm>
+#include <cstring>
+
 #include "imusysid/safe_text.h"
 
 namespace imusysid {
@@ -7,6 +10,8 @@ namespace internal {
 namespace {
 
 constexpr std::size_t kMaxQuotedText = 40;
+constexpr std::size_t kSampleLines = 64;
+constexpr std::size_t kSampleBytes = 64 * 1024;
 
 }  // namespace
 
@@ -61,6 +66,28 @@ bool ParseMetadata(std::string_view comment,
     return !key->empty();
   }
   return false;
+}
+
+std::size_t EstimateRows(std::string_view rest, std::size_t min_row_bytes) {
+  min_row_bytes = std::max<std::size_t>(min_row_bytes, 1);
+  const std::string_view sample = rest.substr(0, kSampleBytes);
+  std::size_t shortest = 0;
+  std::size_t pos = 0;
+  for (std::size_t lines = 0; lines < kSampleLines && pos < sample.size();
+       ++lines) {
+    const void* nl =
+        std::memchr(sample.data() + pos, '\n', sample.size() - pos);
+    if (nl == nullptr) break;  // a line cut by the sample's end
+    const std::size_t stop =
+        static_cast<std::size_t>(static_cast<const char*>(nl) - sample.data());
+    const std::size_t length = stop + 1 - pos;
+    if (length >= min_row_bytes && (shortest == 0 || length < shortest)) {
+      shortest = length;
+    }
+    pos = stop + 1;
+  }
+  if (shortest == 0) shortest = min_row_bytes;
+  return rest.size() / shortest + 1;
 }
 
 }  // namespace internal

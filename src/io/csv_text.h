@@ -5,6 +5,7 @@
 #ifndef IMUSYSID_SRC_IO_CSV_TEXT_H_
 #define IMUSYSID_SRC_IO_CSV_TEXT_H_
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -39,6 +40,14 @@ Status ErrorAt(const std::string& name,
 bool ParseMetadata(std::string_view comment,
                    std::string_view* key,
                    std::string_view* value);
+
+// The number of data rows to reserve for `rest`, the text after a header,
+// without a pass over it: its size over the shortest of its first lines (at
+// most 64 lines or 64 KiB) that are at least `min_row_bytes` long with their
+// line break, the shortest a data row can be. Meant as an upper bound: later
+// rows are rarely shorter than early ones (their numbers grow), and if they
+// are the columns simply grow. Reserved but untouched memory is not resident.
+std::size_t EstimateRows(std::string_view rest, std::size_t min_row_bytes);
 
 }  // namespace internal
 }  // namespace imusysid

@@ -84,6 +84,8 @@ std::vector<SourceSignal> DataFlashChannels(const DataFlashLog& log) {
       const std::vector<double>* column = ekf->FindColumn(fields[k]);
       if (column == nullptr) continue;
       SourceSignal signal{channels[k], {}, {}, false};
+      signal.t.reserve(rows.size());
+      signal.v.reserve(rows.size());
       for (std::size_t row : rows) {
         signal.t.push_back(t[row]);
         signal.v.push_back((*column)[row]);
@@ -100,6 +102,7 @@ std::vector<SourceSignal> DataFlashChannels(const DataFlashLog& log) {
       const std::vector<double>* column = att->FindColumn(fields[k]);
       if (column == nullptr || t.size() != column->size()) continue;
       SourceSignal signal{channels[k], t, {}, k != 1};
+      signal.v.reserve(column->size());
       for (double degrees : *column) signal.v.push_back(degrees * kPi / 180);
       signals.push_back(std::move(signal));
     }
@@ -145,6 +148,7 @@ StatusOr<FlightLog> DataFlashToFlightLog(const DataFlashLog& df,
     }
   }
   ImuSeries imu;
+  imu.Reserve(rows.size());
   for (std::size_t row : rows) {
     imu.Add(t[row],
             (*c[0])[row],

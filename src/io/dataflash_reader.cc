@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -126,14 +128,34 @@ struct FieldSlot {
 struct Layout {
   std::size_t message_index;
   std::vector<FieldSlot> slots;
+  // False for a message DataFlashReadOptions::messages leaves out: only its
+  // record offsets are kept.
+  bool decode = true;
+  // PARM and MSG records also feed DataFlashLog::parameters and texts; these
+  // are the columns they read (-1: none), found once here rather than by
+  // name for every record.
+  int parameter_name = -1;   // string column
+  int parameter_value = -1;  // numeric column
+  int text = -1;             // string column
 };
+
+// Index of the first `name` in `names`, or -1.
+int IndexOf(const std::vector<std::string>& names, const char* name) {
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (names[k] == name) return static_cast<int>(k);
+  }
+  return -1;
+}
 
 class Parser {
  public:
-  Parser(std::string_view bytes, const std::string& name)
+  Parser(std::string_view bytes,
+         const std::string& name,
+         const DataFlashReadOptions& options)
       : data_(reinterpret_cast<const unsigned char*>(bytes.data())),
         size_(bytes.size()),
-        name_(name) {}
+        name_(name),
+        options_(options) {}
 
   StatusOr<DataFlashLog> Parse();
 
@@ -145,17 +167,49 @@ class Parser {
       out_.warnings.push_back("... more warnings not shown");
     }
   }
+  void CountRecords();
   void HandleFmt(std::size_t pos);
   void Decode(std::size_t pos, const Layout& layout);
 
   const unsigned char* data_;
   std::size_t size_;
   const std::string& name_;
+  const DataFlashReadOptions& options_;
   DataFlashLog out_;
   int lengths_[256] = {};  // record length per id, 0 = undefined
   int layout_index_[256];  // into layouts_, -1 for FMT/undefined
   std::vector<Layout> layouts_;
+  // Records per id from CountRecords, to size the columns once.
+  std::array<std::size_t, 256> counts_ = {};
 };
+
+// Counts the records of each id by walking the record headers with the
+// lengths the FMT records declare, stopping at the first byte that does not
+// start a complete record. The counts only size the columns: the decoding
+// pass checks everything itself, and a column whose count fell short (a
+// damaged log, an FMT the decoder rejects) just grows. Without them the
+// columns grew by doubling, each step copying and touching fresh memory,
+// which was most of the reader's time.
+void Parser::CountRecords() {
+  std::size_t lengths[256] = {};
+  lengths[kFmtId] = kFmtLength;
+  std::size_t pos = 0;
+  while (size_ - pos >= kRecordHeader && data_[pos] == kHead1 &&
+         data_[pos + 1] == kHead2) {
+    const int id = data_[pos + 2];
+    const std::size_t length = lengths[id];
+    if (length == 0 || length > size_ - pos) break;
+    if (id == kFmtId) {
+      const int type = data_[pos + kRecordHeader];
+      const std::size_t declared = data_[pos + kRecordHeader + 1];
+      if (lengths[type] == 0 && declared >= kRecordHeader) {
+        lengths[type] = declared;
+      }
+    }
+    ++counts_[static_cast<std::size_t>(id)];
+    pos += length;
+  }
+}
 
 void Parser::HandleFmt(std::size_t pos) {
   const unsigned char* p = data_ + pos + kRecordHeader;
@@ -263,6 +317,28 @@ void Parser::HandleFmt(std::size_t pos) {
   }
   message.columns.resize(message.column_names.size());
   message.string_columns.resize(message.string_column_names.size());
+  layout.decode = options_.messages.empty() ||
+                  std::find(options_.messages.begin(),
+                            options_.messages.end(),
+                            message.name) != options_.messages.end();
+  const std::size_t expected = counts_[static_cast<std::size_t>(type)];
+  message.offsets.reserve(expected);
+  if (!layout.decode) {
+    // Neither columns nor PARM/MSG bookkeeping for a message left out.
+  } else if (message.name == "PARM") {
+    layout.parameter_name = IndexOf(message.string_column_names, "Name");
+    layout.parameter_value = IndexOf(message.column_names, "Value");
+  } else if (message.name == "MSG") {
+    layout.text = IndexOf(message.string_column_names, "Message");
+  }
+  if (layout.decode) {
+    for (std::vector<double>& column : message.columns) {
+      column.reserve(expected);
+    }
+    for (std::vector<std::string>& column : message.string_columns) {
+      column.reserve(expected);
+    }
+  }
   for (const DataFlashMessage& existing : out_.messages) {
     if (existing.name == message.name) {
       Warn(pos,
@@ -280,6 +356,10 @@ void Parser::HandleFmt(std::size_t pos) {
 
 void Parser::Decode(std::size_t pos, const Layout& layout) {
   DataFlashMessage& message = out_.messages[layout.message_index];
+  if (!layout.decode) {
+    message.offsets.push_back(pos);
+    return;
+  }
   const unsigned char* record = data_ + pos;
   for (const FieldSlot& slot : layout.slots) {
     if (slot.index < 0) continue;
@@ -293,15 +373,15 @@ void Parser::Decode(std::size_t pos, const Layout& layout) {
     }
   }
   message.offsets.push_back(pos);
-  if (message.name == "PARM") {
-    const std::vector<std::string>* names = message.FindStringColumn("Name");
-    const std::vector<double>* values = message.FindColumn("Value");
-    if (names != nullptr && values != nullptr) {
-      out_.parameters.emplace_back(names->back(), values->back());
-    }
-  } else if (message.name == "MSG") {
-    const std::vector<std::string>* texts = message.FindStringColumn("Message");
-    if (texts != nullptr) out_.texts.push_back(texts->back());
+  if (layout.parameter_name >= 0 && layout.parameter_value >= 0) {
+    out_.parameters.emplace_back(
+        message.string_columns[static_cast<std::size_t>(layout.parameter_name)]
+            .back(),
+        message.columns[static_cast<std::size_t>(layout.parameter_value)]
+            .back());
+  } else if (layout.text >= 0) {
+    out_.texts.push_back(
+        message.string_columns[static_cast<std::size_t>(layout.text)].back());
   }
 }
 
@@ -313,6 +393,7 @@ StatusOr<DataFlashLog> Parser::Parse() {
   }
   for (int& index : layout_index_) index = -1;
   lengths_[kFmtId] = kFmtLength;
+  CountRecords();
   std::size_t pos = 0;
   bool in_sync = true;
   while (pos < size_) {
@@ -427,8 +508,9 @@ bool LooksLikeDataFlash(std::string_view bytes) {
 }
 
 StatusOr<DataFlashLog> ParseDataFlash(std::string_view bytes,
-                                      const std::string& name) {
-  Parser parser(bytes, name);
+                                      const std::string& name,
+                                      const DataFlashReadOptions& options) {
+  Parser parser(bytes, name, options);
   return parser.Parse();
 }
 

@@ -176,14 +176,20 @@ StatusOr<std::string> ReadDescriptor(int fd,
                                      const std::string& path,
                                      std::size_t max_bytes,
                                      std::size_t size_hint) {
-  std::string contents;
-  // One extra byte lets the read that sees end-of-file fit the first chunk.
-  std::size_t chunk =
+  // One extra byte lets the read that sees end-of-file fit the first buffer.
+  // The buffer grows only when a read has filled it: a file read whole is
+  // then never copied into a larger one (which doubled the peak memory of
+  // every reader).
+  const std::size_t chunk =
       size_hint > 0 ? std::min(size_hint, max_bytes) + 1 : std::size_t{1} << 16;
+  std::string contents(chunk, '\0');
   std::size_t size = 0;
   while (true) {
-    contents.resize(size + chunk);
-    const ssize_t got = read(fd, &contents[size], chunk);
+    if (size == contents.size()) {
+      contents.resize(size + std::min(std::max(chunk, std::size_t{1} << 16),
+                                      max_bytes + 1 - size));
+    }
+    const ssize_t got = read(fd, &contents[size], contents.size() - size);
     if (got < 0) {
       if (errno == EINTR) continue;
       return IoError("cannot read '" + path + "': " + ErrnoText(errno));
@@ -195,8 +201,6 @@ StatusOr<std::string> ReadDescriptor(int fd,
           "'" + path + "' is larger than " + std::to_string(max_bytes) +
           " bytes, the most an input may hold (docs/failure-modes.md)");
     }
-    chunk = std::max<std::size_t>(chunk, 1 << 16);
-    chunk = std::min(chunk, max_bytes + 1 - size);
   }
   contents.resize(size);
   return contents;

@@ -48,6 +48,13 @@ struct ImuSeries {
     offsets.push_back(offset);
   }
   std::size_t size() const { return t.size(); }
+  // Room for `n` samples, so that Add never copies a grown column.
+  void Reserve(std::size_t n) {
+    for (std::vector<double>* column : {&t, &ax, &ay, &az, &gx, &gy, &gz}) {
+      column->reserve(n);
+    }
+    offsets.reserve(n);
+  }
 };
 
 // A scalar signal to be interpolated onto the IMU times.

@@ -4,7 +4,10 @@
 #include "imusysid/log_reader.h"
 
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "src/io/csv_log.h"
 
 namespace imusysid {
 namespace {
@@ -85,7 +88,11 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
       return log;
     }
     case LogFormat::kDataFlash: {
-      StatusOr<DataFlashLog> df = ParseDataFlash(bytes, name);
+      // Only the messages the conversion reads are decoded.
+      DataFlashReadOptions df_options;
+      df_options.messages = {
+          "IMU", "IMU2", "IMU3", "XKF1", "NKF1", "EKF1", "ATT", "MSG"};
+      StatusOr<DataFlashLog> df = ParseDataFlash(bytes, name, df_options);
       if (!df.ok()) return df.status();
       StatusOr<FlightLog> log = DataFlashToFlightLog(*df, name, options);
       if (log.ok()) {
@@ -102,15 +109,20 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
   return ParseCsvLog(bytes, name, CsvOptions(options));
 }
 
+Status FinishCsvLog(std::string_view bytes,
+                    const std::string& name,
+                    const LogReadOptions& options,
+                    FlightLog* log) {
+  return internal::FinishRelaxedCsvLog(bytes, name, CsvOptions(options), log);
+}
+
 StatusOr<FlightLog> ReadFlightLog(const std::string& path,
                                   const LogReadOptions& options) {
   StatusOr<std::string> read = ReadFileToString(path);
   if (!read.ok()) return read.status();
-  const std::string& bytes = *read;
-  if (DetectLogFormat(bytes) == LogFormat::kCsv) {
-    return ReadCsvLog(path, CsvOptions(options));
-  }
-  return ParseFlightLog(bytes, path, options);
+  // Parsed from the bytes already read: reading a CSV again held two copies
+  // of the file at once.
+  return ParseFlightLog(*read, path, options);
 }
 
 }  // namespace imusysid

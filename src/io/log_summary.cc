@@ -300,11 +300,14 @@ LogSummary SummarizeDataFlash(const DataFlashLog& log) {
   return summary;
 }
 
+}  // namespace
+
 // A CSV log as one "topic" with its columns; its metadata lines as info.
 // Read without the fit's sample-count and gap checks: a summary describes
 // any log.
-StatusOr<LogSummary> SummarizeCsv(std::string_view bytes,
-                                  const std::string& name) {
+StatusOr<LogSummary> SummarizeCsvLog(std::string_view bytes,
+                                     const std::string& name,
+                                     FlightLog* parsed) {
   CsvReadOptions csv;
   csv.min_samples = 0;
   csv.max_gap_factor = 0;
@@ -321,10 +324,9 @@ StatusOr<LogSummary> SummarizeCsv(std::string_view bytes,
   if (const std::string* vehicle = log->FindMetadata("vehicle")) {
     summary.vehicle = *vehicle;
   }
+  *parsed = std::move(log).value();
   return summary;
 }
-
-}  // namespace
 
 StatusOr<LogSummary> SummarizeLogBytes(std::string_view bytes,
                                        const std::string& name) {
@@ -342,7 +344,8 @@ StatusOr<LogSummary> SummarizeLogBytes(std::string_view bytes,
     case LogFormat::kCsv:
       break;
   }
-  return SummarizeCsv(bytes, name);
+  FlightLog log;
+  return SummarizeCsvLog(bytes, name, &log);
 }
 
 StatusOr<LogSummary> SummarizeLog(const std::string& path) {

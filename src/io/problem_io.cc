@@ -43,8 +43,9 @@ struct Field {
   const char* start;
 };
 
-std::vector<Field> SplitFields(std::string_view line) {
-  std::vector<Field> fields;
+// Fills `fields` (cleared first; its capacity is reused from row to row).
+void SplitFields(std::string_view line, std::vector<Field>* fields) {
+  fields->clear();
   const char* p = line.data();
   const char* const end = p + line.size();
   while (true) {
@@ -52,13 +53,12 @@ std::vector<Field> SplitFields(std::string_view line) {
     while (stop < end && *stop != ',') ++stop;
     const char* start = p;
     while (start < stop && IsBlank(*start)) ++start;
-    fields.push_back(
+    fields->push_back(
         {TrimBlanks(std::string_view(start, static_cast<size_t>(stop - start))),
          start});
     if (stop == end) break;
     p = stop + 1;
   }
-  return fields;
 }
 
 // The gravity a problem file may declare, m/s^2 (the Moon's is 1.6,
@@ -92,6 +92,50 @@ NumberError ParseNumber(std::string_view text, double* value) {
   // estimator, would overflow (an SVD of such a matrix crashed `linear`).
   if (std::abs(*value) > kMaxAbsInputValue) return NumberError::kTooLarge;
   return NumberError::kNone;
+}
+
+// Parses a data row in the form writers produce (FormatProblemCsv,
+// spreadsheets, pandas): every column in `dest` (null for an ignored column,
+// whose text is skipped) a number without blanks or '+' within
+// +/-kMaxAbsInputValue, exactly one field per header column, the line ended by
+// "\n", "\r\n" or the end of the text. Stores the values in `row` and the t
+// field in `t_field`, and returns where the row's text ends (before its line
+// break). Returns nullptr for any other form (blank and comment lines
+// included), which the general path then reads and reports as it always has:
+// both take the numbers from std::from_chars over the same characters, so
+// the values are identical.
+inline const char* ParsePlainRow(const char* p,
+                                 const char* end,
+                                 const std::vector<std::vector<double>*>& dest,
+                                 std::size_t t_column,
+                                 double* row,
+                                 Field* t_field) {
+  if (p == end || IsBlank(*p) || *p == '#' || *p == '\r' || *p == '\n') {
+    return nullptr;
+  }
+  const std::size_t num_columns = dest.size();
+  for (std::size_t c = 0;;) {
+    const char* start = p;
+    if (dest[c] == nullptr) {
+      while (p < end && *p != ',' && *p != '\n') ++p;
+    } else {
+      const std::from_chars_result r = std::from_chars(p, end, row[c]);
+      if (r.ec != std::errc() || !(std::abs(row[c]) <= kMaxAbsInputValue)) {
+        return nullptr;
+      }
+      p = r.ptr;
+    }
+    if (c == t_column) {
+      *t_field = {std::string_view(start, static_cast<size_t>(p - start)),
+                  start};
+    }
+    if (++c == num_columns) break;
+    if (p == end || *p != ',') return nullptr;
+    ++p;
+  }
+  if (p == end || *p == '\n') return p;
+  if (*p == '\r' && (p + 1 == end || p[1] == '\n')) return p;
+  return nullptr;
 }
 
 std::string NumberMessage(NumberError error, std::string_view text) {
@@ -291,7 +335,8 @@ StatusOr<ProblemFile> ParseProblemCsv(std::string_view text,
   }
   const int header_line = line_number;
   const std::string_view header_text = line;
-  const std::vector<Field> header_fields = SplitFields(line);
+  std::vector<Field> header_fields;
+  SplitFields(line, &header_fields);
   std::vector<std::string> header;
   std::vector<int> roles;
   int role_column[kNumRoles];
@@ -365,72 +410,98 @@ StatusOr<ProblemFile> ParseProblemCsv(std::string_view text,
   for (std::size_t c = 0; c < header.size(); ++c) {
     if (roles[c] != kIgnored) dest[c] = dest_of_role[roles[c]];
   }
-  const std::size_t row_estimate =
-      static_cast<std::size_t>(std::count(body.begin(), body.end(), '\n')) + 1;
+  // Reserved from the first rows' length rather than a count of the line
+  // breaks, which was a second pass over the text.
+  const std::size_t row_estimate = internal::EstimateRows(
+      body.substr(std::min(pos, body.size())), header.size() + kNumRequired);
   for (std::vector<double>* d : dest) {
     if (d != nullptr) d->reserve(row_estimate);
   }
 
   // --- Rows ---------------------------------------------------------------
   const std::size_t t_column = static_cast<std::size_t>(role_column[kT]);
-  std::string previous_t_text;
+  const std::size_t num_columns = header.size();
+  std::vector<double> row(num_columns);
+  std::vector<Field> fields;
+  // Views into `body`, which outlives the loop.
+  std::string_view previous_t_text;
   int previous_t_line = 0;
   int last_row_line = header_line;
-  while (next_line()) {
-    const Kind kind = classify(line);
-    if (kind != Kind::kContent) {
-      if (kind == Kind::kComment) {
-        IMUSYSID_RETURN_IF_ERROR(handle_comment(line));
+  const char* const body_end = body.data() + body.size();
+  while (true) {
+    Field t_field{};
+    const char* const row_start = body.data() + std::min(pos, body.size());
+    const char* row_end = ParsePlainRow(
+        row_start, body_end, dest, t_column, row.data(), &t_field);
+    if (row_end != nullptr) {
+      for (std::size_t c = 0; c < num_columns; ++c) {
+        if (dest[c] != nullptr) dest[c]->push_back(row[c]);
       }
-      continue;
-    }
-    const std::vector<Field> fields = SplitFields(line);
-    if (fields.size() < header.size()) {
-      return ErrorAt(name,
-                     line_number,
-                     CharColumn(line, line.data() + line.size()),
-                     "row has " + std::to_string(fields.size()) +
-                         " fields, expected " + std::to_string(header.size()) +
-                         " (the header's count); column '" +
-                         header[fields.size()] + "' is missing");
-    }
-    if (fields.size() > header.size()) {
-      const Field& extra = fields[header.size()];
-      return ErrorAt(name,
-                     line_number,
-                     CharColumn(line, extra.start),
-                     "row has " + std::to_string(fields.size()) +
-                         " fields, expected " + std::to_string(header.size()) +
-                         " (the header's count); extra field " +
-                         Quote(extra.text));
-    }
-    for (std::size_t c = 0; c < header.size(); ++c) {
-      if (dest[c] == nullptr) continue;
-      double value = 0.0;
-      const NumberError e = ParseNumber(fields[c].text, &value);
-      if (e != NumberError::kNone) {
+      line = std::string_view(row_start,
+                              static_cast<std::size_t>(row_end - row_start));
+      if (row_end < body_end && *row_end == '\r') ++row_end;
+      if (row_end < body_end && *row_end == '\n') ++row_end;
+      pos = static_cast<std::size_t>(row_end - body.data());
+      ++line_number;
+    } else {
+      if (!next_line()) break;
+      const Kind kind = classify(line);
+      if (kind != Kind::kContent) {
+        if (kind == Kind::kComment) {
+          IMUSYSID_RETURN_IF_ERROR(handle_comment(line));
+        }
+        continue;
+      }
+      SplitFields(line, &fields);
+      if (fields.size() < header.size()) {
+        return ErrorAt(name,
+                       line_number,
+                       CharColumn(line, line.data() + line.size()),
+                       "row has " + std::to_string(fields.size()) +
+                           " fields, expected " +
+                           std::to_string(header.size()) +
+                           " (the header's count); column '" +
+                           header[fields.size()] + "' is missing");
+      }
+      if (fields.size() > header.size()) {
+        const Field& extra = fields[header.size()];
         return ErrorAt(
             name,
             line_number,
-            CharColumn(line, fields[c].start),
-            "column '" + header[c] + "': " + NumberMessage(e, fields[c].text));
+            CharColumn(line, extra.start),
+            "row has " + std::to_string(fields.size()) + " fields, expected " +
+                std::to_string(header.size()) +
+                " (the header's count); extra field " + Quote(extra.text));
       }
-      dest[c]->push_back(value);
+      for (std::size_t c = 0; c < header.size(); ++c) {
+        if (dest[c] == nullptr) continue;
+        double value = 0.0;
+        const NumberError e = ParseNumber(fields[c].text, &value);
+        if (e != NumberError::kNone) {
+          return ErrorAt(name,
+                         line_number,
+                         CharColumn(line, fields[c].start),
+                         "column '" + header[c] +
+                             "': " + NumberMessage(e, fields[c].text));
+        }
+        dest[c]->push_back(value);
+      }
+      t_field = fields[t_column];
     }
     const std::size_t n = data.t_s.size();
     if (n >= 2 && !(data.t_s[n - 1] > data.t_s[n - 2])) {
       const bool equal = data.t_s[n - 1] == data.t_s[n - 2];
       return ErrorAt(name,
                      line_number,
-                     CharColumn(line, fields[t_column].start),
-                     "column 't': time " + Quote(fields[t_column].text) +
+                     CharColumn(line, t_field.start),
+                     "column 't': time " + Quote(t_field.text) +
                          (equal ? " repeats the previous time "
                                 : " is before the previous time ") +
                          Quote(previous_t_text) + " (line " +
                          std::to_string(previous_t_line) +
                          "); t must increase strictly");
     }
-    previous_t_text = std::string(fields[t_column].text);
+    previous_t_text = t_field.text;
     previous_t_line = line_number;
     last_row_line = line_number;
   }

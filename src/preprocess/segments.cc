@@ -1,6 +1,9 @@
 #include "imusysid/segments.h"
 
+#include <sys/stat.h>
+
 #include <cmath>
+#include <fstream>
 #include <string_view>
 
 #include "imusysid/format.h"
@@ -95,7 +98,29 @@ StatusOr<std::string> ApplyFallbackSegment(const FlightLog& log,
          "to be identifiable (give --t_start/--t_end to choose)";
 }
 
+namespace {
+
+// True when the regular file at `path` is a CSV log by its first bytes, the
+// only ones DetectLogFormat reads.
+bool IsCsvLogFile(const std::string& path) {
+  struct stat st;
+  if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
+  std::ifstream in(path, std::ios::binary);
+  char head[16];
+  in.read(head, sizeof(head));
+  if (in.bad()) return false;
+  return DetectLogFormat(std::string_view(
+             head, static_cast<std::size_t>(in.gcount()))) == LogFormat::kCsv;
+}
+
+}  // namespace
+
 std::string NoFlightReason(const std::string& path, double t0, double t1) {
+  // A CSV log records no arming, so its summary would answer "" below; the
+  // first bytes tell that without reading and parsing the whole log again,
+  // which at a fit's peak was a third copy of it beside the parsed log and
+  // the preprocessed samples.
+  if (IsCsvLogFile(path)) return "";
   StatusOr<LogSummary> summary = SummarizeLog(path);
   if (!summary.ok() || summary->format == "csv") return "";
   bool records_arming = false;
