@@ -101,14 +101,22 @@ StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
 }
 
 // Linear interpolation of the track at time t (clamped to the log's ends).
+// `hint` is the previous call's j for increasing t (a walk instead of a
+// search: the data are built in time order).
 bool TrackAt(const FlightLog& log,
              const EstimatorTrack& track,
              double t,
              Eigen::Matrix3d* r,
-             Eigen::Vector3d* v_ned) {
+             Eigen::Vector3d* v_ned,
+             std::size_t* hint) {
   const std::vector<double>& ts = log.t_s;
-  std::size_t j = static_cast<std::size_t>(
-      std::upper_bound(ts.begin(), ts.end(), t) - ts.begin());
+  std::size_t j = *hint;
+  if (j > ts.size() || (j > 0 && ts[j - 1] > t)) {
+    j = static_cast<std::size_t>(std::upper_bound(ts.begin(), ts.end(), t) -
+                                 ts.begin());
+  }
+  while (j < ts.size() && ts[j] <= t) ++j;
+  *hint = j;
   std::size_t a = j == 0 ? 0 : j - 1;
   std::size_t b = std::min(j, ts.size() - 1);
   double w = 0.0;
@@ -455,12 +463,16 @@ StatusOr<ProblemData> DataAtDelay(const FlightLog& log,
   ProblemData d;
   d.source = log.source;
   Motion3d& m = d.motion;
+  std::size_t hint = 0;
   for (const WindowImu& w : windows) {
     Axes velocity, north, east;
+    for (auto& axis : velocity) axis.reserve(w.t.size());
+    for (auto& axis : north) axis.reserve(w.t.size());
+    for (auto& axis : east) axis.reserve(w.t.size());
     for (double t : w.t) {
       Eigen::Matrix3d r;
       Eigen::Vector3d v_ned;
-      if (!TrackAt(log, track, t + delay, &r, &v_ned)) {
+      if (!TrackAt(log, track, t + delay, &r, &v_ned, &hint)) {
         return FailedPreconditionError(
             log.source + ": the estimator channels are missing at t = " +
             Num(t + delay) + " s inside a flight window");
@@ -608,8 +620,8 @@ ProblemData Thinned(const ProblemData& data, std::size_t step) {
 // linear drag's wind is only a bias), so this finds the wind the fixed point
 // below cannot.
 void SearchQuadraticWind(ProblemData* data, Eigen::Vector2d start) {
-  constexpr int kMaxEvaluations = 80;
-  constexpr double kToleranceMps = 0.01;
+  constexpr int kMaxEvaluations = 50;
+  constexpr double kToleranceMps = 0.02;
   constexpr double kMaxWindMps = 30.0;
   auto rmse = [data](const Eigen::Vector2d& w) {
     if (w.norm() > kMaxWindMps) return std::numeric_limits<double>::infinity();
@@ -687,7 +699,7 @@ Status FindQuadraticWind(ProblemData* data, double rate_hz) {
 // is found or it leaves a plausible range.
 StatusOr<LinearFit> IterateQuadraticWind(ProblemData* data) {
   constexpr int kMaxPasses = 10;
-  constexpr double kToleranceMps = 1e-4;
+  constexpr double kToleranceMps = 1e-3;
   constexpr double kMaxWindMps = 30.0;
   StatusOr<LinearFit> fit = FitLinear(*data);
   for (int pass = 0; pass < kMaxPasses && fit.ok(); ++pass) {
@@ -1069,10 +1081,11 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
       std::upper_bound(t.begin(), t.end(), span_end) - t.begin());
   std::size_t first = s0;
   if (segments->takeoff.found) {
-    first = std::max(
-        s0, static_cast<std::size_t>(
-                std::lower_bound(t.begin(), t.end(), segments->takeoff.t) -
-                t.begin()));
+    first =
+        std::max(s0,
+                 static_cast<std::size_t>(
+                     std::lower_bound(t.begin(), t.end(), segments->takeoff.t) -
+                     t.begin()));
   }
   if (first >= last) {
     return FailedPreconditionError(log.source +
