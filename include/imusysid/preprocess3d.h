@@ -88,6 +88,10 @@ struct Preprocess3dResult {
   std::vector<Stretch3d> dropped;  // everything else, in time order
   double estimator_delay_s = 0.0;
   bool delay_estimated = false;
+  // The best delay lay at an end of the range searched: the estimator's
+  // channels do not line up with the IMU in any delay tried (or the flight
+  // does not tell), so no position from them can be trusted.
+  bool delay_at_limit = false;
   // RMS of the fit residual at the delay used and with none (how much the
   // delay matters on this log), m/s²; NaN when not estimated.
   double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();

@@ -549,7 +549,17 @@ const Command& FitCommand() {
           JoinNames(ModelsUsingDataVelocity(true), ", ", " or ") +
           " model (the\ndefault there); " +
           JoinNames(ModelsUsingDataVelocity(false), ", ", " and ") +
-          " needs the raw log.",
+          " needs the raw log.\n\n"
+          "--model=rigid3d fits the full IMU position p = (x, y, z), FRD "
+          "metres "
+          "from the CoM\n(EKF2_IMU_POS_*, INS_POSn_*), from a log with the "
+          "autopilot's attitude and NED\nvelocity: flight windows, estimator "
+          "delay and wind are found automatically, every\nIMU of a ULog or "
+          "DataFlash log is fitted (--imu picks one), an axis the log does\n"
+          "not determine is withheld (null) with what to fly; without the "
+          "estimator's channels\nit falls back to rigid3d_imu. Default "
+          "estimator there: linear (rigid3d_imu: varpro).\n"
+          "docs/model-3d.md.",
       WithLogFlags({"log", "problem", "model", "estimator", "format", "seed"},
                    {"bounds",
                     "initial",
@@ -562,6 +572,7 @@ const Command& FitCommand() {
                     "emit",
                     "emit_out",
                     "allow_damaged",
+                    "estimator_delay_s",
                     "out"}),
       &Run,
       /*estimator_flags=*/true};

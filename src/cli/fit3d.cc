@@ -1,6 +1,7 @@
 #include "src/cli/fit3d.h"
 
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -19,6 +20,10 @@
 #include "src/cli/log_flags.h"
 
 DECLARE_bool(allow_damaged);
+DEFINE_double(estimator_delay_s,
+              std::numeric_limits<double>::quiet_NaN(),
+              "--model=rigid3d: how late the log's attitude and velocity "
+              "describe the state, s. Default: estimated (0-60 ms).");
 
 namespace imusysid {
 namespace cli {
@@ -54,6 +59,7 @@ bool HasEstimatorChannels(const FlightLog& log) {
 Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
                                                  const std::string& path) {
   Preprocess3dOptions po;
+  po.estimator_delay_s = FLAGS_estimator_delay_s;
   po.cutoff_hz = FLAGS_cutoff_hz;
   po.t_start = FLAGS_t_start;
   po.t_end = FLAGS_t_end;
@@ -88,6 +94,7 @@ int RunFit3d(const std::string& path,
 
   Preprocess3dOptions po = Preprocess3dOptionsFromFlags(*bytes, path);
   std::vector<ImuPosition3d> reports;
+  bool delay_at_limit = false;
   std::string model_name = requested_model;
   std::string estimator_name = requested_estimator;
   StatusOr<std::vector<int>> listed = Instances(*bytes);
@@ -119,6 +126,11 @@ int RunFit3d(const std::string& path,
                                            ? Preprocess3d(*log, po)
                                            : Preprocess3dImuOnly(*log, po);
     if (!pre.ok()) return ReportError(kCmd, pre.status());
+    if (reports.empty()) {
+      delay_at_limit = pre->delay_at_limit;
+    } else {
+      pre->delay_at_limit = delay_at_limit;  // the log's, found on the first
+    }
     if (reports.empty()) {
       for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
       // One estimator publishes for every IMU: its delay is the log's.

@@ -10,7 +10,11 @@ std::vector<std::string> ModelsUsingDataVelocity(bool uses) {
   std::vector<std::string> names;
   for (const std::string& name : models.Names()) {
     StatusOr<ModelDescription> description = models.Describe(name);
-    if (description.ok() && description->uses_data_velocity == uses) {
+    // The 3-D models read a log's whole motion: they are neither problem-file
+    // models nor integrating planar ones, and fit them through their own
+    // path (fit3d.cc).
+    if (description.ok() && !description->needs_motion3d &&
+        description->uses_data_velocity == uses) {
       names.push_back(name);
     }
   }

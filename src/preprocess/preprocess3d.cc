@@ -958,6 +958,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
     }
     out.delay_estimated = true;
     if (best == 0 || best + 1 == delays.size()) {
+      out.delay_at_limit = best + 1 == delays.size();
       out.notes.push_back(
           "the estimator delay is at the end of the range searched, so the "
           "flight does not determine it well");

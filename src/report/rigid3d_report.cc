@@ -261,10 +261,18 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg;
   out.wind_ne_m_s = {x[kWindNorth], x[kWindEast]};
 
-  const bool explains = std::isfinite(out.rmse) &&
+  const bool aligned = !pre.delay_at_limit;
+  if (!aligned) {
+    out.warnings.push_back(
+        "the estimator's delay is not determined: the fit is best at the "
+        "longest delay searched, so its attitude and velocity do not line "
+        "up with this IMU; no position is given (check the log's time "
+        "stamps, or give --estimator_delay_s if it is known)");
+  }
+  const bool explains = aligned && std::isfinite(out.rmse) &&
                         out.rmse <= options.max_unexplained_fraction *
                                         std::max(out.signal_rms, 1e-12);
-  if (!explains) {
+  if (aligned && !explains) {
     out.warnings.push_back(
         "the model explains little of the signal (fit RMSE " +
         FormatNumber(out.rmse, 3, kQuoted) + " m/s^2 against " +
@@ -277,7 +285,9 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     const auto i = static_cast<std::size_t>(a);
     const double se = out.stderr_m[a];
     const double p = out.position_m[a];
-    if (!explains) {
+    if (!aligned) {
+      out.advice[i] = "the estimator's delay is not determined";
+    } else if (!explains) {
       out.advice[i] = "the model does not explain this log";
     } else if (!std::isfinite(se) || se > options.max_stderr_m) {
       out.advice[i] = std::string(kAxisNames[a]) +
