@@ -7,7 +7,10 @@
 
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -136,7 +139,119 @@ BENCHMARK(BM_Rigid3dPreprocessOneLog)
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
 
+// n samples of smooth 3-D motion with x/y specific force from the rigid3d
+// formula at a fixed position: for timing the fit's O(n) passes (the model's
+// QR, the HAC covariance), not its accuracy (rigid3d_test does that against
+// the 6-DOF simulator).
+std::shared_ptr<const ProblemData> SyntheticMotion(std::int64_t n) {
+  auto d = std::make_shared<ProblemData>();
+  d->source = "synthetic";
+  const auto size = static_cast<std::size_t>(n);
+  Motion3d& m = d->motion;
+  for (auto* axes :
+       {&m.f, &m.omega, &m.omega_dot, &m.velocity, &m.north, &m.east}) {
+    for (auto& axis : *axes) axis.resize(size);
+  }
+  for (auto* column : {&d->t_s,
+                       &d->f_x,
+                       &d->f_z,
+                       &d->omega,
+                       &d->omega_dot,
+                       &d->theta,
+                       &d->v}) {
+    column->resize(size);
+  }
+  for (std::size_t k = 0; k < size; ++k) {
+    const double t = 0.0025 * static_cast<double>(k);
+    const double w[3] = {0.6 * std::sin(2.1 * t),
+                         0.5 * std::sin(1.3 * t),
+                         0.4 * std::sin(0.7 * t)};
+    const double a[3] = {1.26 * std::cos(2.1 * t),
+                         0.65 * std::cos(1.3 * t),
+                         0.28 * std::cos(0.7 * t)};
+    const double yaw = 0.3 * t;
+    const double v[3] = {2.0 * std::sin(0.5 * t), 1.5 * std::cos(0.7 * t), 0.0};
+    const double ww = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    const double wp = 0.05 * w[0] - 0.02 * w[1] - 0.03 * w[2];
+    m.f[0][k] = a[1] * -0.03 - a[2] * -0.02 + w[0] * wp - ww * 0.05 -
+                0.3 * v[0] + 0.01 * std::sin(977.0 * t);
+    m.f[1][k] = a[2] * 0.05 - a[0] * -0.03 + w[1] * wp - ww * -0.02 -
+                0.3 * v[1] + 0.01 * std::cos(631.0 * t);
+    m.f[2][k] = -9.8 + 0.5 * std::sin(1.7 * t);
+    for (std::size_t i = 0; i < 3; ++i) {
+      m.omega[i][k] = w[i];
+      m.omega_dot[i][k] = a[i];
+      m.velocity[i][k] = v[i];
+    }
+    m.north[0][k] = std::cos(yaw);
+    m.north[1][k] = -std::sin(yaw);
+    m.east[0][k] = std::sin(yaw);
+    m.east[1][k] = std::cos(yaw);
+    d->t_s[k] = t;
+    d->f_x[k] = m.f[0][k];
+    d->f_z[k] = -m.f[2][k];
+    d->omega[k] = -w[1];
+    d->omega_dot[k] = -a[1];
+    d->v[k] = v[0];
+  }
+  return d;
+}
+
+// rigid3d + linear at n samples: the model's QR, the solve and the HAC
+// covariance, the row the runtime-versus-samples scaling is read from.
+void Rigid3dScaling(benchmark::State& state) {
+  const std::shared_ptr<const ProblemData> data =
+      SyntheticMotion(state.range(0));
+  const std::unique_ptr<Estimator> linear =
+      std::move(BuiltinEstimators().Create("linear")).value();
+  for (auto _ : state) {
+    StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
+    if (!model.ok()) {
+      state.SkipWithError(model.status().ToString().c_str());
+      return;
+    }
+    Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+    StatusOr<EstimateResult> r = linear->Estimate(problem, {});
+    if (!r.ok() || !r->IsUsable()) {
+      state.SkipWithError("fit failed");
+      return;
+    }
+    benchmark::DoNotOptimize(r->parameters.data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
 }  // namespace
 }  // namespace imusysid
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  // BM_Rigid3dScaling/<n>: 1e3–1e5 always; 1e6 and 1e7 (about 1.5 GB of
+  // motion columns) only when --benchmark_filter mentions "Large", as in
+  // estimators_benchmark.
+  bool with_large = false;
+  for (int i = 1; i < argc; ++i) {
+    constexpr const char* kFilter = "--benchmark_filter=";
+    if (std::strncmp(argv[i], kFilter, std::strlen(kFilter)) == 0 &&
+        std::strstr(argv[i], "Large") != nullptr) {
+      with_large = true;
+    }
+  }
+  benchmark::RegisterBenchmark("BM_Rigid3dScaling", imusysid::Rigid3dScaling)
+      ->Unit(benchmark::kMillisecond)
+      ->Arg(1000)
+      ->Arg(10000)
+      ->Arg(100000);
+  if (with_large) {
+    benchmark::RegisterBenchmark("BM_Rigid3dScalingLarge",
+                                 imusysid::Rigid3dScaling)
+        ->Unit(benchmark::kMillisecond)
+        ->Arg(1000000)
+        ->Arg(10000000)
+        ->Iterations(1);
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -131,6 +131,41 @@ TEST(Rigid3dCli, TwoRecordingsInOneCsvUseTheLongest) {
   EXPECT_THAT(i.out, HasSubstr("2 recordings"));
 }
 
+TEST(Rigid3dCli, UnitsAndFrameGatesRefuse) {
+  // FRD data read as FLU: gravity on the wrong side.
+  const auto flu =
+      RunCli("fit --log=" + FigureEight() + " --model=rigid3d --frame=flu");
+  EXPECT_EQ(flu.exit_code, 2);
+  EXPECT_THAT(flu.err, HasSubstr("frame looks wrong"));
+  // The accelerometer in g: every column divided by 9.80665.
+  std::ifstream in(FigureEight());
+  std::string line, text;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (!header || line.empty() || line[0] == '#') {
+      header = header || line.rfind("t,", 0) == 0;
+      text += line + "\n";
+      continue;
+    }
+    // Split keeping empty cells (the estimator's first rows are empty).
+    std::string out;
+    std::size_t start = 0;
+    for (int c = 0; start <= line.size(); ++c) {
+      std::size_t comma = line.find(',', start);
+      if (comma == std::string::npos) comma = line.size();
+      std::string cell = line.substr(start, comma - start);
+      if (c >= 1 && c <= 3) cell = std::to_string(std::stod(cell) / 9.80665);
+      out += (c ? "," : "") + cell;
+      start = comma + 1;
+    }
+    text += out + "\n";
+  }
+  const std::string path = testing::WriteTempFile("in_g.csv", text);
+  const auto g = RunCli("fit --log=" + path + " --model=rigid3d");
+  EXPECT_EQ(g.exit_code, 2);
+  EXPECT_THAT(g.err, HasSubstr("units look like g"));
+}
+
 TEST(Rigid3dRealLogs, BenchLogsAreRefusedAndTheCrashIsCutOut) {
   IMUSYSID_REQUIRE_REAL_DATA();
   const std::string dir = testing::RealDataDir();
