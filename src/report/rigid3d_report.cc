@@ -301,7 +301,10 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     } else {
       out.determined[i] = true;
     }
-    if (!out.determined[i]) out.warnings.push_back(out.advice[i]);
+    // (A log-wide reason is one warning above, not one per axis.)
+    if (!out.determined[i] && aligned && explains) {
+      out.warnings.push_back(out.advice[i]);
+    }
   }
   // Agreement between windows: each window's own fit against the whole
   // fit, with σ̂ scaled to the window's share of the samples. A window that
