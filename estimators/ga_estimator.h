@@ -121,6 +121,23 @@ Status RunGa(const Problem& problem,
              const GaGenerationHook& hook,
              EstimateResult* result);
 
+// Asked once per generation g ≥ 1, after the hook and only when none of the
+// GA's own stopping tests fired; returning true ends the run there (termination
+// kConverged, exitflag −1: MATLAB's flag for a run an output function stopped)
+// with `*message` as the reason. Lets a caller that only needs a good enough
+// start (ga+lm) stop the search early without changing the GA itself.
+using GaStopTest = std::function<bool(int generation,
+                                      const Eigen::MatrixXd& population,
+                                      const Eigen::VectorXd& scores,
+                                      std::string* message)>;
+
+// RunGa with an extra stopping test; an empty `stop_test` is RunGa above.
+Status RunGa(const Problem& problem,
+             const EstimatorOptions& options,
+             const GaGenerationHook& hook,
+             const GaStopTest& stop_test,
+             EstimateResult* result);
+
 // Offspring counts per generation, as stepGA computes them.
 struct GaOffspringCounts {
   int elite = 0;      // E
