@@ -54,6 +54,8 @@
 //       g > W = max_stall_generations and
 //         |Best(g−W) − Best(g)| / (W·max(1, |Best(g)|)) ≤ function_tolerance
 //                                               kConverged (exitflag 1)
+//       the caller's stop test (RunGa with a GaStopTest; none for `ga`)
+//                                               kConverged (exitflag −1)
 //       the next generation would exceed max_evaluations
 //                                               kMaxEvaluations (exitflag 0)
 //   return the best row of the final population
