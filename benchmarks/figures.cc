@@ -8,8 +8,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <sstream>
+#include <utility>
+#include <vector>
 
+#include "benchmarks/bench_internal.h"
 #include "imusysid/format.h"
 #include "imusysid/parameters.h"
 
@@ -562,7 +566,13 @@ Status WriteBenchFigures(const BenchReport& report,
       logs.push_back(&pl);
     }
   }
-  for (const PreparedLog* pl : logs) {
+  // Each log's figures are independent files (their own prefix), and most
+  // of their time is gnuplot processes: the logs are drawn side by side on
+  // the run's workers, then listed in log order.
+  std::vector<std::vector<Figure>> drawn_per_log(logs.size());
+  std::vector<Status> status_per_log(logs.size());
+  internal::ParallelFor(logs.size(), report.config.threads, [&](std::size_t i) {
+    const PreparedLog* pl = logs[i];
     std::vector<EstimateResult> results;
     for (const auto& run : report.runs) {
       if (run.log_path == pl->path && run.Usable())
@@ -584,8 +594,12 @@ Status WriteBenchFigures(const BenchReport& report,
         }
       }
     }
-    IMUSYSID_RETURN_IF_ERROR(
-        WriteFitFigures(dir, pl->data, results, options, &drawn));
+    status_per_log[i] =
+        WriteFitFigures(dir, pl->data, results, options, &drawn_per_log[i]);
+  });
+  for (std::size_t i = 0; i < logs.size(); ++i) {
+    IMUSYSID_RETURN_IF_ERROR(status_per_log[i]);
+    drawn.insert(drawn.end(), drawn_per_log[i].begin(), drawn_per_log[i].end());
   }
 
   // Runtime versus samples: Google Benchmark's 1e3 … 1e7 when given, and the

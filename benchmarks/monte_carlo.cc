@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -130,11 +132,13 @@ std::optional<std::vector<Sample>> FitSeed(
 }
 
 // samples[scenario][combo][seed] for seeds 1..config.seeds, the runs on the
-// seeds in parallel (each GA on one thread).
+// seeds in parallel (each GA on one thread); `per_scenario(sc)` runs once per
+// scenario as one more task of the same workers, after the seeds.
 std::vector<std::vector<std::vector<Sample>>> FitAllSeeds(
     const MonteCarloConfig& config,
     const std::vector<Combo>& combos,
-    const std::vector<SimulatorOptions>& sim_options) {
+    const std::vector<SimulatorOptions>& sim_options,
+    const std::function<void(std::size_t)>& per_scenario) {
   const std::size_t num_scenarios = config.scenarios.size();
   const std::size_t num_seeds = static_cast<std::size_t>(config.seeds);
   std::vector<std::vector<std::vector<Sample>>> samples(
@@ -146,29 +150,47 @@ std::vector<std::vector<std::vector<Sample>>> FitAllSeeds(
   std::size_t done = 0;
   const auto start = std::chrono::steady_clock::now();
   const std::size_t num_tasks = num_scenarios * num_seeds;
-  internal::ParallelFor(num_tasks, workers, [&](std::size_t task) {
-    const std::size_t sc = task / num_seeds;
-    const std::size_t k = task % num_seeds;
-    const std::uint64_t seed = k + 1;
-    std::optional<std::vector<Sample>> fits =
-        FitSeed(config, combos, sim_options[sc], config.scenarios[sc], seed);
-    if (!fits) return;
-    for (std::size_t c = 0; c < combos.size(); ++c) {
-      samples[sc][c][k] = (*fits)[c];
-    }
-    std::lock_guard<std::mutex> lock(mutex);
-    ++done;
-    if (config.progress) {
-      const double elapsed = std::chrono::duration<double>(
-                                 std::chrono::steady_clock::now() - start)
-                                 .count();
-      config.progress("[monte carlo " + std::to_string(done) + "/" +
-                      std::to_string(num_tasks) + "] " +
-                      config.scenarios[sc].scenario + " seed " +
-                      std::to_string(seed) + " ... " +
-                      internal::FormatSeconds(elapsed));
-    }
-  });
+  // Scenarios by descending cost hint (unknown last, ties in config order).
+  std::vector<std::size_t> scenario_order(num_scenarios);
+  std::iota(scenario_order.begin(), scenario_order.end(), std::size_t{0});
+  auto hint = [&](std::size_t sc) {
+    const double h = sc < config.seed_cost_hints.size()
+                         ? config.seed_cost_hints[sc]
+                         : std::numeric_limits<double>::quiet_NaN();
+    return std::isnan(h) ? -std::numeric_limits<double>::infinity() : h;
+  };
+  std::stable_sort(
+      scenario_order.begin(),
+      scenario_order.end(),
+      [&](std::size_t a, std::size_t b) { return hint(a) > hint(b); });
+  internal::ParallelFor(
+      num_tasks + num_scenarios, workers, [&](std::size_t task) {
+        if (task >= num_tasks) {
+          per_scenario(task - num_tasks);
+          return;
+        }
+        const std::size_t sc = scenario_order[task / num_seeds];
+        const std::size_t k = task % num_seeds;
+        const std::uint64_t seed = k + 1;
+        std::optional<std::vector<Sample>> fits = FitSeed(
+            config, combos, sim_options[sc], config.scenarios[sc], seed);
+        if (!fits) return;
+        for (std::size_t c = 0; c < combos.size(); ++c) {
+          samples[sc][c][k] = (*fits)[c];
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        ++done;
+        if (config.progress) {
+          const double elapsed = std::chrono::duration<double>(
+                                     std::chrono::steady_clock::now() - start)
+                                     .count();
+          config.progress("[monte carlo " + std::to_string(done) + "/" +
+                          std::to_string(num_tasks) + "] " +
+                          config.scenarios[sc].scenario + " seed " +
+                          std::to_string(seed) + " ... " +
+                          internal::FormatSeconds(elapsed));
+        }
+      });
   return samples;
 }
 
@@ -322,17 +344,25 @@ StatusOr<std::vector<MonteCarloRecord>> RunMonteCarlo(
     if (!o.ok()) return o.status().WithPrefix(truth.scenario);
     sim_options.push_back(*o);
   }
-  const auto samples = FitAllSeeds(config, combos, sim_options);
+  // The bounds need a simulation of their own: computed by the same workers
+  // (short tasks after the seeds) instead of one after another afterwards.
+  std::vector<std::map<std::string, Eigen::Vector4d>> crlb_sd(
+      config.scenarios.size());
+  const auto samples =
+      FitAllSeeds(config, combos, sim_options, [&](std::size_t sc) {
+        crlb_sd[sc] = CrlbSdPerModel(config,
+                                     config.scenarios[sc],
+                                     sim_options[sc],
+                                     AccelNoiseSigma(sim_options[sc]));
+      });
 
   std::vector<MonteCarloRecord> records;
   for (std::size_t sc = 0; sc < config.scenarios.size(); ++sc) {
     const Truth& truth = config.scenarios[sc];
     const double sigma = AccelNoiseSigma(sim_options[sc]);
-    const std::map<std::string, Eigen::Vector4d> crlb_sd =
-        CrlbSdPerModel(config, truth, sim_options[sc], sigma);
     for (std::size_t c = 0; c < combos.size(); ++c) {
-      records.push_back(
-          Summarize(config, truth, combos[c], samples[sc][c], sigma, crlb_sd));
+      records.push_back(Summarize(
+          config, truth, combos[c], samples[sc][c], sigma, crlb_sd[sc]));
     }
   }
   return records;

@@ -74,6 +74,12 @@ struct MonteCarloConfig {
   // set) rather than on the preprocessed log, whose differentiated ω̇ and
   // 250 Hz trapezoid velocity differ slightly from the generator's.
   bool exact_regressors = true;
+  // Expected cost of one seed of each scenario (any unit; empty or a NaN
+  // entry: unknown), e.g. the wall time of the runs on the scenario's log.
+  // Seeds of costlier scenarios are started first, so the last tasks the
+  // workers take are short ones instead of one worker finishing a slow
+  // scenario alone; results do not depend on the order.
+  std::vector<double> seed_cost_hints;
   std::function<void(const std::string&)> progress;
 };
 

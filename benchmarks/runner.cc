@@ -1,7 +1,10 @@
 #include "benchmarks/runner.h"
 
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <utility>
+#include <vector>
 
 #include "benchmarks/bench_context.h"
 
@@ -18,6 +21,33 @@ const PreparedLog* ScalingLog(const PreparedLog* before,
     if (pl.data != nullptr) return &pl;
   }
   return nullptr;
+}
+
+// Per Monte Carlo scenario, the wall time of the runs on the logs of that
+// scenario: a seed regenerates such a log and fits it with the same
+// estimators, so it costs about as much (NaN when no run was timed).
+std::vector<double> SeedCostHints(const MonteCarloConfig& mc,
+                                  const std::vector<PreparedLog>& logs,
+                                  const std::vector<RunRecord>& runs) {
+  std::vector<double> hints(mc.scenarios.size(),
+                            std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t sc = 0; sc < mc.scenarios.size(); ++sc) {
+    double sum = 0.0;
+    bool timed = false;
+    for (const auto& run : runs) {
+      if (!std::isfinite(run.wall_ms_median)) continue;
+      for (const auto& pl : logs) {
+        if (pl.path == run.log_path && pl.truth.known &&
+            pl.truth.scenario == mc.scenarios[sc].scenario) {
+          sum += run.wall_ms_median;
+          timed = true;
+          break;
+        }
+      }
+    }
+    if (timed) hints[sc] = sum;
+  }
+  return hints;
 }
 
 }  // namespace
@@ -50,7 +80,8 @@ StatusOr<BenchReport> RunBench(const BenchConfig& config) {
   }
 
   if (config.seeds >= 2) {
-    const MonteCarloConfig mc = MonteCarloConfigFor(config, report.logs);
+    MonteCarloConfig mc = MonteCarloConfigFor(config, report.logs);
+    mc.seed_cost_hints = SeedCostHints(mc, report.logs, report.runs);
     if (!mc.scenarios.empty()) {
       StatusOr<std::vector<MonteCarloRecord>> records = RunMonteCarlo(mc);
       if (!records.ok()) return records.status();

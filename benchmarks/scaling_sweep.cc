@@ -50,9 +50,12 @@ struct ScalingJob {
   double predicted_s;  // from the full-log run, proportional to n
 };
 
-// Times `job` on `data` resized to job.n: the minimum of three fits when
-// quick, so scheduler noise does not dominate sub-millisecond points. The
-// point's wall_ms stays NaN when the fit fails.
+// How many times `job` is fitted: three when quick, so scheduler noise does
+// not dominate sub-millisecond points (TimeFit keeps the minimum).
+int Repeats(const ScalingJob& job) { return job.predicted_s < 0.1 ? 3 : 1; }
+
+// Times `job` on `data` resized to job.n: the minimum of Repeats(job) fits.
+// The point's wall_ms stays NaN when the fit fails.
 ScalingPoint TimeFit(const BenchConfig& config,
                      const ProblemData& data,
                      const ScalingJob& job,
@@ -72,7 +75,7 @@ ScalingPoint TimeFit(const BenchConfig& config,
   eo.ga.num_threads = ga_threads;
   eo.record_trace = false;
   std::shared_ptr<const Model> model(std::move(*m));
-  const int reps = job.predicted_s < 0.1 ? 3 : 1;
+  const int reps = Repeats(job);
   for (int rep = 0; rep < reps; ++rep) {
     Problem problem(model);
     StatusOr<EstimateResult> r = (*est)->Estimate(problem, eo);
@@ -105,6 +108,12 @@ std::vector<ScalingPoint> RunScalingSweep(const BenchConfig& config,
       jobs.push_back({run.model, run.estimator, n, predicted});
     }
   }
+  // Longest predicted fits first, so the workers end on short ones; the
+  // points are sorted below, so the order of the fits does not show.
+  std::stable_sort(
+      jobs.begin(), jobs.end(), [](const ScalingJob& a, const ScalingJob& b) {
+        return a.predicted_s * Repeats(a) > b.predicted_s * Repeats(b);
+      });
   std::vector<ScalingPoint> points(jobs.size());
   internal::ParallelFor(jobs.size(), plan.workers, [&](std::size_t i) {
     points[i] = TimeFit(config, *log.data, jobs[i], plan.ga_threads);

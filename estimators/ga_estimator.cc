@@ -680,6 +680,14 @@ Status RunGa(const Problem& problem,
              const EstimatorOptions& options,
              const GaGenerationHook& hook,
              EstimateResult* result) {
+  return RunGa(problem, options, hook, GaStopTest(), result);
+}
+
+Status RunGa(const Problem& problem,
+             const EstimatorOptions& options,
+             const GaGenerationHook& hook,
+             const GaStopTest& stop_test,
+             EstimateResult* result) {
   CHECK(result != nullptr);
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
   const GaOptions& ga = options.ga;
@@ -711,6 +719,13 @@ Status RunGa(const Problem& problem,
               << state.step_size << ", evaluations " << budget.evaluations();
     }
     if (GenerationStop(plan, ga, budget, state, &stop)) break;
+    if (stop_test &&
+        stop_test(
+            state.generation, state.population, state.scores, &stop.message)) {
+      stop.termination = Termination::kConverged;
+      stop.exitflag = -1;
+      break;
+    }
   }
   const int exitflag = stop.exitflag;
   FinishGa(state, std::move(stop), result);

@@ -54,6 +54,8 @@
 //       g > W = max_stall_generations and
 //         |Best(g−W) − Best(g)| / (W·max(1, |Best(g)|)) ≤ function_tolerance
 //                                               kConverged (exitflag 1)
+//       the caller's stop test (RunGa with a GaStopTest; none for `ga`)
+//                                               kConverged (exitflag −1)
 //       the next generation would exceed max_evaluations
 //                                               kMaxEvaluations (exitflag 0)
 //   return the best row of the final population
@@ -119,6 +121,23 @@ using GaGenerationHook = std::function<void(
 Status RunGa(const Problem& problem,
              const EstimatorOptions& options,
              const GaGenerationHook& hook,
+             EstimateResult* result);
+
+// Asked once per generation g ≥ 1, after the hook and only when none of the
+// GA's own stopping tests fired; returning true ends the run there (termination
+// kConverged, exitflag −1: MATLAB's flag for a run an output function stopped)
+// with `*message` as the reason. Lets a caller that only needs a good enough
+// start (ga+lm) stop the search early without changing the GA itself.
+using GaStopTest = std::function<bool(int generation,
+                                      const Eigen::MatrixXd& population,
+                                      const Eigen::VectorXd& scores,
+                                      std::string* message)>;
+
+// RunGa with an extra stopping test; an empty `stop_test` is RunGa above.
+Status RunGa(const Problem& problem,
+             const EstimatorOptions& options,
+             const GaGenerationHook& hook,
+             const GaStopTest& stop_test,
              EstimateResult* result);
 
 // Offspring counts per generation, as stepGA computes them.
