@@ -70,6 +70,14 @@ struct ProblemData {
   Status Validate() const;
 };
 
+// Samples begin, begin + step, ... (< end) of `data`, every column (and the
+// 3-D motion, its wind and fitted mask) alike: a block for a jackknife or a
+// window, or a thinned copy for a search. CHECKs begin ≤ end ≤ size, step ≥ 1.
+ProblemData SelectSamples(const ProblemData& data,
+                          std::size_t begin,
+                          std::size_t end,
+                          std::size_t step = 1);
+
 // Describes one entry of a model's parameter vector.
 struct ParameterInfo {
   std::string name;    // "r", "beta", "alpha", "mu", "c0", "c1"

@@ -102,6 +102,11 @@ struct Preprocess3dResult {
   std::vector<std::string> notes;
 };
 
+// True when `log` has what Preprocess3d reads from the estimator: an attitude
+// (qw..qz, or roll, pitch and yaw) and a NED velocity (vn..vd, or
+// vel_n..vel_d). Without it, Preprocess3dImuOnly.
+bool HasEstimatorChannels(const FlightLog& log);
+
 // The windows Preprocess3d would fit and the dropped stretches, without
 // building the data (`inspect`). Same errors as Preprocess3d's window step.
 StatusOr<Preprocess3dResult> SelectWindows3d(

@@ -44,16 +44,6 @@ StatusOr<std::vector<int>> Instances(std::string_view bytes) {
   return std::vector<int>{*imu};
 }
 
-bool HasEstimatorChannels(const FlightLog& log) {
-  const bool attitude = (log.FindChannel(kEstimatorChannels[0]) != nullptr) ||
-                        (log.FindChannel(kChannelRoll) != nullptr &&
-                         log.FindChannel(kChannelPitch) != nullptr &&
-                         log.FindChannel(kChannelYaw) != nullptr);
-  const bool velocity = log.FindChannel(kEstimatorChannels[4]) != nullptr ||
-                        log.FindChannel(kChannelVelN) != nullptr;
-  return attitude && velocity;
-}
-
 }  // namespace
 
 Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,

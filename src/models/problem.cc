@@ -74,6 +74,47 @@ Status ProblemData::Validate() const {
   return Status::Ok();
 }
 
+ProblemData SelectSamples(const ProblemData& data,
+                          std::size_t begin,
+                          std::size_t end,
+                          std::size_t step) {
+  CHECK(begin <= end && end <= data.size() && step >= 1);
+  auto pick = [&](const std::vector<double>& x) {
+    std::vector<double> y;
+    if (x.empty()) return y;
+    y.reserve((end - begin + step - 1) / step);
+    for (std::size_t i = begin; i < end; i += step) y.push_back(x[i]);
+    return y;
+  };
+  ProblemData out;
+  out.source = data.source;
+  out.gravity = data.gravity;
+  out.t_s = pick(data.t_s);
+  out.f_x = pick(data.f_x);
+  out.f_z = pick(data.f_z);
+  out.omega = pick(data.omega);
+  out.omega_dot = pick(data.omega_dot);
+  out.theta = pick(data.theta);
+  out.v = pick(data.v);
+  const Motion3d& m = data.motion;
+  Motion3d& o = out.motion;
+  for (std::size_t a = 0; a < 3; ++a) {
+    o.f[a] = pick(m.f[a]);
+    o.omega[a] = pick(m.omega[a]);
+    o.omega_dot[a] = pick(m.omega_dot[a]);
+    o.velocity[a] = pick(m.velocity[a]);
+    o.north[a] = pick(m.north[a]);
+    o.east[a] = pick(m.east[a]);
+  }
+  o.quadratic_wind_n = m.quadratic_wind_n;
+  o.quadratic_wind_e = m.quadratic_wind_e;
+  if (!m.fitted.empty()) {
+    for (std::size_t i = begin; i < end; i += step)
+      o.fitted.push_back(m.fitted[i]);
+  }
+  return out;
+}
+
 bool DenseTriangularFactor(const LinearStructure& structure,
                            const double* p,
                            Eigen::MatrixXd* r) {

@@ -9,6 +9,7 @@
 #include "glog/logging.h"
 #include "imusysid/parameters.h"
 #include "imusysid/rigid3d.h"
+#include "src/models/rigid3d_model.h"
 
 namespace imusysid {
 namespace {
@@ -40,21 +41,8 @@ Rigid3dImuModel::Rigid3dImuModel(std::shared_ptr<const ProblemData> data)
 }
 
 const std::vector<ParameterInfo>& Rigid3dImuModel::parameter_info() const {
-  // rigid3d's box; the wind is in the frame of the starting heading.
-  static const std::vector<ParameterInfo> info = {
-      {"p_x", "m", -0.5, 0.5, false},
-      {"p_y", "m", -0.5, 0.5, false},
-      {"p_z", "m", -0.5, 0.5, false},
-      {"mu", "1/m", 0.0, 1.0, false},
-      {"rotor_drag", "1/s", 0.0, 2.0, true},
-      {"bias_x", "m/s^2", -2.0, 2.0, true},
-      {"bias_y", "m/s^2", -2.0, 2.0, true},
-      {"thrust_to_x", "1", -0.2, 0.2, true},
-      {"thrust_to_y", "1", -0.2, 0.2, true},
-      {"wind_n", "m/s", -20.0, 20.0, true},
-      {"wind_e", "m/s", -20.0, 20.0, true},
-  };
-  return info;
+  // rigid3d's; the wind is in the frame of the starting heading.
+  return Rigid3dParameterInfo();
 }
 
 bool Rigid3dImuModel::Drag(const double* q,

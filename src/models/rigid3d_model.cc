@@ -74,6 +74,10 @@ Rigid3dModel::Rigid3dModel(std::shared_ptr<const ProblemData> data)
 }
 
 const std::vector<ParameterInfo>& Rigid3dModel::parameter_info() const {
+  return Rigid3dParameterInfo();
+}
+
+const std::vector<ParameterInfo>& Rigid3dParameterInfo() {
   // Boxes for the search methods: a flight controller sits within half a
   // metre of the centre of mass on any multicopter this applies to; the
   // drags, bias, misalignment and wind at their physical extremes.

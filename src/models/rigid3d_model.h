@@ -69,6 +69,10 @@ class Rigid3dModel : public Model, public LinearStructure {
   bool factor_ok_ = false;
 };
 
+// rigid3d's parameters and their search box, shared by rigid3d_imu (the
+// same parameters, fitted without the estimator's channels).
+const std::vector<ParameterInfo>& Rigid3dParameterInfo();
+
 StatusOr<std::unique_ptr<Model>> NewRigid3dModel(
     std::shared_ptr<const ProblemData> data, const ModelOptions& options);
 

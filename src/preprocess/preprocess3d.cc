@@ -32,36 +32,54 @@ struct EstimatorTrack {
   std::array<std::vector<double>, 3> v_ned;
 };
 
+// The estimator's channels in a log: the CSV format's qw..qz and vn..vd,
+// else the readers' roll, pitch, yaw and vel_n..vel_d.
+struct EstimatorChannels {
+  const Channel* q[4] = {};
+  const Channel* euler[3] = {};
+  const Channel* v[3] = {};
+  bool have_q = true;
+  bool have_euler = false;
+  bool have_v = true;
+};
+
+EstimatorChannels FindEstimatorChannels(const FlightLog& log) {
+  EstimatorChannels c;
+  for (int i = 0; i < 4; ++i) {
+    c.q[i] = log.FindChannel(kEstimatorChannels[i]);
+    c.have_q = c.have_q && c.q[i] != nullptr;
+  }
+  c.euler[0] = log.FindChannel(kChannelRoll);
+  c.euler[1] = log.FindChannel(kChannelPitch);
+  c.euler[2] = log.FindChannel(kChannelYaw);
+  c.have_euler =
+      c.euler[0] != nullptr && c.euler[1] != nullptr && c.euler[2] != nullptr;
+  for (int i = 0; i < 3; ++i) {
+    c.v[i] = log.FindChannel(kEstimatorChannels[4 + i]);
+    c.have_v = c.have_v && c.v[i] != nullptr;
+  }
+  if (!c.have_v) {
+    const char* names[] = {kChannelVelN, kChannelVelE, kChannelVelD};
+    c.have_v = true;
+    for (int i = 0; i < 3; ++i) {
+      c.v[i] = log.FindChannel(names[i]);
+      c.have_v = c.have_v && c.v[i] != nullptr;
+    }
+  }
+  return c;
+}
+
 StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
   const std::size_t n = log.size();
   EstimatorTrack track;
   track.q.assign(
       n, Eigen::Vector4d::Constant(std::numeric_limits<double>::quiet_NaN()));
-  const Channel* q[4];
-  bool have_q = true;
-  for (int i = 0; i < 4; ++i) {
-    q[i] = log.FindChannel(kEstimatorChannels[i]);
-    have_q = have_q && q[i] != nullptr;
-  }
-  const Channel* euler[3] = {log.FindChannel(kChannelRoll),
-                             log.FindChannel(kChannelPitch),
-                             log.FindChannel(kChannelYaw)};
-  const bool have_euler =
-      euler[0] != nullptr && euler[1] != nullptr && euler[2] != nullptr;
-  const Channel* v[3];
-  bool have_v = true;
-  for (int i = 0; i < 3; ++i) {
-    v[i] = log.FindChannel(kEstimatorChannels[4 + i]);
-    have_v = have_v && v[i] != nullptr;
-  }
-  if (!have_v) {
-    const char* names[] = {kChannelVelN, kChannelVelE, kChannelVelD};
-    have_v = true;
-    for (int i = 0; i < 3; ++i) {
-      v[i] = log.FindChannel(names[i]);
-      have_v = have_v && v[i] != nullptr;
-    }
-  }
+  const EstimatorChannels found = FindEstimatorChannels(log);
+  const Channel* const* q = found.q;
+  const Channel* const* euler = found.euler;
+  const Channel* const* v = found.v;
+  const bool have_q = found.have_q, have_euler = found.have_euler,
+             have_v = found.have_v;
   if (!(have_q || have_euler) || !have_v) {
     const bool have_attitude = have_q || have_euler;
     return FailedPreconditionError(
@@ -581,39 +599,6 @@ StatusOr<LinearFit> FitLinear(const ProblemData& data) {
 
 StatusOr<LinearFit> IterateQuadraticWind(ProblemData* data);
 
-// Every `step`-th sample of `data` (the motion is filtered far below the
-// rate, so a thinned copy carries the same fit for searches).
-ProblemData Thinned(const ProblemData& data, std::size_t step) {
-  if (step <= 1) return data;
-  ProblemData out;
-  out.source = data.source;
-  auto thin = [step](const std::vector<double>& x) {
-    std::vector<double> y;
-    for (std::size_t i = 0; i < x.size(); i += step) y.push_back(x[i]);
-    return y;
-  };
-  out.t_s = thin(data.t_s);
-  out.f_x = thin(data.f_x);
-  out.f_z = thin(data.f_z);
-  out.omega = thin(data.omega);
-  out.omega_dot = thin(data.omega_dot);
-  out.theta = thin(data.theta);
-  out.v = thin(data.v);
-  Motion3d& m = out.motion;
-  const Motion3d& d = data.motion;
-  for (std::size_t a = 0; a < 3; ++a) {
-    m.f[a] = thin(d.f[a]);
-    m.omega[a] = thin(d.omega[a]);
-    m.omega_dot[a] = thin(d.omega_dot[a]);
-    m.velocity[a] = thin(d.velocity[a]);
-    m.north[a] = thin(d.north[a]);
-    m.east[a] = thin(d.east[a]);
-  }
-  m.quadratic_wind_n = d.quadratic_wind_n;
-  m.quadratic_wind_e = d.quadratic_wind_e;
-  return out;
-}
-
 // The quadratic drag's wind that fits best: Nelder–Mead on the linear fit's
 // RMSE over (w_N, w_E), from `start`. Quadratic drag tells flying into the
 // wind from flying with it even where the heading never turns (where the
@@ -685,7 +670,7 @@ Status FindQuadraticWind(ProblemData* data, double rate_hz) {
   if (!fixed.ok()) return fixed.status();
   const auto step =
       static_cast<std::size_t>(std::max(1.0, std::floor(rate_hz / 50.0)));
-  ProblemData thin = Thinned(*data, step);
+  ProblemData thin = SelectSamples(*data, 0, data->size(), step);
   SearchQuadraticWind(
       &thin, {data->motion.quadratic_wind_n, data->motion.quadratic_wind_e});
   data->motion.quadratic_wind_n = thin.motion.quadratic_wind_n;
@@ -781,6 +766,11 @@ Status CheckGyroAgainstAttitude(const FlightLog& log,
 }
 
 }  // namespace
+
+bool HasEstimatorChannels(const FlightLog& log) {
+  const EstimatorChannels c = FindEstimatorChannels(log);
+  return (c.have_q || c.have_euler) && c.have_v;
+}
 
 Status Preprocess3dOptions::Validate() const {
   auto positive = [](double v, const char* name) -> Status {

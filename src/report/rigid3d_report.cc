@@ -49,30 +49,7 @@ bool SliceFactor(const ProblemData& data,
                  std::size_t i0,
                  std::size_t i1,
                  Eigen::MatrixXd* r) {
-  auto piece = std::make_shared<ProblemData>();
-  piece->source = data.source;
-  auto cut = [i0, i1](const std::vector<double>& x) {
-    return std::vector<double>(x.begin() + static_cast<std::ptrdiff_t>(i0),
-                               x.begin() + static_cast<std::ptrdiff_t>(i1));
-  };
-  piece->t_s = cut(data.t_s);
-  piece->f_x = cut(data.f_x);
-  piece->f_z = cut(data.f_z);
-  piece->omega = cut(data.omega);
-  piece->omega_dot = cut(data.omega_dot);
-  piece->theta = cut(data.theta);
-  piece->v = cut(data.v);
-  const Motion3d& m = data.motion;
-  for (std::size_t a = 0; a < 3; ++a) {
-    piece->motion.f[a] = cut(m.f[a]);
-    piece->motion.omega[a] = cut(m.omega[a]);
-    piece->motion.omega_dot[a] = cut(m.omega_dot[a]);
-    piece->motion.velocity[a] = cut(m.velocity[a]);
-    piece->motion.north[a] = cut(m.north[a]);
-    piece->motion.east[a] = cut(m.east[a]);
-  }
-  piece->motion.quadratic_wind_n = m.quadratic_wind_n;
-  piece->motion.quadratic_wind_e = m.quadratic_wind_e;
+  auto piece = std::make_shared<const ProblemData>(SelectSamples(data, i0, i1));
   StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", piece);
   if (!model.ok()) return false;
   return (*model)->linear_structure()->TriangularFactor(nullptr, r);
