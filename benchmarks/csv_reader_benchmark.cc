@@ -4,7 +4,7 @@
 // fresh `fit` process does: before each iteration (untimed) the freed heap
 // goes back to the kernel, so reading the file and the columns' first touch
 // are paid every time, and they use wall time since the kernel pays part of
-// it. The readers' target is 400 MB/s on one core (issue 11);
+// it. The readers' target is 400 MB/s on one core;
 // "bytes_per_second" is the figure to read.
 
 #include <malloc.h>

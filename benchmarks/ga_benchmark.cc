@@ -3,7 +3,8 @@
 // from equation 9 at the paper's test 1 parameters plus 0.3 m/s² noise), run
 // to its stopping rule with the paper's settings. Target: ≤ 200 ms per run.
 // Also the thread pairs (BM_GaThreads: --threads=2 must never be slower than
-// --threads=1, on either model, small or large) and the cost of one pool
+// --threads=1, on any model, small or large: paper, consistent and the
+// IMU-only 3-D model) and the cost of one pool
 // hand-off, which sets PopulationEvaluator's split threshold.
 
 #include <atomic>
@@ -20,7 +21,10 @@
 #include "imusysid/estimator.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
+#include "imusysid/preprocess3d.h"
 #include "imusysid/problem.h"
+#include "imusysid/registry.h"
+#include "imusysid/simulate3d.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
 #include "src/sim/synthetic_flight.h"
@@ -95,37 +99,75 @@ void BM_GaEstimatePaper70sAt1kHz(benchmark::State& state) {
 }
 BENCHMARK(BM_GaEstimatePaper70sAt1kHz)->Unit(benchmark::kMillisecond);
 
-// The two-tone flight at 250 Hz (paper_test1's rate) with `samples` samples,
-// for either model; one problem per (model, size), kept for the process.
-const Problem& ThreadsProblem(bool consistent, int samples) {
+// Models of the thread pairs (BM_GaThreads' first argument).
+enum ThreadsModel {
+  kThreadsPaper = 0,
+  kThreadsConsistent = 1,
+  kThreadsImu3d = 2
+};
+
+// The IMU-only 3-D model on the simulated figure-eight at 100 Hz, its
+// manoeuvre cut to about `samples` fitted samples (two residuals each).
+std::shared_ptr<const Model> Imu3dModel(int samples) {
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+  if (!o.ok()) return nullptr;
+  o->rate_hz = 100.0;
+  o->maneuver_s = samples / o->rate_hz;
+  StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
+  if (!flight.ok()) return nullptr;
+  StatusOr<Preprocess3dResult> pre =
+      Preprocess3dImuOnly(flight->logs[0], Preprocess3dOptions{});
+  if (!pre.ok()) return nullptr;
+  StatusOr<std::unique_ptr<Model>> model = BuiltinModels().Create(
+      "rigid3d_imu", std::make_shared<ProblemData>(std::move(pre->data)));
+  if (!model.ok()) return nullptr;
+  return std::shared_ptr<const Model>(std::move(model).value());
+}
+
+// The two-tone flight at 250 Hz (paper_test1's rate) with `samples` samples
+// for the planar models, the figure-eight for the 3-D one; one problem per
+// (model, size), kept for the process. Null when it cannot be built.
+const Problem* ThreadsProblem(ThreadsModel which, int samples) {
   static auto* cache = new std::vector<std::unique_ptr<Problem>>;
-  static auto* keys = new std::vector<std::pair<bool, int>>;
+  static auto* keys = new std::vector<std::pair<int, int>>;
   for (std::size_t i = 0; i < keys->size(); ++i) {
-    if ((*keys)[i] == std::make_pair(consistent, samples)) return *(*cache)[i];
+    if ((*keys)[i] == std::make_pair(static_cast<int>(which), samples)) {
+      return (*cache)[i].get();
+    }
   }
   constexpr double kRateHz = 250.0;
-  auto data = testing::MakeTwoToneFlight(
-      kPaperTest1Fit.ToVector(), samples / kRateHz, kRateHz, 0.3, 3);
   std::shared_ptr<const Model> model;
-  if (consistent) {
-    model = std::shared_ptr<const Model>(
-        std::move(ConsistentModel::Create(data)).value());
+  if (which == kThreadsImu3d) {
+    model = Imu3dModel(samples);
   } else {
-    model = std::make_shared<PaperModel>(data);
+    auto data = testing::MakeTwoToneFlight(
+        kPaperTest1Fit.ToVector(), samples / kRateHz, kRateHz, 0.3, 3);
+    if (which == kThreadsConsistent) {
+      model = std::shared_ptr<const Model>(
+          std::move(ConsistentModel::Create(data)).value());
+    } else {
+      model = std::make_shared<PaperModel>(data);
+    }
   }
-  keys->emplace_back(consistent, samples);
-  cache->push_back(std::make_unique<Problem>(model));
-  return *cache->back();
+  keys->emplace_back(static_cast<int>(which), samples);
+  cache->push_back(model != nullptr ? std::make_unique<Problem>(model)
+                                    : nullptr);
+  return cache->back().get();
 }
 
 // RunGa for 30 generations of 250 (the paper's population) from seed 1, so
 // every iteration and both thread counts do the same 7 750 evaluations with
-// the same results. Args: model (0 paper, 1 consistent), samples, threads.
+// the same results. Args: model (ThreadsModel), samples, threads.
 // Wall time (UseRealTime): what a user waits for.
 void BM_GaThreads(benchmark::State& state) {
-  const bool consistent = state.range(0) != 0;
-  const Problem& problem =
-      ThreadsProblem(consistent, static_cast<int>(state.range(1)));
+  const auto which = static_cast<ThreadsModel>(state.range(0));
+  const Problem* problem_or_null =
+      ThreadsProblem(which, static_cast<int>(state.range(1)));
+  if (problem_or_null == nullptr) {
+    state.SkipWithError("could not build the problem");
+    return;
+  }
+  const Problem& problem = *problem_or_null;
   EstimatorOptions options;
   options.seed = 1;
   options.record_trace = false;
@@ -144,14 +186,15 @@ void BM_GaThreads(benchmark::State& state) {
     rmse = problem.CostToRmse(problem.Cost(result.parameters.data()));
   }
   state.counters["of_rmse"] = rmse;
-  state.SetLabel(std::string(consistent ? "consistent" : "paper") +
-                 " n=" + std::to_string(state.range(1)) +
+  state.SetLabel(std::string(problem.model().name()) +
+                 " residuals=" + std::to_string(problem.num_residuals()) +
                  " threads=" + std::to_string(state.range(2)));
 }
 BENCHMARK(BM_GaThreads)
-    ->ArgNames({"consistent", "n", "threads"})
-    ->ArgsProduct({{0}, {1000, 12420, 100000}, {1, 2}})
-    ->ArgsProduct({{1}, {250, 1000, 12420}, {1, 2}})
+    ->ArgNames({"model", "n", "threads"})
+    ->ArgsProduct({{kThreadsPaper}, {1000, 12420, 100000}, {1, 2}})
+    ->ArgsProduct({{kThreadsConsistent}, {250, 1000, 12420}, {1, 2}})
+    ->ArgsProduct({{kThreadsImu3d}, {1000, 5000}, {1, 2}})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 

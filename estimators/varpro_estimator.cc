@@ -21,9 +21,6 @@ namespace {
 // Fractions of μ's box tried as starting points (see the header).
 constexpr double kMuGridFractions[] = {0.0, 1.0 / 16, 1.0 / 8, 0.25, 0.5};
 
-using RowMajorMatrix =
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
 // Size of a fixed-size dimension plus one, Dynamic staying Dynamic.
 constexpr int PlusOne(int size) {
   return size == Eigen::Dynamic ? Eigen::Dynamic : size + 1;
@@ -179,18 +176,20 @@ class ProjectedResidual final : public ceres::CostFunction {
   using SquareQ = Eigen::Matrix<double, kQ, kQ>;
   using VectorQ = Eigen::Matrix<double, kQ, 1>;
 
-  ProjectedResidual(const Problem& problem, const LinearStructure& structure)
+  // `inner` is the caller's, shared with its own evaluations so its n × m
+  // buffers exist once.
+  ProjectedResidual(const Problem& problem,
+                    const LinearStructure& structure,
+                    InnerSolver<kM, kQ>* inner)
       : problem_(problem),
-        nonlinear_(structure.nonlinear_parameters()),
         q_(structure.num_nonlinear()),
         n_(problem.num_residuals()),
-        inner_(structure, n_),
+        inner_(*inner),
         solve_([this](const LinearStructure& /*structure*/,
                       const double* p,
                       Eigen::VectorXd* b) { return inner_.SolveInto(p, b); }),
         x_(problem.num_parameters()),
         residuals_(n_),
-        full_jacobian_(n_, problem.num_parameters()),
         nonlinear_jacobian_(n_, q_) {
     set_num_residuals(q_ + 1);
     mutable_parameter_block_sizes()->push_back(q_);
@@ -208,7 +207,7 @@ class ProjectedResidual final : public ceres::CostFunction {
             solve_,
             &x_,
             residuals_.data(),
-            jacobian != nullptr ? full_jacobian_.data() : nullptr) !=
+            jacobian != nullptr ? nonlinear_jacobian_.data() : nullptr) !=
         SeparableOutcome::kOk) {
       return false;
     }
@@ -217,10 +216,6 @@ class ProjectedResidual final : public ceres::CostFunction {
       residuals[0] = std::sqrt(sum_sq);
       for (int i = 1; i <= q_; ++i) residuals[i] = 0.0;
       return true;
-    }
-    for (int j = 0; j < q_; ++j) {
-      nonlinear_jacobian_.col(j) =
-          full_jacobian_.col(nonlinear_[static_cast<std::size_t>(j)]);
     }
     inner_.Project(&nonlinear_jacobian_);
     SquareQ gram(q_, q_);
@@ -259,15 +254,14 @@ class ProjectedResidual final : public ceres::CostFunction {
 
  private:
   const Problem& problem_;
-  const std::vector<int>& nonlinear_;
   int q_;
   Eigen::Index n_;
   // Scratch: Ceres calls Evaluate from one thread (num_threads = 1).
-  mutable InnerSolver<kM, kQ> inner_;
+  InnerSolver<kM, kQ>& inner_;
   CoefficientSolve solve_;
   mutable Eigen::VectorXd x_;
   mutable Eigen::VectorXd residuals_;
-  mutable RowMajorMatrix full_jacobian_;
+  // ∂r/∂p at fixed b, column-major n × q, projected in place.
   mutable Eigen::MatrixXd nonlinear_jacobian_;
 };
 
@@ -494,7 +488,7 @@ Status SolveSeparable(const Problem& problem,
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem ceres_problem(problem_options);
-  ProjectedResidual<kM, kQ> cost_function(problem, structure);
+  ProjectedResidual<kM, kQ> cost_function(problem, structure, &inner);
   ceres_problem.AddResidualBlock(&cost_function, nullptr, p.data());
   for (int j = 0; j < q; ++j) {
     ceres_problem.SetParameterLowerBound(

@@ -146,6 +146,40 @@ TEST_P(ModelContractTest, JacobianMatchesCentralDifferences) {
   }
 }
 
+// Variable projection asks for a few columns, column-major; each must be the
+// full Jacobian's column bit for bit (the same arithmetic stored elsewhere),
+// in the order asked, repeats and all.
+TEST_P(ModelContractTest, JacobianColumnsAreTheFullJacobiansColumns) {
+  const int n = model_->num_residuals();
+  const int p = model_->num_parameters();
+  std::vector<std::vector<int>> selections = {{p - 1, 0, kMu, kMu}};
+  selections.emplace_back();
+  for (int i = 0; i < p; ++i) selections.back().push_back(i);
+  const LinearStructure* structure = model_->linear_structure();
+  if (structure != nullptr && structure->num_nonlinear() > 0) {
+    selections.push_back(structure->nonlinear_parameters());
+  }
+  for (const Eigen::VectorXd& x : Points()) {
+    Eigen::VectorXd r(n);
+    RowMajorMatrix jac(n, p);
+    ASSERT_TRUE(model_->Residuals(x.data(), r.data(), jac.data()));
+    for (const std::vector<int>& columns : selections) {
+      Eigen::VectorXd r_columns(n);
+      Eigen::MatrixXd jac_columns(n, static_cast<Eigen::Index>(columns.size()));
+      ASSERT_TRUE(model_->ResidualsWithJacobianColumns(
+          x.data(), columns, r_columns.data(), jac_columns.data()));
+      EXPECT_EQ((r - r_columns).cwiseAbs().maxCoeff(), 0.0);
+      for (std::size_t j = 0; j < columns.size(); ++j) {
+        const auto c = static_cast<Eigen::Index>(j);
+        EXPECT_EQ(
+            (jac.col(columns[j]) - jac_columns.col(c)).cwiseAbs().maxCoeff(),
+            0.0)
+            << "column " << columns[j];
+      }
+    }
+  }
+}
+
 TEST_P(ModelContractTest, CostIsHalfTheSumOfSquaredResiduals) {
   const int n = model_->num_residuals();
   for (const Eigen::VectorXd& x : Points()) {

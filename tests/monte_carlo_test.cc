@@ -21,7 +21,7 @@ namespace bench {
 namespace {
 
 constexpr int kSeeds = 50;
-// The bound on RMSE/√CRLB. With K seeds the ratio of an efficient
+// The required bound on RMSE/√CRLB. With K seeds the ratio of an efficient
 // estimator scatters about 1 with sd ≈ 1/sqrt(2K) = 0.10.
 constexpr double kMaxEfficiencyRatio = 1.15;
 // Coverage of ±2σ̂ is 0.954 for an efficient estimator with correct σ̂; with

@@ -42,7 +42,7 @@ std::shared_ptr<ProblemData> MakeData(int n, double noise_sigma) {
 
 // Relative agreement of the Gram (O(1)) and direct (O(n)) cost: both sum the
 // same n squares in a different order, so they agree to ~n·eps of the
-// largest term; 1e-9 is what the issue asks for and leaves margin.
+// largest term; 1e-9 is the required agreement and leaves margin.
 constexpr double kGramRelTol = 1e-9;
 
 TEST(PaperModel, GramCostEqualsDirectCost) {

@@ -177,7 +177,7 @@ INSTANTIATE_TEST_SUITE_P(PlanesAndVelocities,
                                   p.param.velocity;
                          });
 
-// The command of issue 5 exactly as written (default model and estimator:
+// The drone engineer's command exactly as documented (default model and estimator:
 // paper, since the log has velocity, with ga+lm).
 TEST(Log171, FitWithEmitPx4GivesThePositionInFrdMetres) {
   IMUSYSID_REQUIRE_REAL_DATA();

@@ -1,5 +1,5 @@
-// `fit --model=rigid3d` and `inspect` as a user meets them: the JSON the
-// issue names (imu_position_frd_m with null for a withheld axis, its
+// `fit --model=rigid3d` and `inspect` as a user meets them: the documented
+// JSON (imu_position_frd_m with null for a withheld axis, its
 // standard errors, warnings as strings), --imu=all, refusals with exit 2,
 // and the real logs with no window flags.
 

@@ -25,7 +25,7 @@ namespace imusysid {
 namespace {
 
 // 1.5 mm: about 2σ of the seed-to-seed spread on x, the loosest axis (the
-// issue's 1 mm is met on 25 of 30 seeds on x and on every seed on z).
+// 1 mm goal is met on 25 of 30 seeds on x and on every seed on z).
 constexpr double kPositionToleranceM = 1.5e-3;
 // A baseline differences two fits of one flight: √2 × the above, rounded.
 constexpr double kBaselineToleranceM = 2.0e-3;

@@ -70,7 +70,7 @@ std::shared_ptr<ProblemData> ModelExact::data_;
 // Every estimator minimises the same linear least-squares problem, whose
 // exact optimum `linear` computes in closed form. LM-type estimators converge
 // quadratically to it, so 1e-9 relative in OF is reachable; the GA stops by
-// MATLAB's stall rule, which the issue bounds at 1e-4 relative.
+// MATLAB's stall rule, bounded at 1e-4 relative.
 constexpr double kExactOfRelTol = 1e-9;
 constexpr double kGaOfRelTol = 1e-4;
 // Parameters within 4 standard errors of the truth (a 4σ event has

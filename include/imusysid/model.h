@@ -178,6 +178,17 @@ class Model {
                          double* residuals,
                          double* jacobian) const = 0;
 
+  // Residuals and only the Jacobian's columns for the parameter indices
+  // `columns`, written column-major (num_residuals() × columns.size()):
+  // what variable projection needs, without the n × num_parameters() row
+  // buffer. The default evaluates the full Jacobian and copies (it needs
+  // that buffer); a model whose Jacobian is large overrides it. Each column
+  // equals Residuals' column bit for bit; returns false where it would.
+  virtual bool ResidualsWithJacobianColumns(const double* x,
+                                            const std::vector<int>& columns,
+                                            double* residuals,
+                                            double* jacobian) const;
+
   // Writes the horizontal velocity v_k (m/s) the prediction uses at x, one
   // per sample, for plots and diagnostics. The default copies ProblemData::v
   // (models that read the data's velocity); a model that integrates its own

@@ -87,11 +87,13 @@ class Problem {
   // One evaluation of the objective at the nonlinear parameters p of the
   // model's LinearStructure (variable projection): `solve` gives the
   // coefficients b at p, the structure maps (b, p) to the full parameter
-  // vector *x, and the model's residuals (and Jacobian when not null) are
-  // evaluated at *x. Counts one cost evaluation however far it gets (the
-  // inner solve is part of the evaluation) and, when a Jacobian is asked,
-  // one Jacobian evaluation once the model is reached. CHECKs that the model
-  // has a linear structure.
+  // vector *x, and the model's residuals are evaluated at *x. When
+  // `jacobian` is not null it gets ∂r/∂p at fixed b: the columns of the
+  // model's Jacobian for the structure's nonlinear parameters, in their
+  // order, column-major (num_residuals() × num_nonlinear()). Counts one cost
+  // evaluation however far it gets (the inner solve is part of the evaluation)
+  // and, when a Jacobian is asked, one Jacobian evaluation once the model is
+  // reached. CHECKs that the model has a linear structure.
   SeparableOutcome SeparableResiduals(const double* p,
                                       const CoefficientSolve& solve,
                                       Eigen::VectorXd* x,

@@ -289,10 +289,10 @@ bool ConsistentModel::IntegrateOverGrid(double mu,
                                                 std::forward<Sink>(sink));
 }
 
-template <bool kMeasuredFz>
+template <bool kMeasuredFz, typename StoreRow>
 bool ConsistentModel::Evaluate(const double* x,
                                double* residuals,
-                               double* jacobian,
+                               const StoreRow* store_row,
                                double* cost) const {
   const ProblemData& d = data();
   const double g = d.gravity;
@@ -315,7 +315,7 @@ bool ConsistentModel::Evaluate(const double* x,
   double sum_sq = 0.0;
   double guard = 0.0;
   bool ok;
-  if (jacobian == nullptr) {
+  if (store_row == nullptr) {
     ok = IntegrateOverGrid<kMeasuredFz, false>(
         mu, x[kC0] * kDegToRad, x[kC1] * kDegToRad, [&](const SampleState& st) {
           const std::size_t k = st.k;
@@ -342,7 +342,7 @@ bool ConsistentModel::Evaluate(const double* x,
           const double res = f_x[k] - pred;
           residuals[k] = res;
           sum_sq += res * res;
-          double* row = jacobian + k * kP;
+          double row[kP];
           // Residual = f_x − f̄, so each entry is −∂f̄/∂x.
           row[kR] = cb * w2 - sb * wd;
           row[kBeta] = -kDegToRad * (rs * w2 + rc * wd);
@@ -354,6 +354,7 @@ bool ConsistentModel::Evaluate(const double* x,
           row[kC0] = -(sa * fz_p[1] - mq * st.v_p[1] + mqs * st.theta_p[1]);
           row[kC1] = -(sa * fz_p[2] - mq * st.v_p[2] + mqs * st.theta_p[2]);
           guard += 0.0 * (row[kMu] + row[kC0] + row[kC1] + row[kAlpha]);
+          (*store_row)(k, static_cast<const double*>(row));
         });
   }
   if (!ok || !std::isfinite(sum_sq + guard)) return false;
@@ -361,16 +362,51 @@ bool ConsistentModel::Evaluate(const double* x,
   return true;
 }
 
+namespace {
+
+// Evaluate's store_row when no Jacobian is asked.
+using NoStore = void (*)(std::size_t, const double*);
+
+}  // namespace
+
 bool ConsistentModel::Residuals(const double* x,
                                 double* residuals,
                                 double* jacobian) const {
-  return use_measured_fz_ ? Evaluate<true>(x, residuals, jacobian, nullptr)
-                          : Evaluate<false>(x, residuals, jacobian, nullptr);
+  constexpr int kP = kNumConsistentParameters;
+  if (jacobian == nullptr) {
+    return use_measured_fz_
+               ? Evaluate<true, NoStore>(x, residuals, nullptr, nullptr)
+               : Evaluate<false, NoStore>(x, residuals, nullptr, nullptr);
+  }
+  const auto store = [jacobian](std::size_t k, const double* row) {
+    std::copy(row, row + kP, jacobian + k * kP);
+  };
+  return use_measured_fz_ ? Evaluate<true>(x, residuals, &store, nullptr)
+                          : Evaluate<false>(x, residuals, &store, nullptr);
+}
+
+bool ConsistentModel::ResidualsWithJacobianColumns(
+    const double* x,
+    const std::vector<int>& columns,
+    double* residuals,
+    double* jacobian) const {
+  CHECK(jacobian != nullptr);
+  for (int column : columns) {
+    CHECK(column >= 0 && column < kNumConsistentParameters) << column;
+  }
+  const std::size_t n = data().size();
+  const auto store = [&columns, jacobian, n](std::size_t k, const double* row) {
+    for (std::size_t j = 0; j < columns.size(); ++j) {
+      jacobian[j * n + k] = row[columns[j]];
+    }
+  };
+  return use_measured_fz_ ? Evaluate<true>(x, residuals, &store, nullptr)
+                          : Evaluate<false>(x, residuals, &store, nullptr);
 }
 
 bool ConsistentModel::Cost(const double* x, double* cost) const {
-  return use_measured_fz_ ? Evaluate<true>(x, nullptr, nullptr, cost)
-                          : Evaluate<false>(x, nullptr, nullptr, cost);
+  return use_measured_fz_ ? Evaluate<true, NoStore>(x, nullptr, nullptr, cost)
+                          : Evaluate<false, NoStore>(x, nullptr, nullptr, cost);
 }
 
 bool ConsistentModel::CostBatch(const double* xs,

@@ -83,6 +83,12 @@ class ConsistentModel : public Model, public LinearStructure {
   bool Residuals(const double* x,
                  double* residuals,
                  double* jacobian) const override;
+  // The same pass storing only the asked columns (varpro's n × 3 instead of
+  // the n × 6 rows).
+  bool ResidualsWithJacobianColumns(const double* x,
+                                    const std::vector<int>& columns,
+                                    double* residuals,
+                                    double* jacobian) const override;
   // Same pass as Residuals without storing them.
   bool Cost(const double* x, double* cost) const override;
   // Eight candidates at a time in SIMD lanes (consistent_batch.h), each
@@ -149,10 +155,12 @@ class ConsistentModel : public Model, public LinearStructure {
                     Eigen::MatrixXd* d_fz = nullptr,
                     Eigen::MatrixXd* d_offset = nullptr) const;
 
-  template <bool kMeasuredFz>
+  // The residuals, and the Jacobian's row of each sample handed to
+  // store_row(k, row) when `store_row` is not null.
+  template <bool kMeasuredFz, typename StoreRow>
   bool Evaluate(const double* x,
                 double* residuals,
-                double* jacobian,
+                const StoreRow* store_row,
                 double* cost) const;
   // The velocity integration (consistent_model.cc) over this model's
   // precomputed grid, calling sink once per sample.

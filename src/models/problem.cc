@@ -149,6 +149,24 @@ bool Model::Cost(const double* x, double* cost) const {
   return std::isfinite(*cost);
 }
 
+bool Model::ResidualsWithJacobianColumns(const double* x,
+                                         const std::vector<int>& columns,
+                                         double* residuals,
+                                         double* jacobian) const {
+  CHECK(jacobian != nullptr);
+  const auto n = static_cast<std::size_t>(num_residuals());
+  const auto p = static_cast<std::size_t>(num_parameters());
+  std::vector<double> full(n * p);
+  if (!Residuals(x, residuals, full.data())) return false;
+  for (std::size_t j = 0; j < columns.size(); ++j) {
+    const auto column = static_cast<std::size_t>(columns[j]);
+    CHECK_LT(column, p);
+    double* out = jacobian + j * n;
+    for (std::size_t k = 0; k < n; ++k) out[k] = full[k * p + column];
+  }
+  return true;
+}
+
 bool Model::Velocity(const double* /*x*/, double* v) const {
   CHECK(v != nullptr);
   std::copy(data_->v.begin(), data_->v.end(), v);
@@ -308,9 +326,14 @@ SeparableOutcome Problem::SeparableResiduals(const double* p,
   if (jacobian != nullptr) {
     counters_->jacobian.fetch_add(1, std::memory_order_relaxed);
   }
-  return model_->Residuals(x->data(), residuals, jacobian)
-             ? SeparableOutcome::kOk
-             : SeparableOutcome::kNotEvaluable;
+  const bool ok = jacobian == nullptr
+                      ? model_->Residuals(x->data(), residuals, nullptr)
+                      : model_->ResidualsWithJacobianColumns(
+                            x->data(),
+                            model_->linear_structure()->nonlinear_parameters(),
+                            residuals,
+                            jacobian);
+  return ok ? SeparableOutcome::kOk : SeparableOutcome::kNotEvaluable;
 }
 
 SeparableOutcome Problem::SeparableCost(const double* p,

@@ -116,9 +116,10 @@ bool Rigid3dImuModel::Drag(const double* q,
   return drag->allFinite() && (!derive || d_drag->allFinite());
 }
 
-bool Rigid3dImuModel::Residuals(const double* x,
-                                double* residuals,
-                                double* jacobian) const {
+bool Rigid3dImuModel::Evaluate(const double* x,
+                               double* residuals,
+                               const std::vector<int>* columns,
+                               double* jacobian) const {
   if (!AllFinite(x, kNumRigid3dParameters)) return false;
   double q[kQ];
   for (int j = 0; j < kQ; ++j) q[j] = x[kNonlinearParameter[j]];
@@ -137,19 +138,48 @@ bool Rigid3dImuModel::Residuals(const double* x,
   for (int j = 0; j < kM; ++j) c[j] = x[kCoefficientParameter[j]];
   const Eigen::Index rows = a.rows();
   Eigen::Map<Eigen::VectorXd>(residuals, rows) = target - a * c;
-  if (jacobian != nullptr) {
-    const int p = kNumRigid3dParameters;
-    for (Eigen::Index i = 0; i < rows; ++i) {
-      double* out = jacobian + i * p;
-      for (int j = 0; j < p; ++j) out[j] = 0.0;
-      for (int j = 0; j < kM; ++j) out[kCoefficientParameter[j]] = -a(i, j);
-      // A does not depend on q (d_a is zero): only the target moves.
-      for (int j = 0; j < kQ; ++j) {
-        out[kNonlinearParameter[j]] = d_target(i, j);
+  // Column `parameter` of the Jacobian into out[i * stride]. A does not
+  // depend on q (d_a is zero): only the target moves.
+  const auto column = [&](int parameter, double* out, Eigen::Index stride) {
+    for (Eigen::Index i = 0; i < rows; ++i) out[i * stride] = 0.0;
+    for (int j = 0; j < kM; ++j) {
+      if (kCoefficientParameter[j] != parameter) continue;
+      for (Eigen::Index i = 0; i < rows; ++i) out[i * stride] = -a(i, j);
+    }
+    for (int j = 0; j < kQ; ++j) {
+      if (kNonlinearParameter[j] != parameter) continue;
+      for (Eigen::Index i = 0; i < rows; ++i) {
+        out[i * stride] = d_target(i, j);
       }
+    }
+  };
+  if (jacobian != nullptr && columns == nullptr) {
+    for (int j = 0; j < kNumRigid3dParameters; ++j) {
+      column(j, jacobian + j, kNumRigid3dParameters);
+    }
+  } else if (jacobian != nullptr) {
+    for (std::size_t j = 0; j < columns->size(); ++j) {
+      const int parameter = (*columns)[j];
+      CHECK(parameter >= 0 && parameter < kNumRigid3dParameters) << parameter;
+      column(parameter, jacobian + j * static_cast<std::size_t>(rows), 1);
     }
   }
   return Eigen::Map<Eigen::VectorXd>(residuals, rows).allFinite();
+}
+
+bool Rigid3dImuModel::Residuals(const double* x,
+                                double* residuals,
+                                double* jacobian) const {
+  return Evaluate(x, residuals, nullptr, jacobian);
+}
+
+bool Rigid3dImuModel::ResidualsWithJacobianColumns(
+    const double* x,
+    const std::vector<int>& columns,
+    double* residuals,
+    double* jacobian) const {
+  CHECK(jacobian != nullptr);
+  return Evaluate(x, residuals, &columns, jacobian);
 }
 
 bool Rigid3dImuModel::Velocity(const double* x, double* v) const {

@@ -39,6 +39,11 @@ class Rigid3dImuModel : public Model, public LinearStructure {
   bool Residuals(const double* x,
                  double* residuals,
                  double* jacobian) const override;
+  // Only the asked columns (varpro's n × 4, not the n × 11 rows).
+  bool ResidualsWithJacobianColumns(const double* x,
+                                    const std::vector<int>& columns,
+                                    double* residuals,
+                                    double* jacobian) const override;
   // Body x velocity the model integrates (the planar plots' v).
   bool Velocity(const double* x, double* v) const override;
   const LinearStructure* linear_structure() const override { return this; }
@@ -59,6 +64,12 @@ class Rigid3dImuModel : public Model, public LinearStructure {
   int CoefficientOfParameter(int parameter) const override;
 
  private:
+  // Residuals and, when `jacobian` is not null, the Jacobian: row-major
+  // n × P when `columns` is null, else those columns column-major.
+  bool Evaluate(const double* x,
+                double* residuals,
+                const std::vector<int>* columns,
+                double* jacobian) const;
   // The drag D (x, y rows) at every fitted sample for the nonlinear
   // parameters q = (μ, k, w_N, w_E), and with `d_drag` its derivatives
   // (2·fitted × 4, x rows then y rows). False where not finite.
