@@ -1,14 +1,27 @@
 #include "estimators/internal/population_evaluator.h"
 
+#include <time.h>
+
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cstddef>
 
 #include "glog/logging.h"
 
 namespace imusysid {
 namespace internal {
+namespace {
+
+// The calling thread's CPU time, ns: unlike wall time it does not count the
+// time the thread waits while another process runs.
+double ThreadCpuNs() {
+  timespec now{};
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now) != 0) return 0.0;
+  return static_cast<double>(now.tv_sec) * 1e9 +
+         static_cast<double>(now.tv_nsec);
+}
+
+}  // namespace
 
 PopulationEvaluator::PopulationEvaluator(const Problem& problem,
                                          int num_threads,
@@ -34,16 +47,14 @@ void PopulationEvaluator::Evaluate(const double* xs, int count, double* costs) {
     return;
   }
   if (measured_batches_ < kMeasuredBatches) {
-    // The first batches measure what a row costs on one thread; the GA's
+    // The first batch measures what a row costs on one thread; the GA's
     // generations all have the same size and model, so that decides for the
-    // run. The minimum of a few, because one batch on a busy machine can be
-    // preempted for longer than a cheap batch takes, which would make the
+    // run. CPU time, because on a busy machine a batch can be preempted for
+    // longer than a cheap batch takes, which in wall time would make the
     // paper model's O(1) costs look worth splitting.
-    const auto start = std::chrono::steady_clock::now();
+    const double start = ThreadCpuNs();
     problem_.CostBatch(xs, count, costs);
-    const std::chrono::duration<double, std::nano> elapsed =
-        std::chrono::steady_clock::now() - start;
-    const double per_row = elapsed.count() / count;
+    const double per_row = (ThreadCpuNs() - start) / count;
     ns_per_row_ =
         measured_batches_ == 0 ? per_row : std::min(ns_per_row_, per_row);
     ++measured_batches_;

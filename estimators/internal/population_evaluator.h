@@ -16,11 +16,12 @@ namespace imusysid {
 namespace internal {
 
 // A batch is split across threads only when its work is worth it: the first
-// kMeasuredBatches calls run on the calling thread and are timed; later calls
-// run in parallel when the fastest of those times, scaled to their row count,
-// reaches kMinParallelBatchNs. A
-// split hands out chunks of kChunkRows consecutive rows (a multiple of the
-// models' SIMD batch width) to whichever thread is free, one
+// kMeasuredBatches calls run on the calling thread and their CPU time is
+// measured (the thread's own clock, which preemption on a busy machine does
+// not inflate, so one batch is enough); later calls run in parallel when the
+// fastest of those times, scaled to their row count, reaches
+// kMinParallelBatchNs. A split hands out chunks of kChunkRows consecutive rows
+// (a multiple of the models' SIMD batch width) to whichever thread is free, one
 // Problem::CostBatch call per chunk, so a thread slowed by other work on the
 // machine takes fewer chunks. A cost depends only on its own row (Model's
 // contract), so the costs are the same bits for every thread count and every
@@ -41,7 +42,9 @@ class PopulationEvaluator {
   // samples) did.
   static constexpr double kMinParallelBatchNs = 2e5;
   static constexpr int kChunkRows = 16;
-  static constexpr int kMeasuredBatches = 3;
+  // One: with wall time it was the fastest of three, and a 30-generation GA
+  // then ran a tenth of its generations on one thread.
+  static constexpr int kMeasuredBatches = 1;
 
   // num_threads ≥ 1. The problem must outlive the evaluator.
   // min_parallel_batch_ns ≥ 0 replaces kMinParallelBatchNs; 0 splits every
@@ -70,7 +73,7 @@ class PopulationEvaluator {
   const Problem& problem_;
   const int num_threads_;
   const double min_parallel_batch_ns_;
-  // The fastest one-thread time per row of the measured batches, ns.
+  // The fastest one-thread CPU time per row of the measured batches, ns.
   double ns_per_row_ = 0.0;
   int measured_batches_ = 0;
   bool last_call_parallel_ = false;
