@@ -10,12 +10,20 @@
 
 namespace imusysid {
 namespace bench {
+std::vector<std::string> BenchModelNames() {
+  std::vector<std::string> planar;
+  for (const std::string& model : ModelNames()) {
+    StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
+    if (description.ok() && description->planar) planar.push_back(model);
+  }
+  return planar;
+}
 
 StatusOr<BenchConfig> PresetConfig(const std::string& preset,
                                    const std::string& data_dir) {
   BenchConfig c;
   c.preset = preset;
-  c.models = ModelNames();
+  c.models = BenchModelNames();
   c.threads = std::max(1u, std::thread::hardware_concurrency());
   if (preset == "paper") {
     c.logs = {data_dir + "/paper_test1.csv", data_dir + "/paper_test2.csv"};
@@ -54,12 +62,20 @@ Status ValidateBenchConfig(const BenchConfig& config) {
     return InvalidArgumentError("--seeds=" + std::to_string(config.seeds) +
                                 "; required 0 (no Monte Carlo) or >= 2");
   }
-  const std::vector<std::string> valid_models = ModelNames();
+  const std::vector<std::string> valid_models = BenchModelNames();
   for (const auto& model : config.models) {
     if (std::find(valid_models.begin(), valid_models.end(), model) ==
         valid_models.end()) {
       std::string list;
       for (const auto& m : valid_models) list += " " + m;
+      const std::vector<std::string> all = ModelNames();
+      if (std::find(all.begin(), all.end(), model) != all.end()) {
+        return InvalidArgumentError(
+            "--models: '" + model +
+            "' needs 3-D motion and bench fits planar flights "
+            "(build/benchmarks/rigid3d_benchmark measures it); valid:" +
+            list);
+      }
       return NotFoundError("--models: unknown model '" + model +
                            "'; valid:" + list);
     }

@@ -59,6 +59,10 @@ struct BenchConfig {
   std::function<void(const std::string&)> progress;
 };
 
+// The models bench runs: the planar ones (its logs and Monte Carlo
+// scenarios are planar flights; the 3-D models have rigid3d_benchmark).
+std::vector<std::string> BenchModelNames();
+
 // The configuration of a preset ("ci" or "paper"), logs under data_dir.
 StatusOr<BenchConfig> PresetConfig(const std::string& preset,
                                    const std::string& data_dir);

@@ -39,8 +39,9 @@ const char* PresetFlagHelp() {
 }
 
 const char* ModelsFlagHelp() {
-  static const std::string* const help = new std::string(
-      "Comma-separated models (" + JoinNames(ModelNames(), ",", ",") + ").");
+  static const std::string* const help =
+      new std::string("Comma-separated models (" +
+                      JoinNames(bench::BenchModelNames(), ",", ",") + ").");
   return help->c_str();
 }
 
@@ -292,7 +293,7 @@ const Command& BenchCommand() {
       "accuracy and runtime.",
       "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
       "[--models=" +
-          JoinNames(ModelNames(), ",", ",") +
+          JoinNames(bench::BenchModelNames(), ",", ",") +
           "] [--estimators=NAMES] [--repeats=N] "
           "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
           "[--format=table|json]",
