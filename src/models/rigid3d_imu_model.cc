@@ -138,30 +138,32 @@ bool Rigid3dImuModel::Evaluate(const double* x,
   for (int j = 0; j < kM; ++j) c[j] = x[kCoefficientParameter[j]];
   const Eigen::Index rows = a.rows();
   Eigen::Map<Eigen::VectorXd>(residuals, rows) = target - a * c;
-  // Column `parameter` of the Jacobian into out[i * stride]. A does not
-  // depend on q (d_a is zero): only the target moves.
-  const auto column = [&](int parameter, double* out, Eigen::Index stride) {
-    for (Eigen::Index i = 0; i < rows; ++i) out[i * stride] = 0.0;
-    for (int j = 0; j < kM; ++j) {
-      if (kCoefficientParameter[j] != parameter) continue;
-      for (Eigen::Index i = 0; i < rows; ++i) out[i * stride] = -a(i, j);
-    }
-    for (int j = 0; j < kQ; ++j) {
-      if (kNonlinearParameter[j] != parameter) continue;
-      for (Eigen::Index i = 0; i < rows; ++i) {
-        out[i * stride] = d_target(i, j);
+  // A does not depend on q (d_a is zero): only the target moves, so a
+  // coefficient's column is −A's and a nonlinear parameter's d_target's.
+  if (jacobian != nullptr && columns == nullptr) {
+    // Row by row, the order the row-major layout is stored in.
+    const int p = kNumRigid3dParameters;
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      double* out = jacobian + i * p;
+      for (int j = 0; j < p; ++j) out[j] = 0.0;
+      for (int j = 0; j < kM; ++j) out[kCoefficientParameter[j]] = -a(i, j);
+      for (int j = 0; j < kQ; ++j) {
+        out[kNonlinearParameter[j]] = d_target(i, j);
       }
     }
-  };
-  if (jacobian != nullptr && columns == nullptr) {
-    for (int j = 0; j < kNumRigid3dParameters; ++j) {
-      column(j, jacobian + j, kNumRigid3dParameters);
-    }
   } else if (jacobian != nullptr) {
-    for (std::size_t j = 0; j < columns->size(); ++j) {
-      const int parameter = (*columns)[j];
+    for (std::size_t k = 0; k < columns->size(); ++k) {
+      const int parameter = (*columns)[k];
       CHECK(parameter >= 0 && parameter < kNumRigid3dParameters) << parameter;
-      column(parameter, jacobian + j * static_cast<std::size_t>(rows), 1);
+      Eigen::Map<Eigen::VectorXd> out(
+          jacobian + k * static_cast<std::size_t>(rows), rows);
+      out.setZero();
+      for (int j = 0; j < kM; ++j) {
+        if (kCoefficientParameter[j] == parameter) out = -a.col(j);
+      }
+      for (int j = 0; j < kQ; ++j) {
+        if (kNonlinearParameter[j] == parameter) out = d_target.col(j);
+      }
     }
   }
   return Eigen::Map<Eigen::VectorXd>(residuals, rows).allFinite();
