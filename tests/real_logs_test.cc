@@ -177,8 +177,8 @@ INSTANTIATE_TEST_SUITE_P(PlanesAndVelocities,
                                   p.param.velocity;
                          });
 
-// The drone engineer's command exactly as documented (default model and estimator:
-// paper, since the log has velocity, with ga+lm).
+// The drone engineer's command exactly as documented (default model and
+// estimator: paper, since the log has velocity, with ga+lm).
 TEST(Log171, FitWithEmitPx4GivesThePositionInFrdMetres) {
   IMUSYSID_REQUIRE_REAL_DATA();
   const CommandResult r = RunCli("fit --log=" + RealLog(kLog171) +
