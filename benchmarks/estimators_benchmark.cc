@@ -23,7 +23,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
@@ -31,6 +30,7 @@
 
 #include "Eigen/Core"
 #include "benchmark/benchmark.h"
+#include "benchmarks/large_cases.h"
 #include "imusysid/estimator.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
@@ -153,14 +153,7 @@ void RegisterAll(bool with_large) {
 
 int main(int argc, char** argv) {
   // The 1e6- and 1e7-sample cases take seconds to minutes: only on request.
-  bool with_large = false;
-  for (int i = 1; i < argc; ++i) {
-    constexpr const char* kFilter = "--benchmark_filter=";
-    if (std::strncmp(argv[i], kFilter, std::strlen(kFilter)) == 0 &&
-        std::strstr(argv[i], "Large") != nullptr) {
-      with_large = true;
-    }
-  }
+  const bool with_large = imusysid::FilterAsksForLargeCases(argc, argv);
   imusysid::RegisterAll(with_large);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -10,13 +10,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "benchmark/benchmark.h"
+#include "benchmarks/large_cases.h"
 #include "imusysid/estimator.h"
 #include "imusysid/log.h"
 #include "imusysid/preprocess3d.h"
@@ -228,14 +228,7 @@ int main(int argc, char** argv) {
   // BM_Rigid3dScaling/<n>: 1e3–1e5 always; 1e6 and 1e7 (about 1.5 GB of
   // motion columns) only when --benchmark_filter mentions "Large", as in
   // estimators_benchmark.
-  bool with_large = false;
-  for (int i = 1; i < argc; ++i) {
-    constexpr const char* kFilter = "--benchmark_filter=";
-    if (std::strncmp(argv[i], kFilter, std::strlen(kFilter)) == 0 &&
-        std::strstr(argv[i], "Large") != nullptr) {
-      with_large = true;
-    }
-  }
+  const bool with_large = imusysid::FilterAsksForLargeCases(argc, argv);
   benchmark::RegisterBenchmark("BM_Rigid3dScaling", imusysid::Rigid3dScaling)
       ->Unit(benchmark::kMillisecond)
       ->Arg(1000)

@@ -66,8 +66,9 @@ void BM_ParseUlog(benchmark::State& state, const char* name, bool cold) {
                           static_cast<std::int64_t>(bytes.size()));
 }
 
-// What ReadFlightLog does: decode the IMU/attitude topics and convert.
-void BM_UlogToFlightLog(benchmark::State& state, const char* name, bool cold) {
+// What ReadFlightLog does, for either format: decode what the conversion
+// reads (the IMU, attitude and velocity topics or messages) and convert.
+void BM_ParseFlightLog(benchmark::State& state, const char* name, bool cold) {
   std::string bytes;
   if (!Load(state, name, &bytes)) return;
   LogReadOptions options;
@@ -101,28 +102,6 @@ void BM_ParseDataFlash(benchmark::State& state, const char* name, bool cold) {
                           static_cast<std::int64_t>(bytes.size()));
 }
 
-// What ReadFlightLog does with a DataFlash log: decode every message, then
-// convert the IMU, EKF velocity and attitude.
-void BM_DataFlashToFlightLog(benchmark::State& state,
-                             const char* name,
-                             bool cold) {
-  std::string bytes;
-  if (!Load(state, name, &bytes)) return;
-  LogReadOptions options;
-  options.max_gap_factor = 0;
-  for (auto _ : state) {
-    ReleaseFreedMemory(state, cold);
-    StatusOr<FlightLog> log = ParseFlightLog(bytes, name, options);
-    if (!log.ok()) {
-      state.SkipWithError(log.status().message().c_str());
-      return;
-    }
-    benchmark::DoNotOptimize(log->t_s.data());
-  }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
-                          static_cast<std::int64_t>(bytes.size()));
-}
-
 BENCHMARK_CAPTURE(BM_ParseUlog, sample, "pyulog__sample.ulg", false)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
@@ -144,7 +123,7 @@ BENCHMARK_CAPTURE(BM_ParseUlog,
                   false)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_UlogToFlightLog, sample, "pyulog__sample.ulg", false)
+BENCHMARK_CAPTURE(BM_ParseFlightLog, sample, "pyulog__sample.ulg", false)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK_CAPTURE(BM_ParseDataFlash,
@@ -153,7 +132,7 @@ BENCHMARK_CAPTURE(BM_ParseDataFlash,
                   false)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_DataFlashToFlightLog,
+BENCHMARK_CAPTURE(BM_ParseFlightLog,
                   log171,
                   "dronekit-la-testdata__log171.bin",
                   false)
@@ -163,7 +142,7 @@ BENCHMARK_CAPTURE(BM_DataFlashToFlightLog,
 BENCHMARK_CAPTURE(BM_ParseUlog, sample_cold, "pyulog__sample.ulg", true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_UlogToFlightLog, sample_cold, "pyulog__sample.ulg", true)
+BENCHMARK_CAPTURE(BM_ParseFlightLog, sample_cold, "pyulog__sample.ulg", true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK_CAPTURE(BM_ParseDataFlash,
@@ -172,7 +151,7 @@ BENCHMARK_CAPTURE(BM_ParseDataFlash,
                   true)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
-BENCHMARK_CAPTURE(BM_DataFlashToFlightLog,
+BENCHMARK_CAPTURE(BM_ParseFlightLog,
                   log171_cold,
                   "dronekit-la-testdata__log171.bin",
                   true)

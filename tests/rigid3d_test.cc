@@ -69,6 +69,21 @@ Simulator3dOptions Scenario(const std::string& name) {
   return *o;
 }
 
+// IMU 1's log of the named scenario flown with that IMU alone. The simulator
+// is deterministic, so each scenario is flown once per test binary.
+const FlightLog& OneImuLog(const std::string& name) {
+  static auto* const logs = new std::vector<std::pair<std::string, FlightLog>>;
+  for (const auto& [key, log] : *logs) {
+    if (key == name) return log;
+  }
+  Simulator3dOptions o = Scenario(name);
+  o.imus.resize(1);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  EXPECT_TRUE(flight.ok()) << flight.status().ToString();
+  logs->emplace_back(name, flight.ok() ? flight->logs[0] : FlightLog());
+  return logs->back().second;
+}
+
 void ExpectAtTruth(const Simulator3dOptions& o,
                    const Fitted& fit,
                    double tolerance = kPositionToleranceM,
@@ -174,26 +189,18 @@ TEST(Rigid3d, PitchOnlyFlightWithholdsY) {
 }
 
 TEST(Rigid3d, HoverIsRefusedWithWhatToFly) {
-  Simulator3dOptions o = Scenario("hover_3d");
-  o.imus.resize(1);
-  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
-  ASSERT_TRUE(flight.ok());
   StatusOr<Preprocess3dResult> pre =
-      Preprocess3d(flight->logs[0], Preprocess3dOptions());
+      Preprocess3d(OneImuLog("hover_3d"), Preprocess3dOptions());
   ASSERT_FALSE(pre.ok());
   EXPECT_EQ(pre.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("doublets"));
 }
 
 TEST(Rigid3d, InspectsWindowsAsFitUsesThem) {
-  Simulator3dOptions o = Scenario("figure8_3d");
-  o.imus.resize(1);
-  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
-  ASSERT_TRUE(flight.ok());
+  const FlightLog& log = OneImuLog("figure8_3d");
   StatusOr<Preprocess3dResult> windows =
-      SelectWindows3d(flight->logs[0], Preprocess3dOptions());
-  StatusOr<Preprocess3dResult> pre =
-      Preprocess3d(flight->logs[0], Preprocess3dOptions());
+      SelectWindows3d(log, Preprocess3dOptions());
+  StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
   ASSERT_TRUE(windows.ok() && pre.ok());
   ASSERT_EQ(windows->windows.size(), pre->windows.size());
   std::size_t samples = 0;
@@ -214,11 +221,7 @@ TEST(Rigid3d, InspectsWindowsAsFitUsesThem) {
 }
 
 TEST(Rigid3d, GyroInDegreesPerSecondIsRefused) {
-  Simulator3dOptions o = Scenario("figure8_3d");
-  o.imus.resize(1);
-  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
-  ASSERT_TRUE(flight.ok());
-  FlightLog log = flight->logs[0];
+  FlightLog log = OneImuLog("figure8_3d");
   for (auto* axis : {&log.gx, &log.gy, &log.gz}) {
     for (double& v : *axis) v *= kRadToDeg;
   }
@@ -228,11 +231,7 @@ TEST(Rigid3d, GyroInDegreesPerSecondIsRefused) {
 }
 
 TEST(Rigid3d, LogWithoutEstimatorChannelsIsRefused) {
-  Simulator3dOptions o = Scenario("figure8_3d");
-  o.imus.resize(1);
-  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
-  ASSERT_TRUE(flight.ok());
-  FlightLog log = flight->logs[0];
+  FlightLog log = OneImuLog("figure8_3d");
   log.extra.clear();
   StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
   ASSERT_FALSE(pre.ok());
@@ -253,11 +252,8 @@ namespace {
 constexpr double kImuOnlyToleranceM = 10e-3;
 
 TEST(Rigid3dImu, FigureEightFromTheImuAlone) {
-  Simulator3dOptions o = Scenario("figure8_3d");
-  o.imus.resize(1);
-  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
-  ASSERT_TRUE(flight.ok());
-  FlightLog log = flight->logs[0];
+  const Simulator3dOptions o = Scenario("figure8_3d");  // the truth
+  FlightLog log = OneImuLog("figure8_3d");
   log.extra.clear();
   StatusOr<Preprocess3dResult> pre =
       Preprocess3dImuOnly(log, Preprocess3dOptions());

@@ -16,6 +16,15 @@ namespace internal {
 
 inline bool IsBlank(char c) { return c == ' ' || c == '\t'; }
 
+// The readers' plain-row fast paths: `p` when it ends the row (the text's
+// end, "\n", or "\r" before "\n" or the end), else null (the general path
+// then reads the line).
+inline const char* RowEndAt(const char* p, const char* end) {
+  if (p == end || *p == '\n') return p;
+  if (*p == '\r' && (p + 1 == end || p[1] == '\n')) return p;
+  return nullptr;
+}
+
 // `s` without leading blanks and without trailing blanks or '\r'.
 std::string_view TrimBlanks(std::string_view s);
 

@@ -133,9 +133,7 @@ inline const char* ParsePlainRow(const char* p,
     if (p == end || *p != ',') return nullptr;
     ++p;
   }
-  if (p == end || *p == '\n') return p;
-  if (*p == '\r' && (p + 1 == end || p[1] == '\n')) return p;
-  return nullptr;
+  return internal::RowEndAt(p, end);
 }
 
 std::string NumberMessage(NumberError error, std::string_view text) {

@@ -809,31 +809,43 @@ Status Preprocess3dOptions::Validate() const {
   return Status::Ok();
 }
 
-StatusOr<Preprocess3dResult> SelectWindows3d(
-    const FlightLog& log, const Preprocess3dOptions& options) {
+namespace {
+
+// What SelectWindows3d and Preprocess3d both begin with: the options
+// checked, the estimator's track read and the windows chosen.
+Status EstimatorTrackAndWindows(const FlightLog& log,
+                                const Preprocess3dOptions& options,
+                                EstimatorTrack* track,
+                                Preprocess3dResult* out) {
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
   if (log.size() < 10) {
     return FailedPreconditionError(log.source + ": too few samples");
   }
-  StatusOr<EstimatorTrack> track = ReadEstimator(log);
-  if (!track.ok()) return track.status();
+  StatusOr<EstimatorTrack> read = ReadEstimator(log);
+  if (!read.ok()) return read.status();
+  *track = std::move(read).value();
+  return ChooseWindows(log, *track, options, out);
+}
+
+}  // namespace
+
+StatusOr<Preprocess3dResult> SelectWindows3d(
+    const FlightLog& log, const Preprocess3dOptions& options) {
+  EstimatorTrack track;
   Preprocess3dResult out;
-  IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *track, options, &out));
+  IMUSYSID_RETURN_IF_ERROR(
+      EstimatorTrackAndWindows(log, options, &track, &out));
   return out;
 }
 
 StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                           const Preprocess3dOptions& options) {
-  IMUSYSID_RETURN_IF_ERROR(options.Validate());
-  if (log.size() < 10) {
-    return FailedPreconditionError(log.source + ": too few samples");
-  }
-  StatusOr<EstimatorTrack> track = ReadEstimator(log);
-  if (!track.ok()) return track.status();
+  EstimatorTrack track;
   Preprocess3dResult out;
-  IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *track, options, &out));
   IMUSYSID_RETURN_IF_ERROR(
-      CheckGyroAgainstAttitude(log, *track, out.windows, out.gyro_bias_frd));
+      EstimatorTrackAndWindows(log, options, &track, &out));
+  IMUSYSID_RETURN_IF_ERROR(
+      CheckGyroAgainstAttitude(log, track, out.windows, out.gyro_bias_frd));
   std::vector<WindowImu> imu;
   for (const Stretch3d& w : out.windows) {
     StatusOr<WindowImu> wi =
@@ -868,7 +880,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   double wind_e = wind_given ? options.quadratic_wind_e : 0.0;
   auto find_wind = [&](double d) -> Status {
     if (wind_given) return Status::Ok();
-    StatusOr<ProblemData> thin = DataAtDelay(log, *track, thin_imu, options, d);
+    StatusOr<ProblemData> thin = DataAtDelay(log, track, thin_imu, options, d);
     if (!thin.ok()) return thin.status();
     IMUSYSID_RETURN_IF_ERROR(FindQuadraticWind(&*thin, thin_rate));
     wind_n = thin->motion.quadratic_wind_n;
@@ -884,7 +896,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
     // best, and a parabola through the best three.
     if (!wind_given) {
       StatusOr<ProblemData> thin =
-          DataAtDelay(log, *track, thin_imu, options, 0.0);
+          DataAtDelay(log, track, thin_imu, options, 0.0);
       if (!thin.ok()) return thin.status();
       StatusOr<LinearFit> fixed = IterateQuadraticWind(&*thin);
       if (!fixed.ok()) return fixed.status();
@@ -897,7 +909,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
         if (std::abs(seen - d) < 1e-9) return Status::Ok();
       }
       StatusOr<ProblemData> data =
-          DataAtDelay(log, *track, thin_imu, options, d);
+          DataAtDelay(log, track, thin_imu, options, d);
       if (!data.ok()) return data.status();
       data->motion.quadratic_wind_n = wind_n;
       data->motion.quadratic_wind_e = wind_e;
@@ -963,7 +975,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   }
   out.estimator_delay_s = delay;
   IMUSYSID_RETURN_IF_ERROR(find_wind(delay));
-  StatusOr<ProblemData> data = DataAtDelay(log, *track, imu, options, delay);
+  StatusOr<ProblemData> data = DataAtDelay(log, track, imu, options, delay);
   if (!data.ok()) return data.status();
   out.data = std::move(*data);
   out.data.motion.quadratic_wind_n = wind_n;

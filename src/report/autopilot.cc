@@ -8,6 +8,7 @@
 #include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
+#include "src/report/parameter_file.h"
 
 namespace imusysid {
 namespace {
@@ -149,11 +150,7 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
   const std::string axis_frame =
       "IMU position relative to the centre of mass, FRD body axes, m "
       "(1-sigma)";
-  if (px4) {
-    s << "# Onboard parameters for Vehicle 1 (QGroundControl .params)\n";
-  } else {
-    s << "# ArduPilot parameters (.parm: NAME,VALUE)\n";
-  }
+  s << internal::ParameterFileTitle(format);
   s << "# from imusysid fit of " << source << ": " << plane << " plane, model "
     << result.model << ", estimator " << result.estimator << ", OF "
     << FormatNumber(result.rmse, 4, kQuoted) << " m/s^2\n";
@@ -171,18 +168,7 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
   s << "# tilt alpha = " << FormatNumber(out.tilt_deg, 4, kQuoted) << " +/- "
     << FormatNumber(out.tilt_stderr_deg, 2, kQuoted)
     << " deg: " << out.trim_note << "\n";
-  if (px4) {
-    s << "#\n# Vehicle-Id\tComponent-Id\tName\tValue\tType\n";
-    for (const auto& [name, value] : out.params) {
-      // Type 9: MAV_PARAM_TYPE_REAL32.
-      s << "1\t1\t" << name << "\t" << FormatFixed(value, 4, kQuoted)
-        << "\t9\n";
-    }
-  } else {
-    for (const auto& [name, value] : out.params) {
-      s << name << "," << FormatFixed(value, 4, kQuoted) << "\n";
-    }
-  }
+  s << internal::ParameterFileRows(format, out.params);
   out.snippet = s.str();
   return out;
 }

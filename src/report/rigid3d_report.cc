@@ -13,6 +13,7 @@
 #include "imusysid/model.h"
 #include "imusysid/parameters.h"
 #include "imusysid/rigid3d.h"
+#include "src/report/parameter_file.h"
 
 namespace imusysid {
 namespace {
@@ -477,8 +478,7 @@ StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
   AutopilotParameters out;
   out.format = format;
   std::ostringstream s;
-  s << (px4 ? "# Onboard parameters for Vehicle 1 (QGroundControl .params)\n"
-            : "# ArduPilot parameters (.parm: NAME,VALUE)\n");
+  s << internal::ParameterFileTitle(format);
   s << "# from imusysid fit of " << reports.front().source
     << ": model rigid3d, estimator " << reports.front().estimator << "\n";
   s << "# IMU position relative to the centre of mass, FRD body axes, m "
@@ -529,17 +529,7 @@ StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
       " deg); it also absorbs accelerometer bias, so it is not written as a "
       "parameter";
   s << "# misalignment: " << out.trim_note << "\n";
-  if (px4) {
-    s << "#\n# Vehicle-Id\tComponent-Id\tName\tValue\tType\n";
-    for (const auto& [name, value] : out.params) {
-      s << "1\t1\t" << name << "\t" << FormatFixed(value, 4, kQuoted)
-        << "\t9\n";
-    }
-  } else {
-    for (const auto& [name, value] : out.params) {
-      s << name << "," << FormatFixed(value, 4, kQuoted) << "\n";
-    }
-  }
+  s << internal::ParameterFileRows(format, out.params);
   out.snippet = s.str();
   return out;
 }
