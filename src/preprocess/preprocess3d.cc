@@ -159,19 +159,22 @@ Eigen::Vector3d GyroFrd(const FlightLog& log, std::size_t k) {
   return {log.gx[k], -log.gy[k], -log.gz[k]};
 }
 
+// The planar preprocessing's segments of `log` (motors, the still stretch),
+// with its default options: what the 3-D windows start from.
+StatusOr<Segments> Segments3d(const FlightLog& log) {
+  return DetectSegments(log, PreprocessOptions());
+}
+
 // Marks each sample with why it cannot be fitted (empty: usable), then cuts
-// the usable runs into windows.
+// the usable runs into windows. `s` is Segments3d(log).
 Status ChooseWindows(const FlightLog& log,
+                     const Segments& s,
                      const EstimatorTrack& track,
                      const Preprocess3dOptions& o,
                      Preprocess3dResult* out) {
   const std::size_t n = log.size();
   const std::vector<double>& t = log.t_s;
   const double median_dt = log.MedianDt();
-  PreprocessOptions po;
-  StatusOr<Segments> segments = DetectSegments(log, po);
-  if (!segments.ok()) return segments.status();
-  const Segments& s = *segments;
   if (s.still.found) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     std::size_t count = 0;
@@ -824,7 +827,9 @@ Status EstimatorTrackAndWindows(const FlightLog& log,
   StatusOr<EstimatorTrack> read = ReadEstimator(log);
   if (!read.ok()) return read.status();
   *track = std::move(read).value();
-  return ChooseWindows(log, *track, options, out);
+  StatusOr<Segments> segments = Segments3d(log);
+  if (!segments.ok()) return segments.status();
+  return ChooseWindows(log, *segments, *track, options, out);
 }
 
 }  // namespace
@@ -1009,7 +1014,7 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
   const std::vector<double>& t = log.t_s;
   // The still stretch: the level the attitude starts from, and the gyro
   // bias.
-  StatusOr<Segments> segments = DetectSegments(log, PreprocessOptions());
+  StatusOr<Segments> segments = Segments3d(log);
   if (!segments.ok()) return segments.status();
   if (!segments->still.found) {
     return FailedPreconditionError(
@@ -1061,8 +1066,7 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
     for (auto& v : track.v_ned) v[k] = 0.0;
   }
   Preprocess3dResult out;
-  Preprocess3dOptions o = options;
-  IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, track, o, &out));
+  IMUSYSID_RETURN_IF_ERROR(ChooseWindows(log, *segments, track, options, &out));
   out.gyro_bias_frd = bias;
   out.gyro_bias_from_still = true;
   // Windows past a gap cannot be reached by the integration.
