@@ -105,6 +105,10 @@ StatusOr<LogSummary> SummarizeLog(const std::string& path);
 // Errors as ReadFlightLog's.
 StatusOr<std::vector<std::pair<std::string, double>>> ReadLogParameters(
     const std::string& path);
+// The same from a log already in memory; `source` prefixes error
+// messages.
+StatusOr<std::vector<std::pair<std::string, double>>> ParseLogParameters(
+    std::string_view bytes, const std::string& source);
 StatusOr<LogSummary> SummarizeLogBytes(std::string_view bytes,
                                        const std::string& name);
 

@@ -187,7 +187,7 @@ int RunFit3d(const std::string& path,
     emitted = Rigid3dAutopilotParameters(reports, emit);
     if (!emitted.ok()) return ReportError(kCmd, emitted.status());
     StatusOr<std::vector<std::pair<std::string, double>>> current =
-        ReadLogParameters(path);
+        ParseLogParameters(*bytes, path);
     if (current.ok() && !current->empty())
       AddCurrentValues(*current, &*emitted);
   }

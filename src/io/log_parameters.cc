@@ -1,5 +1,6 @@
 #include <map>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -14,6 +15,11 @@ StatusOr<std::vector<std::pair<std::string, double>>> ReadLogParameters(
     const std::string& path) {
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return bytes.status();
+  return ParseLogParameters(*bytes, path);
+}
+
+StatusOr<std::vector<std::pair<std::string, double>>> ParseLogParameters(
+    std::string_view bytes, const std::string& source) {
   // The value in force at the end of the log: a ULog's initial values with
   // its in-flight changes applied, a DataFlash log's last PARM per name.
   std::map<std::string, double> values;
@@ -25,13 +31,13 @@ StatusOr<std::vector<std::pair<std::string, double>>> ReadLogParameters(
       values[name] = value;
     }
   };
-  switch (DetectLogFormat(*bytes)) {
+  switch (DetectLogFormat(bytes)) {
     case LogFormat::kUlog: {
       // Only the definitions and parameter messages are needed: decode no
       // topic.
       UlogReadOptions options;
       options.topics = {"-"};
-      StatusOr<UlogData> ulog = ParseUlog(*bytes, path, options);
+      StatusOr<UlogData> ulog = ParseUlog(bytes, source, options);
       if (!ulog.ok()) return ulog.status();
       for (const UlogParameter& p : ulog->parameters) set(p.name, p.value);
       for (const UlogParameter& p : ulog->parameter_changes) {
@@ -40,7 +46,10 @@ StatusOr<std::vector<std::pair<std::string, double>>> ReadLogParameters(
       break;
     }
     case LogFormat::kDataFlash: {
-      StatusOr<DataFlashLog> log = ParseDataFlash(*bytes, path);
+      // Only PARM: decode no other message's fields.
+      DataFlashReadOptions options;
+      options.messages = {"PARM"};
+      StatusOr<DataFlashLog> log = ParseDataFlash(bytes, source, options);
       if (!log.ok()) return log.status();
       for (const auto& [name, value] : log->parameters) set(name, value);
       break;
