@@ -46,22 +46,14 @@ StatusOr<std::vector<int>> Instances(std::string_view bytes) {
 
 }  // namespace
 
-Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
-                                                 const std::string& path) {
+Preprocess3dOptions Preprocess3dOptionsFromFlags(
+    const std::vector<LogSegment>& armed) {
   Preprocess3dOptions po;
   po.estimator_delay_s = FLAGS_estimator_delay_s;
   po.cutoff_hz = FLAGS_cutoff_hz;
   po.t_start = FLAGS_t_start;
   po.t_end = FLAGS_t_end;
-  // The autopilot's arming record, where the log has one.
-  if (DetectLogFormat(bytes) != LogFormat::kCsv) {
-    StatusOr<LogSummary> summary = SummarizeLogBytes(bytes, path);
-    if (summary.ok()) {
-      for (const LogSegment& a : summary->armed) {
-        po.armed.emplace_back(a.start_s, a.end_s);
-      }
-    }
-  }
+  for (const LogSegment& a : armed) po.armed.emplace_back(a.start_s, a.end_s);
   return po;
 }
 
@@ -82,7 +74,13 @@ int RunFit3d(const std::string& path,
     }
   }
 
-  Preprocess3dOptions po = Preprocess3dOptionsFromFlags(*bytes, path);
+  // The autopilot's arming record, where the log has one.
+  std::vector<LogSegment> armed;
+  if (DetectLogFormat(*bytes) != LogFormat::kCsv) {
+    StatusOr<LogSummary> summary = SummarizeLogBytes(*bytes, path);
+    if (summary.ok()) armed = std::move(summary->armed);
+  }
+  Preprocess3dOptions po = Preprocess3dOptionsFromFlags(armed);
   std::vector<ImuPosition3d> reports;
   bool delay_at_limit = false;
   std::string model_name = requested_model;

@@ -6,20 +6,21 @@
 #define IMUSYSID_SRC_CLI_FIT3D_H_
 
 #include <string>
-#include <string_view>
+#include <vector>
 
 #include "imusysid/autopilot.h"
 #include "imusysid/estimator.h"
+#include "imusysid/log_reader.h"
 #include "imusysid/preprocess3d.h"
 
 namespace imusysid {
 namespace cli {
 
 // Preprocess3dOptions from --t_start, --t_end, --cutoff_hz and the log's own
-// arming record (a binary log's; `bytes` is the file at `path`). `fit` and
-// `inspect` both use it, so inspect shows the windows fit will use.
-Preprocess3dOptions Preprocess3dOptionsFromFlags(std::string_view bytes,
-                                                 const std::string& path);
+// arming record (LogSummary::armed: a binary log's; a CSV has none). `fit`
+// and `inspect` both use it, so inspect shows the windows fit will use.
+Preprocess3dOptions Preprocess3dOptionsFromFlags(
+    const std::vector<LogSegment>& armed);
 
 // Runs the 3-D fit of the log at `path` with model `model` ("rigid3d",
 // which falls back to "rigid3d_imu" on a log without the estimator's

@@ -129,10 +129,11 @@ int Run(const std::vector<std::string>& positional) {
     j["modes"] = modes;
   }
 
+  StatusOr<Segments> seg = FailedPreconditionError("the log could not be read");
   if (log.ok()) {
     StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
     if (!po.ok()) return ReportError(cmd, po.status());
-    StatusOr<Segments> seg = DetectSegments(*log, *po);
+    seg = DetectSegments(*log, *po);
     if (seg.ok()) {
       j["segments"] = {{"still", Interval(seg->still)},
                        {"motors_on_s", Instant(seg->motors_on)},
@@ -174,7 +175,7 @@ int Run(const std::vector<std::string>& positional) {
       FailedPreconditionError("the log could not be read");
   if (log.ok()) {
     windows3d =
-        SelectWindows3d(*log, Preprocess3dOptionsFromFlags(*bytes, path));
+        SelectWindows3d(*log, Preprocess3dOptionsFromFlags(summary->armed));
   }
   {
     nlohmann::ordered_json w;
@@ -240,11 +241,7 @@ int Run(const std::vector<std::string>& positional) {
           << FormatNumber(a.end_s, 6) << " s " << a.label << "\n";
     }
   }
-  if (j.contains("segments")) {
-    const auto& s = j["segments"];
-    (void)s;
-    StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
-    StatusOr<Segments> seg = DetectSegments(*log, *po);
+  if (seg.ok()) {
     out << "\nsegments (detected from the IMU)\n"
         << "  still, motors off  " << IntervalText(seg->still) << "\n"
         << "  motors on          " << InstantText(seg->motors_on) << "\n"
