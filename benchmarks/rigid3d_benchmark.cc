@@ -18,10 +18,12 @@
 #include "benchmark/benchmark.h"
 #include "benchmarks/large_cases.h"
 #include "imusysid/estimator.h"
+#include "imusysid/identify.h"
 #include "imusysid/log.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
+#include "imusysid/rigid3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 
@@ -55,27 +57,21 @@ const std::vector<std::string>* Logs() {
   return logs;
 }
 
-// One log: read, preprocess (with `shared` delay and wind once known),
-// fit, report. Returns the samples fitted, 0 on failure.
+// One log through the library's entry point, as `fit --model=rigid3d`
+// runs it (with `shared` delay and wind once known). Returns the samples
+// fitted, 0 on failure.
 std::size_t FitOne(const std::string& path, Preprocess3dOptions* shared) {
-  StatusOr<FlightLog> log = ReadCsvLog(path);
-  if (!log.ok()) return 0;
-  StatusOr<Preprocess3dResult> pre = Preprocess3d(*log, *shared);
-  if (!pre.ok()) return 0;
-  shared->estimator_delay_s = pre->estimator_delay_s;
-  shared->quadratic_wind_n = pre->data.motion.quadratic_wind_n;
-  shared->quadratic_wind_e = pre->data.motion.quadratic_wind_e;
-  auto data = std::make_shared<const ProblemData>(std::move(pre->data));
-  StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
-  if (!model.ok()) return 0;
-  Problem problem(std::shared_ptr<const Model>(std::move(*model)));
-  StatusOr<EstimateResult> r =
-      (*BuiltinEstimators().Create("linear"))->Estimate(problem, {});
-  if (!r.ok()) return 0;
-  pre->data = *data;
-  const ImuPosition3d report = Rigid3dReport(*r, *pre, 0);
-  benchmark::DoNotOptimize(report.position_m);
-  return data->size();
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  options.preprocess3d = *shared;
+  StatusOr<IdentifySummary> summary =
+      Identify(IdentifyInput::LogFile(path), options);
+  if (!summary.ok() || summary->imus.empty()) return 0;
+  shared->estimator_delay_s = summary->estimator_delay_s;
+  shared->quadratic_wind_n = summary->quadratic_wind_n;
+  shared->quadratic_wind_e = summary->quadratic_wind_e;
+  benchmark::DoNotOptimize(summary->imus.front().position_m);
+  return summary->imus.front().samples;
 }
 
 void BM_Rigid3dTenMinutesThreeImus(benchmark::State& state) {

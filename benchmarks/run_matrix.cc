@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "benchmarks/bench_internal.h"
+#include "imusysid/identify.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -65,22 +66,25 @@ void Execute(const BenchConfig& config,
              int ga_threads,
              RunRecord* run) {
   if (run->status.ok()) {
-    StatusOr<std::unique_ptr<Estimator>> est =
-        BuiltinEstimators().Create(job.estimator);
-    EstimatorOptions eo = config.options;
-    eo.ga.num_threads = ga_threads;
-    eo.record_trace = true;
-    for (int rep = 0; rep < config.repeats && est.ok(); ++rep) {
-      Problem problem(job.built);
-      StatusOr<EstimateResult> r = (*est)->Estimate(problem, eo);
-      if (!r.ok()) {
-        run->status = r.status();
+    // The library's entry point on the prepared data, as a refinement
+    // stage would call it: the same fit `fit` makes of them.
+    IdentifyOptions options;
+    options.model = job.model;
+    options.estimators = {job.estimator};
+    options.estimator = config.options;
+    options.estimator.ga.num_threads = ga_threads;
+    options.estimator.record_trace = true;
+    const IdentifyInput input = IdentifyInput::Data(job.built->shared_data());
+    for (int rep = 0; rep < config.repeats; ++rep) {
+      StatusOr<IdentifySummary> fitted = Identify(input, options);
+      if (!fitted.ok()) {
+        run->status = fitted.status();
         break;
       }
-      run->wall_ms.push_back(1000.0 * r->wall_time_s);
-      if (rep == 0) run->result = std::move(*r);
+      EstimateResult& r = fitted->fits.front();
+      run->wall_ms.push_back(1000.0 * r.wall_time_s);
+      if (rep == 0) run->result = std::move(r);
     }
-    if (!est.ok()) run->status = est.status();
   }
   if (!run->wall_ms.empty()) {
     run->wall_ms_median = Median(run->wall_ms);

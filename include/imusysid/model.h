@@ -252,6 +252,19 @@ struct ModelDescription {
   bool planar = true;
   // True when the model needs ProblemData::motion (Preprocess3d).
   bool needs_motion3d = false;
+  // The estimator a fit uses unless told otherwise: the closed form where
+  // the model is linear outright, variable projection where it is
+  // separable, the paper's GA seeding LM otherwise.
+  std::string default_estimator = "ga+lm";
+  // A 3-D model that reads the autopilot's attitude and velocity
+  // (Preprocess3d) rather than integrating them from the IMU
+  // (Preprocess3dImuOnly); and the registered model to fit instead on a log
+  // without them ("": refuse).
+  bool needs_estimator_channels = false;
+  std::string without_estimator_channels = "";
+  // What the model takes its inputs from, for the note that says a fit
+  // fell back to it ("attitude from the gyro, ...").
+  std::string inputs = "";
 };
 
 // Builds a model over valid data (the registry validates them first).

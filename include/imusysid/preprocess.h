@@ -178,6 +178,11 @@ struct PreprocessResult {
   std::vector<std::string> notes;
 };
 
+// True when `log` carries the autopilot's velocity the planar models can
+// use (the canonical channels vel_n, vel_e and yaw): what an automatic
+// choice of VelocitySource picks kLog on.
+bool HasLogVelocity(const FlightLog& log);
+
 // Builds the problem. InvalidArgument names the option and value (e.g.
 // t_start beyond the log's end, a cutoff above Nyquist) or the first bad log
 // sample; FailedPrecondition when no maneuver is found and no window was

@@ -10,6 +10,9 @@
 
 namespace imusysid {
 
+// The model's registry name (ModelRegistry).
+inline constexpr char kRigid3dModelName[] = "rigid3d";
+
 // Parameter indices of rigid3d. Body frame FRD. The accelerometer at p reads,
 // on its x and y axes (a = ω̇, u = v_b − Rᵀw the air velocity in body axes),
 //   f_i = [a×p + ω×(ω×p)]_i + b_i + e_i f_z − k (v_b,i − (Rᵀw)_i) − μ|u₀| u₀,i

@@ -13,6 +13,7 @@
 
 #include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
+#include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
 #include "imusysid/preprocess.h"
@@ -204,104 +205,19 @@ StatusOr<EstimatorOptions> OptionsFromFlags() {
   return o;
 }
 
-// Reads and preprocesses the log at `path` for the fit; fills `context`.
-// `unidentifiable` gets a reason when the log itself shows r and β cannot be
-// identified (no maneuver, or no flight in the segment), whatever the fit's
-// standard errors say.
-StatusOr<std::shared_ptr<ProblemData>> DataFromLog(const std::string& path,
-                                                   FitContext* context,
-                                                   std::string* unidentifiable,
-                                                   std::string* damage) {
-  StatusOr<FlightLog> log = ReadLogFromFlags(path);
-  if (!log.ok()) return log.status();
-  // The gates that stop a log in the wrong units or frame, or a badly
-  // damaged one, from fitting to confident wrong numbers.
-  IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
-  if (!FLAGS_allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
-  *damage = DamageSummary(*log);
-  StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
-  if (!po.ok()) return po.status();
-  // No maneuver and no window: fit a stretch anyway and let the
-  // identifiability rule answer, rather than refuse.
-  StatusOr<std::string> fallback = ApplyFallbackSegment(*log, &*po);
-  if (!fallback.ok()) return fallback.status();
-  if (!fallback->empty()) std::cerr << "note: " << *fallback << "\n";
-  StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
-  if (!pre.ok()) return pre.status();
-  IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(pre->data, path));
-  *unidentifiable =
-      NoFlightReason(path, pre->data.t_s.front(), pre->data.t_s.back());
-  if (unidentifiable->empty() && !fallback->empty()) {
-    *unidentifiable =
-        "no maneuver was detected in this log, so the segment does not "
-        "excite the lever-arm terms: r and beta are not identifiable";
-  }
-  for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
-  context->plane = PlaneToString(po->plane);
-  context->velocity = VelocitySourceToString(po->velocity_source);
-  return std::make_shared<ProblemData>(std::move(pre->data));
-}
-
-// Reads a problem file as it is (no preprocessing); fills `context` from its
-// metadata.
-StatusOr<std::shared_ptr<ProblemData>> DataFromProblemFile(
-    const std::string& path, FitContext* context) {
-  StatusOr<ProblemFile> file = ReadProblemCsv(path);
-  if (!file.ok()) return file.status();
-  IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(file->data, path));
-  if (!file->ignored_columns.empty()) {
-    std::cerr << "note: " << path << ": ignoring column"
-              << (file->ignored_columns.size() > 1 ? "s" : "");
-    for (const auto& c : file->ignored_columns) {
-      std::cerr << " '" << EscapeForDisplay(c) << "'";
-    }
-    std::cerr << " (the fit uses t, f, omega, omega_dot, v)\n";
-  }
-  const std::string* plane = file->FindMetadata("plane");
-  const std::string* velocity = file->FindMetadata("velocity");
-  context->plane = plane != nullptr ? *plane : "unknown";
-  context->velocity = velocity != nullptr ? *velocity : "unknown";
-  return std::make_shared<ProblemData>(std::move(file->data));
-}
-
-// --emit: the autopilot's terms for every result, in the JSON (an "emit"
+// --emit: the autopilot's terms of every result, in the JSON (an "emit"
 // object per fit) or after the table; --emit_out gets the file of the
-// lowest-OF usable result.
-Status AddEmit(const std::vector<EstimateResult>& results,
-               EmitFormat format,
-               const FitContext& context,
-               std::string* text) {
-  std::vector<AutopilotParameters> emitted(results.size());
-  std::vector<bool> have(results.size(), false);
-  // The values the log itself records, to show beside the identified ones;
-  // none for a CSV or a problem file (or a log whose parameters cannot be
-  // read: the fit stands without them).
-  StatusOr<std::vector<std::pair<std::string, double>>> log_parameters =
-      ReadLogParameters(context.log);
-  // Run() has read the log with this instance already, so it is valid.
-  const StatusOr<int> imu = ImuInstanceFromFlag();
-  const int imu_instance = imu.ok() ? *imu : 0;
-  int best = -1;
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    StatusOr<AutopilotParameters> p = ToAutopilotParameters(
-        results[i], format, context.plane, imu_instance, context.log);
-    if (!p.ok()) continue;  // an unusable fit: nothing to restate
-    emitted[i] = std::move(p).value();
-    if (log_parameters.ok() && !log_parameters->empty()) {
-      AddCurrentValues(*log_parameters, &emitted[i]);
-    }
-    have[i] = true;
-    if (best < 0 || results[i].rmse < results[best].rmse) {
-      best = static_cast<int>(i);
-    }
-  }
+// lowest-RMSE usable result.
+Status AddEmit(const IdentifyEmit& emit, std::string* text) {
+  const int best = emit.best;
   if (JsonOutput()) {
     nlohmann::ordered_json j = nlohmann::ordered_json::parse(*text);
     auto add = [&](nlohmann::ordered_json* fit, std::size_t i) {
+      const bool have = i < emit.parameters.size() && emit.parameters[i];
       (*fit)["emit"] =
-          have[i] ? AutopilotParametersToJson(emitted[i])
-                  : nlohmann::ordered_json{{"format", FLAGS_emit},
-                                           {"reason", "the fit failed"}};
+          have ? AutopilotParametersToJson(*emit.parameters[i])
+               : nlohmann::ordered_json{{"format", FLAGS_emit},
+                                        {"reason", "the fit failed"}};
     };
     if (j.is_array()) {
       for (std::size_t i = 0; i < j.size(); ++i) add(&j[i], i);
@@ -310,7 +226,8 @@ Status AddEmit(const std::vector<EstimateResult>& results,
     }
     *text = DumpJson(j) + "\n";
   } else if (best >= 0) {
-    *text += AutopilotParametersToText(emitted[static_cast<std::size_t>(best)]);
+    *text += AutopilotParametersToText(
+        *emit.parameters[static_cast<std::size_t>(best)]);
   }
   if (!FLAGS_emit_out.empty()) {
     if (best < 0) {
@@ -318,10 +235,55 @@ Status AddEmit(const std::vector<EstimateResult>& results,
           "--emit_out: no usable fit to write parameters from");
     }
     IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
-        FLAGS_emit_out, emitted[static_cast<std::size_t>(best)].snippet));
+        FLAGS_emit_out,
+        emit.parameters[static_cast<std::size_t>(best)]->snippet));
     std::cerr << "wrote " << FLAGS_emit_out << "\n";
   }
   return Status::Ok();
+}
+
+// The planar fits as a table or JSON, the autopilot's terms and figures.
+int WritePlanar(IdentifySummary& summary, EmitFormat emit_format) {
+  const std::string cmd = "fit";
+  FitContext& context = summary.context;
+  context.include_trace = FLAGS_trace;
+  const std::vector<EstimateResult>& results = summary.fits;
+  std::string text;
+  if (JsonOutput()) {
+    if (FLAGS_estimator == "all") {
+      nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+      for (const auto& r : results) arr.push_back(ResultToJson(r, context));
+      text = DumpJson(arr) + "\n";
+    } else {
+      text = DumpJson(ResultToJson(results.front(), context)) + "\n";
+    }
+  } else {
+    text = ResultsToTable(results, context);
+  }
+  Status s;
+  if (emit_format != EmitFormat::kNone && summary.emit.has_value()) {
+    s = AddEmit(*summary.emit, &text);
+    if (!s.ok()) return ReportError(cmd, s);
+  }
+  s = EmitOutput(text, FLAGS_out);
+  if (!s.ok()) return ReportError(cmd, s);
+  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  if (!FLAGS_plot.empty()) {
+    bench::FitFigureOptions figure_options;
+    figure_options.title = context.log;
+    std::vector<bench::Figure> figures;
+    s = bench::WriteFitFigures(
+        FLAGS_plot, summary.data, results, figure_options, &figures);
+    if (s.code() == StatusCode::kFailedPrecondition) {
+      std::cerr << "warning: no figures: " << s.message() << "\n";
+    } else if (!s.ok()) {
+      return ReportError(cmd, s);
+    } else {
+      std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_plot
+                << "/index.html\n";
+    }
+  }
+  return summary.usable() ? kExitOk : kExitBadInput;
 }
 
 int Run(const std::vector<std::string>& positional) {
@@ -354,22 +316,12 @@ int Run(const std::vector<std::string>& positional) {
                       "give the log with --log=FILE (or a problem file with "
                       "--problem=P.csv)");
   }
-  // A problem file holds no raw IMU to integrate: only models that read the
-  // data's velocity apply, and the first of them is the default there.
-  const std::string data_velocity_model = FirstModelUsingDataVelocity(true);
-  std::string model_name =
-      from_problem && !FlagWasSet("model") ? data_velocity_model : FLAGS_model;
-  if (from_problem && BuiltinModels().Describe(model_name).ok() &&
-      !UsesDataVelocity(model_name)) {
-    return ReportError(
-        cmd,
-        FailedPreconditionError(
-            "model '" + model_name +
-            "' cannot be fitted from a problem file: it needs the raw log (it "
-            "integrates attitude and velocity from the IMU itself); fit the "
-            "log with --log=FILE, or use --model=" +
-            data_velocity_model + " with --problem"));
-  }
+  // Without --model the library picks the input's default (a problem
+  // file's, or a log velocity's, differs from the flag's).
+  IdentifyOptions io;
+  if (FlagWasSet("model")) io.model = FLAGS_model;
+  const IdentifyInput input = from_problem ? IdentifyInput::ProblemFile(path)
+                                           : IdentifyInput::LogFile(path);
   for (const auto& [flag, out] :
        {std::pair<std::string, std::string>{"--out", FLAGS_out},
         {"--emit_out", FLAGS_emit_out}}) {
@@ -384,145 +336,59 @@ int Run(const std::vector<std::string>& positional) {
   if (emit_format == EmitFormat::kNone && !FLAGS_emit_out.empty()) {
     return UsageError(cmd, "--emit_out needs --emit=px4|ardupilot");
   }
-
-  // The 3-D model has its own pipeline: automatic windows, every IMU, a
-  // per-axis report. Its closed form is the default estimator.
-  if (!from_problem &&
-      (model_name == "rigid3d" || model_name == "rigid3d_imu")) {
-    if (FLAGS_estimator == "all") {
-      return UsageError(cmd,
-                        "--estimator=all is not offered with --model=rigid3d; "
-                        "name one estimator (linear is the default)");
-    }
-    return RunFit3d(path,
-                    model_name,
-                    FlagWasSet("estimator") ? FLAGS_estimator : "",
-                    *options,
-                    emit_format,
-                    FLAGS_emit_out);
+  StatusOr<ModelDescription> description =
+      BuiltinModels().Describe(FLAGS_model);
+  const bool three_d =
+      !from_problem && description.ok() && description->needs_motion3d;
+  if (three_d && FLAGS_estimator == "all") {
+    return UsageError(cmd,
+                      "--estimator=all is not offered with --model=" +
+                          FLAGS_model + "; name one estimator (" +
+                          description->default_estimator + " is the default)");
   }
 
-  // Estimators to run, validated before any work is done.
-  const EstimatorRegistry& registry = BuiltinEstimators();
-  std::vector<std::string> names;  // for "all": once the model is built
-  if (FLAGS_estimator != "all") {
-    StatusOr<std::unique_ptr<Estimator>> e = registry.Create(FLAGS_estimator);
-    if (!e.ok()) return ReportError(cmd, e.status());
-    names.push_back(FLAGS_estimator);
-  }
-
-  FitContext context;
-  std::string unidentifiable;
-  std::string damage;
-  StatusOr<std::shared_ptr<ProblemData>> loaded =
-      from_problem ? DataFromProblemFile(path, &context)
-                   : DataFromLog(path, &context, &unidentifiable, &damage);
-  if (!loaded.ok()) return ReportError(cmd, loaded.status());
-  std::shared_ptr<ProblemData> data = std::move(loaded).value();
-  // Only models that read the data's velocity use the autopilot's (the
-  // others integrate their own from θ = ∫ω, which on a 3-D flight drifts far
-  // from the pitch), so a log velocity makes the first of them the default.
-  if (!from_problem && !FlagWasSet("model") && context.velocity == "log" &&
-      !UsesDataVelocity(model_name)) {
-    std::cerr << "note: model " << data_velocity_model
-              << " (the default when the velocity comes from the log; "
-                 "--model="
-              << model_name << " ignores it)\n";
-    model_name = data_velocity_model;
-  }
-  ModelOptions model_options;
-  model_options.use_measured_fz = FLAGS_use_measured_fz;
-  StatusOr<std::unique_ptr<Model>> model =
-      CreateModel(model_name, data, model_options);
-  if (!model.ok()) return ReportError(cmd, model.status());
-  Problem problem(std::shared_ptr<const Model>(std::move(*model)));
-  Status s = ApplyBounds(&problem);
-  if (!s.ok()) return ReportError(cmd, s);
+  io.estimator = *options;
   if (FLAGS_estimator == "all") {
-    names = registry.NamesSupporting(problem.model());
+    io.all_estimators = true;
+  } else if (FlagWasSet("estimator") || !three_d) {
+    io.estimators = {FLAGS_estimator};
   }
-
-  context.log = path;
-  context.t_start_s = data->t_s.front();
-  context.t_end_s = data->t_s.back();
-  context.samples = data->size();
-  context.seed = FLAGS_seed;
-  context.include_trace = FLAGS_trace;
-
-  std::vector<EstimateResult> results;
-  for (const std::string& name : names) {
-    StatusOr<std::unique_ptr<Estimator>> created = registry.Create(name);
-    if (!created.ok()) return ReportError(cmd, created.status());
-    std::unique_ptr<Estimator> estimator = std::move(created).value();
-    std::cerr << "fitting " << model_name << " with " << name << " ("
-              << data->size() << " samples)...\n";
-    StatusOr<EstimateResult> r = estimator->Estimate(problem, *options);
-    if (!r.ok() && !estimator->Supports(problem.model())) {
-      std::string can;
-      for (const auto& n : registry.NamesSupporting(problem.model())) {
-        can += " " + n;
-      }
+  io.model_options.use_measured_fz = FLAGS_use_measured_fz;
+  io.configure_problem = [](Problem* problem) { return ApplyBounds(problem); };
+  io.allow_damaged = FLAGS_allow_damaged;
+  io.emit = emit_format;
+  if (!from_problem) {
+    StatusOr<int> imu = ImuInstanceFromFlag();
+    if (!imu.ok()) return ReportError(cmd, imu.status());
+    if (*imu == kAllImus && !three_d) {
       return ReportError(
           cmd,
-          Status(r.status().code(),
-                 r.status().message() + "; estimators that can:" + can));
+          InvalidArgumentError("--imu=all applies to fit --model=rigid3d; "
+                               "pick one instance (0, 1 or 2) here"));
     }
-    if (!r.ok()) return ReportError(cmd, r.status());
-    results.push_back(std::move(*r));
+    io.imu = *imu == kAllImus    ? kAllImuInstances
+             : FlagWasSet("imu") ? *imu
+                                 : kDefaultImu;
+    StatusOr<std::optional<Frame>> frame = FrameFromFlag();
+    if (!frame.ok()) return ReportError(cmd, frame.status());
+    io.frame = *frame;
+    StatusOr<PreprocessOptions> po =
+        PreprocessOptionsFromFlags(&io.velocity_auto);
+    if (!po.ok()) return ReportError(cmd, po.status());
+    io.preprocess = *po;
+    io.preprocess3d = Preprocess3dOptionsFromFlags();
   }
-  // The reader's repairs travel with every fit: a fit of what was left of
-  // a damaged log must not look like a fit of the whole flight.
-  if (!damage.empty()) {
-    for (EstimateResult& r : results) {
-      r.warnings.push_back({"damaged_log", damage});
-    }
-  }
-  if (!unidentifiable.empty()) {
-    for (EstimateResult& r : results) {
-      if (!r.HasWarning("not_identifiable")) {
-        r.warnings.push_back({"not_identifiable", unidentifiable});
-      }
-    }
-  }
+  io.on_note = [](const std::string& text) {
+    std::cerr << "note: " << text << "\n";
+  };
+  io.on_progress = [](const std::string& text) { std::cerr << text << "\n"; };
 
-  std::string text;
-  if (JsonOutput()) {
-    if (FLAGS_estimator == "all") {
-      nlohmann::ordered_json arr = nlohmann::ordered_json::array();
-      for (const auto& r : results) arr.push_back(ResultToJson(r, context));
-      text = DumpJson(arr) + "\n";
-    } else {
-      text = DumpJson(ResultToJson(results.front(), context)) + "\n";
-    }
-  } else {
-    text = ResultsToTable(results, context);
+  StatusOr<IdentifySummary> summary = Identify(input, io);
+  if (!summary.ok()) return ReportError(cmd, summary.status());
+  if (summary->three_d) {
+    return WriteFit3d(*summary, emit_format, FLAGS_emit_out);
   }
-  if (emit_format != EmitFormat::kNone) {
-    s = AddEmit(results, emit_format, context, &text);
-    if (!s.ok()) return ReportError(cmd, s);
-  }
-  s = EmitOutput(text, FLAGS_out);
-  if (!s.ok()) return ReportError(cmd, s);
-  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
-  if (!FLAGS_plot.empty()) {
-    bench::FitFigureOptions figure_options;
-    figure_options.title = path;
-    std::vector<bench::Figure> figures;
-    s = bench::WriteFitFigures(
-        FLAGS_plot, data, results, figure_options, &figures);
-    if (s.code() == StatusCode::kFailedPrecondition) {
-      std::cerr << "warning: no figures: " << s.message() << "\n";
-    } else if (!s.ok()) {
-      return ReportError(cmd, s);
-    } else {
-      std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_plot
-                << "/index.html\n";
-    }
-  }
-  for (const auto& r : results) {
-    if (!r.IsUsable()) return kExitBadInput;
-  }
-  return kExitOk;
+  return WritePlanar(*summary, emit_format);
 }
 
 }  // namespace

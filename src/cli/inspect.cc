@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
@@ -15,6 +16,7 @@
 #include "src/cli/common.h"
 #include "src/cli/fit3d.h"
 #include "src/cli/log_flags.h"
+#include "src/cli/model_names.h"
 
 namespace imusysid {
 namespace cli {
@@ -174,8 +176,22 @@ int Run(const std::vector<std::string>& positional) {
   StatusOr<Preprocess3dResult> windows3d =
       FailedPreconditionError("the log could not be read");
   if (log.ok()) {
-    windows3d =
-        SelectWindows3d(*log, Preprocess3dOptionsFromFlags(summary->armed));
+    IdentifyOptions io;
+    io.model = FirstModelReadingEstimator();
+    io.stop_after = IdentifyStage::kWindows;
+    io.preprocess3d = Preprocess3dOptionsFromFlags();
+    for (const LogSegment& a : summary->armed) {
+      io.preprocess3d.armed.emplace_back(a.start_s, a.end_s);
+    }
+    const StatusOr<int> imu = ImuInstanceFromFlag();
+    io.imu = imu.ok() && FlagWasSet("imu") ? *imu : kDefaultImu;
+    StatusOr<IdentifySummary> identified =
+        Identify(IdentifyInput::LogBytes(*bytes, path), io);
+    if (!identified.ok()) {
+      windows3d = identified.status();
+    } else if (identified->windows.has_value()) {
+      windows3d = std::move(*identified->windows);
+    }
   }
   {
     nlohmann::ordered_json w;

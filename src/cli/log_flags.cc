@@ -146,18 +146,30 @@ StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
   return log;
 }
 
+StatusOr<std::optional<Frame>> FrameFromFlag() {
+  if (FLAGS_frame.empty()) return std::optional<Frame>();
+  StatusOr<Frame> frame = FrameFromString(FLAGS_frame);
+  if (!frame.ok()) return frame.status().WithPrefix("--frame");
+  return std::optional<Frame>(*frame);
+}
+
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log) {
+  bool velocity_auto = false;
+  StatusOr<PreprocessOptions> o = PreprocessOptionsFromFlags(&velocity_auto);
+  if (o.ok() && velocity_auto) {
+    o->velocity_source =
+        HasLogVelocity(log) ? VelocitySource::kLog : VelocitySource::kGyro;
+  }
+  return o;
+}
+
+StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(bool* velocity_auto) {
   PreprocessOptions o;
   StatusOr<Plane> plane = PlaneFromString(FLAGS_plane);
   if (!plane.ok()) return plane.status().WithPrefix("--plane");
   o.plane = *plane;
-  if (FLAGS_velocity == "auto") {
-    const bool has_log_velocity = log.FindChannel(kChannelVelN) != nullptr &&
-                                  log.FindChannel(kChannelVelE) != nullptr &&
-                                  log.FindChannel(kChannelYaw) != nullptr;
-    o.velocity_source =
-        has_log_velocity ? VelocitySource::kLog : VelocitySource::kGyro;
-  } else {
+  *velocity_auto = FLAGS_velocity == "auto";
+  if (!*velocity_auto) {
     StatusOr<VelocitySource> v = VelocitySourceFromString(FLAGS_velocity);
     if (!v.ok()) return v.status().WithPrefix("--velocity");
     o.velocity_source = *v;

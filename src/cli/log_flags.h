@@ -5,6 +5,7 @@
 #ifndef IMUSYSID_SRC_CLI_LOG_FLAGS_H_
 #define IMUSYSID_SRC_CLI_LOG_FLAGS_H_
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -64,6 +65,12 @@ StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
 // `log` has the canonical velocity and yaw channels, else the gyro
 // (equation 7).
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log);
+// The same before the log is read: *velocity_auto says --velocity=auto was
+// asked for (the choice is then the reader's, HasLogVelocity).
+StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(bool* velocity_auto);
+
+// --frame as a frame override; nullopt when not given.
+StatusOr<std::optional<Frame>> FrameFromFlag();
 
 }  // namespace cli
 }  // namespace imusysid

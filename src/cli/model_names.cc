@@ -1,31 +1,25 @@
 #include "src/cli/model_names.h"
 
+#include "imusysid/identify.h"
 #include "imusysid/model.h"
 
 namespace imusysid {
 namespace cli {
 
 std::vector<std::string> ModelsUsingDataVelocity(bool uses) {
-  const ModelRegistry& models = BuiltinModels();
-  std::vector<std::string> names;
-  for (const std::string& name : models.Names()) {
-    StatusOr<ModelDescription> description = models.Describe(name);
-    // The 3-D models read a log's whole motion: they are neither problem-file
-    // models nor integrating planar ones, and fit them through their own
-    // path (fit3d.cc).
-    if (description.ok() && !description->needs_motion3d &&
-        description->uses_data_velocity == uses) {
-      names.push_back(name);
-    }
-  }
-  return names;
+  return PlanarModelsUsingDataVelocity(uses);
 }
 
 std::string FirstModelUsingDataVelocity(bool uses) {
-  const std::vector<std::string> names = ModelsUsingDataVelocity(uses);
-  if (!names.empty()) return names.front();
-  const std::vector<std::string> all = ModelNames();
-  return all.empty() ? std::string() : all.front();
+  return DefaultPlanarModel(uses);
+}
+
+std::string FirstModelReadingEstimator() {
+  for (const std::string& name : ModelNames()) {
+    StatusOr<ModelDescription> d = BuiltinModels().Describe(name);
+    if (d.ok() && d->needs_estimator_channels) return name;
+  }
+  return std::string();
 }
 
 bool UsesDataVelocity(const std::string& name) {

@@ -22,6 +22,10 @@ std::vector<std::string> ModelsUsingDataVelocity(bool uses);
 // problem file or a log velocity (true).
 std::string FirstModelUsingDataVelocity(bool uses);
 
+// The first registered 3-D model that reads the autopilot's attitude and
+// velocity (what `inspect` lists the windows of).
+std::string FirstModelReadingEstimator();
+
 // True when `name` is a registered model that uses the data's velocity.
 bool UsesDataVelocity(const std::string& name);
 

@@ -80,6 +80,38 @@ StatusOr<ModelDescription> ModelRegistry::Describe(
   return UnknownName(name);
 }
 
+namespace {
+
+ModelDescription Rigid3dDescription() {
+  ModelDescription d;
+  d.summary =
+      "3-D rigid body: IMU position (x, y, z) from the autopilot's attitude "
+      "and velocity";
+  d.uses_data_velocity = true;
+  d.planar = false;
+  d.needs_motion3d = true;
+  d.default_estimator = "linear";
+  d.needs_estimator_channels = true;
+  d.without_estimator_channels = "rigid3d_imu";
+  d.inputs = "the autopilot's attitude and velocity";
+  return d;
+}
+
+ModelDescription Rigid3dImuDescription() {
+  ModelDescription d;
+  d.summary =
+      "3-D rigid body from the IMU alone: attitude from the gyro, velocity "
+      "integrated with the drag model";
+  d.uses_data_velocity = false;
+  d.planar = false;
+  d.needs_motion3d = true;
+  d.default_estimator = "varpro";
+  d.inputs = "attitude from the gyro, velocity integrated with the drag model";
+  return d;
+}
+
+}  // namespace
+
 void RegisterBuiltinModels(ModelRegistry* registry) {
   CHECK(registry != nullptr);
   // One line per model; the order is the order of ModelNames().
@@ -88,20 +120,9 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
   registry->Register("consistent",
                      {"drag and thrust consistent, with attitude drift", false},
                      NewConsistentModel);
-  registry->Register("rigid3d",
-                     {"3-D rigid body: IMU position (x, y, z) from the "
-                      "autopilot's attitude and velocity",
-                      true,
-                      false,
-                      true},
-                     NewRigid3dModel);
-  registry->Register("rigid3d_imu",
-                     {"3-D rigid body from the IMU alone: attitude from the "
-                      "gyro, velocity integrated with the drag model",
-                      false,
-                      false,
-                      true},
-                     NewRigid3dImuModel);
+  registry->Register("rigid3d", Rigid3dDescription(), NewRigid3dModel);
+  registry->Register(
+      "rigid3d_imu", Rigid3dImuDescription(), NewRigid3dImuModel);
 }
 
 const ModelRegistry& BuiltinModels() {

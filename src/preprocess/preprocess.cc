@@ -238,6 +238,12 @@ StatusOr<Segments> DetectSegments(const FlightLog& log,
   return detection->segments;
 }
 
+bool HasLogVelocity(const FlightLog& log) {
+  return log.FindChannel(kChannelVelN) != nullptr &&
+         log.FindChannel(kChannelVelE) != nullptr &&
+         log.FindChannel(kChannelYaw) != nullptr;
+}
+
 StatusOr<PreprocessResult> Preprocess(const FlightLog& log,
                                       const PreprocessOptions& options) {
   IMUSYSID_RETURN_IF_ERROR(internal::CheckLog(log));

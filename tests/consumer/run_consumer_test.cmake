@@ -25,3 +25,7 @@ execute_process(COMMAND ${WORK_DIR}/build/refine ${SOURCE_DIR}/data/model_exact.
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "refine returned ${rc}")
 endif()
+execute_process(COMMAND ${WORK_DIR}/build/refine3d RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "refine3d returned ${rc}")
+endif()

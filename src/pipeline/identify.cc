@@ -1,0 +1,142 @@
+#include "imusysid/identify.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "imusysid/log_reader.h"
+#include "imusysid/registry.h"
+#include "imusysid/segments.h"
+#include "src/pipeline/identify_internal.h"
+
+namespace imusysid {
+
+IdentifyInput IdentifyInput::LogFile(std::string path) {
+  IdentifyInput in;
+  in.kind_ = Kind::kLogFile;
+  in.source_ = std::move(path);
+  return in;
+}
+
+IdentifyInput IdentifyInput::LogBytes(std::string bytes, std::string source) {
+  IdentifyInput in;
+  in.kind_ = Kind::kLogBytes;
+  in.bytes_ = std::move(bytes);
+  in.source_ = std::move(source);
+  return in;
+}
+
+IdentifyInput IdentifyInput::ProblemFile(std::string path) {
+  IdentifyInput in;
+  in.kind_ = Kind::kProblemFile;
+  in.source_ = std::move(path);
+  return in;
+}
+
+IdentifyInput IdentifyInput::Data(std::shared_ptr<const ProblemData> data) {
+  IdentifyInput in;
+  in.kind_ = Kind::kProblemData;
+  if (data != nullptr) in.source_ = data->source;
+  in.data_ = std::move(data);
+  return in;
+}
+
+bool IdentifySummary::usable() const {
+  for (const EstimateResult& r : fits) {
+    if (!r.IsUsable()) return false;
+  }
+  for (const ImuPosition3d& r : imus) {
+    if (!r.usable) return false;
+  }
+  return true;
+}
+
+std::vector<std::string> PlanarModelsUsingDataVelocity(bool uses) {
+  std::vector<std::string> names;
+  for (const std::string& name : ModelNames()) {
+    StatusOr<ModelDescription> description = BuiltinModels().Describe(name);
+    // The 3-D models have their own defaults and path.
+    if (description.ok() && !description->needs_motion3d &&
+        description->uses_data_velocity == uses) {
+      names.push_back(name);
+    }
+  }
+  return names;
+}
+
+std::string DefaultPlanarModel(bool uses_data_velocity) {
+  const std::vector<std::string> names =
+      PlanarModelsUsingDataVelocity(uses_data_velocity);
+  if (!names.empty()) return names.front();
+  const std::vector<std::string> all = ModelNames();
+  return all.empty() ? std::string() : all.front();
+}
+
+namespace internal {
+
+StatusOr<LogReadOptions> FitReadOptions(std::string_view bytes,
+                                        int instance,
+                                        const IdentifyOptions& options) {
+  LogReadOptions read;
+  if (instance < 0 || instance > 2) {
+    return InvalidArgumentError("imu = " + std::to_string(instance) +
+                                "; required 0, 1 or 2");
+  }
+  read.imu_instance = instance;
+  if (options.frame.has_value()) {
+    read.override_frame = true;
+    read.frame = *options.frame;
+  }
+  if (DetectLogFormat(bytes) != LogFormat::kCsv ||
+      IsConvertedBinaryLog(bytes)) {
+    read.max_gap_factor = 0.0;
+  }
+  return read;
+}
+
+StatusOr<std::string> InputBytes(const IdentifyInput& input) {
+  if (input.kind() == IdentifyInput::Kind::kLogBytes) return input.bytes();
+  return ReadFileToString(input.source());
+}
+
+std::string EstimatorsThatCan(const Problem& problem) {
+  std::string can;
+  for (const auto& n : BuiltinEstimators().NamesSupporting(problem.model())) {
+    can += " " + n;
+  }
+  return can;
+}
+
+}  // namespace internal
+
+StatusOr<IdentifySummary> Identify(const IdentifyInput& input,
+                                   const IdentifyOptions& options) {
+  if (input.kind() == IdentifyInput::Kind::kProblemData &&
+      input.data() == nullptr) {
+    return InvalidArgumentError("Identify: the input data are null");
+  }
+  const bool from_log = input.is_log();
+  const bool model_given = !options.model.empty();
+  // A problem file or data hold no raw IMU to integrate: only models that
+  // read the data's velocity apply, and the first of them is the default.
+  const std::string data_velocity_model = DefaultPlanarModel(true);
+  const std::string model_name =
+      model_given ? options.model : DefaultPlanarModel(!from_log);
+  StatusOr<ModelDescription> description = BuiltinModels().Describe(model_name);
+  if (input.kind() == IdentifyInput::Kind::kProblemFile && description.ok() &&
+      !description->uses_data_velocity) {
+    return FailedPreconditionError(
+        "model '" + model_name +
+        "' cannot be fitted from a problem file: it needs the raw log (it "
+        "integrates attitude and velocity from the IMU itself); fit the "
+        "log with --log=FILE, or use --model=" +
+        data_velocity_model + " with --problem");
+  }
+  if (description.ok() && description->needs_motion3d &&
+      input.kind() != IdentifyInput::Kind::kProblemFile) {
+    return internal::Identify3d(input, options, model_name);
+  }
+  return internal::IdentifyPlanar(input, options, model_name, model_given);
+}
+
+}  // namespace imusysid

@@ -1,0 +1,239 @@
+// Identify for the 3-D models: every IMU instance of a log, the estimator's
+// delay and the wind found on the first and shared with the others (one
+// estimator and one flight), a fallback to the IMU-only model where the log
+// lacks the estimator's channels, the per-axis report and the comparison
+// between instances.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "imusysid/identify.h"
+#include "imusysid/log_reader.h"
+#include "imusysid/log_sanity.h"
+#include "imusysid/registry.h"
+#include "imusysid/sessions.h"
+#include "src/pipeline/identify_internal.h"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+// The IMU instances to fit: every one a binary log holds unless one is
+// asked for; a CSV holds one.
+std::vector<int> Instances(std::string_view bytes, int imu) {
+  const bool csv = DetectLogFormat(bytes) == LogFormat::kCsv;
+  if (imu == kAllImuInstances || imu == kDefaultImu) {
+    if (csv) return {0};
+    return {0, 1, 2};
+  }
+  return {imu};
+}
+
+// The fit of one instance's data with `estimator`, judged axis by axis.
+StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
+                                    std::shared_ptr<const ProblemData> data,
+                                    const std::string& model_name,
+                                    const Estimator& estimator,
+                                    const std::string& estimator_name,
+                                    int instance,
+                                    const IdentifyOptions& options) {
+  StatusOr<std::unique_ptr<Model>> model = CreateModel(model_name, data);
+  if (!model.ok()) return model.status();
+  Problem problem(std::shared_ptr<const Model>(std::move(*model)));
+  if (options.configure_problem) {
+    IMUSYSID_RETURN_IF_ERROR(options.configure_problem(&problem));
+  }
+  Progress(options,
+           "fitting " + model_name + " with " + estimator_name + " (IMU " +
+               std::to_string(instance) + ", " + std::to_string(data->size()) +
+               " samples)...");
+  StatusOr<EstimateResult> result =
+      estimator.Estimate(problem, options.estimator);
+  if (!result.ok()) {
+    if (!estimator.Supports(problem.model())) {
+      return Status(result.status().code(),
+                    result.status().message() +
+                        "; estimators that can:" + EstimatorsThatCan(problem));
+    }
+    return result.status();
+  }
+  Rigid3dReportOptions report_options = options.report3d;
+  const LinearStructure* linear = problem.model().linear_structure();
+  if (result->IsUsable() &&
+      (linear == nullptr || linear->num_nonlinear() > 0)) {
+    // A model that is not linear outright (the IMU-only one integrates over
+    // the whole span): its jackknife refits the model with each block's
+    // residuals left out; a linear one's is formed by the report.
+    std::vector<Eigen::Vector3d> estimates;
+    for (auto& mask :
+         LeaveBlockOutMasks(*data, report_options.jackknife_blocks)) {
+      auto masked = std::make_shared<ProblemData>(*data);
+      masked->motion.fitted = std::move(mask);
+      StatusOr<std::unique_ptr<Model>> m = CreateModel(model_name, masked);
+      if (!m.ok()) break;
+      Problem block(std::shared_ptr<const Model>(std::move(*m)));
+      (void)block.SetInitialGuess(result->parameters);
+      StatusOr<EstimateResult> r = estimator.Estimate(block, options.estimator);
+      if (!r.ok() || !r->IsUsable()) break;
+      estimates.push_back(r->parameters.head<3>());
+    }
+    report_options.jackknife_stderr_m = JackknifeFromEstimates(estimates);
+  }
+  return Rigid3dReport(*result, pre, instance, report_options);
+}
+
+}  // namespace
+
+StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
+                                     const IdentifyOptions& options,
+                                     const std::string& requested_model) {
+  IdentifySummary summary;
+  summary.source = input.source();
+  summary.three_d = true;
+  std::string model_name = requested_model;
+  std::string estimator_name =
+      options.estimators.empty() ? std::string() : options.estimators.front();
+  if (options.all_estimators || options.estimators.size() > 1) {
+    return InvalidArgumentError(
+        "the 3-D models are fitted with one estimator; name one (the model's "
+        "default is its closed form)");
+  }
+
+  std::string bytes;
+  if (input.is_log()) {
+    StatusOr<std::string> read = InputBytes(input);
+    if (!read.ok()) return read.status();
+    bytes = std::move(read).value();
+    // Several recordings in one CSV: the longest ordered one, said so.
+    if (DetectLogFormat(bytes) == LogFormat::kCsv) {
+      OrderedPiece piece = LongestOrderedCsvPiece(bytes, input.source());
+      if (!piece.note.empty()) {
+        Note(options, piece.note);
+        bytes = std::move(piece.text);
+      }
+    }
+  }
+  Preprocess3dOptions po = options.preprocess3d;
+  // The autopilot's arming record, where the log has one (and the caller
+  // has not read it already).
+  if (input.is_log() && po.armed.empty() &&
+      DetectLogFormat(bytes) != LogFormat::kCsv) {
+    StatusOr<LogSummary> log_summary = SummarizeLogBytes(bytes, input.source());
+    if (log_summary.ok()) {
+      for (const LogSegment& a : log_summary->armed) {
+        po.armed.emplace_back(a.start_s, a.end_s);
+      }
+    }
+  }
+
+  const std::vector<int> instances =
+      input.is_log() ? Instances(bytes, options.imu) : std::vector<int>{0};
+  bool delay_at_limit = false;
+  for (int instance : instances) {
+    Preprocess3dResult pre;
+    std::string damage;
+    if (input.is_log()) {
+      StatusOr<LogReadOptions> read = FitReadOptions(bytes, instance, options);
+      if (!read.ok()) return read.status();
+      StatusOr<FlightLog> log = ParseFlightLog(bytes, input.source(), *read);
+      if (!log.ok()) {
+        // A further instance the log does not hold ends the list.
+        if (instance > 0 && instances.size() > 1 && !summary.imus.empty()) {
+          break;
+        }
+        return log.status();
+      }
+      if (options.stop_after == IdentifyStage::kWindows) {
+        StatusOr<Preprocess3dResult> windows = SelectWindows3d(*log, po);
+        if (!windows.ok()) return windows.status();
+        summary.model = model_name;
+        summary.windows = std::move(windows).value();
+        return summary;
+      }
+      IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
+      if (!options.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
+      damage = DamageSummary(*log);
+      // Without the estimator's attitude and velocity, the model declared
+      // for that case.
+      StatusOr<ModelDescription> description =
+          BuiltinModels().Describe(model_name);
+      if (!description.ok()) return description.status();
+      if (description->needs_estimator_channels &&
+          !HasEstimatorChannels(*log) &&
+          !description->without_estimator_channels.empty()) {
+        model_name = description->without_estimator_channels;
+        StatusOr<ModelDescription> fallback =
+            BuiltinModels().Describe(model_name);
+        Note(options,
+             "the log has no attitude and velocity estimate: model " +
+                 model_name +
+                 (fallback.ok() ? " (" + fallback->inputs + ")" : ""));
+        description = std::move(fallback);
+        if (!description.ok()) return description.status();
+      }
+      StatusOr<Preprocess3dResult> prepared =
+          description->needs_estimator_channels ? Preprocess3d(*log, po)
+                                                : Preprocess3dImuOnly(*log, po);
+      if (!prepared.ok()) return prepared.status();
+      pre = std::move(prepared).value();
+    } else {
+      pre.data = *input.data();
+      IMUSYSID_RETURN_IF_ERROR(pre.data.Validate());
+    }
+    if (estimator_name.empty()) {
+      StatusOr<ModelDescription> d = BuiltinModels().Describe(model_name);
+      if (!d.ok()) return d.status();
+      estimator_name = d->default_estimator;
+    }
+    if (summary.imus.empty()) {
+      delay_at_limit = pre.delay_at_limit;
+      for (const auto& note : pre.notes) Note(options, note);
+      // One estimator publishes for every IMU: its delay is the log's, and
+      // so is the flight's wind.
+      po.estimator_delay_s = pre.estimator_delay_s;
+      po.quadratic_wind_n = pre.data.motion.quadratic_wind_n;
+      po.quadratic_wind_e = pre.data.motion.quadratic_wind_e;
+      summary.estimator_delay_s = po.estimator_delay_s;
+      summary.quadratic_wind_n = po.quadratic_wind_n;
+      summary.quadratic_wind_e = po.quadratic_wind_e;
+    } else {
+      pre.delay_at_limit = delay_at_limit;  // the log's, found on the first
+    }
+    StatusOr<std::unique_ptr<Estimator>> estimator =
+        BuiltinEstimators().Create(estimator_name);
+    if (!estimator.ok()) return estimator.status();
+    auto data = std::make_shared<const ProblemData>(pre.data);
+    // The first instance's data, for a caller that refines the fit.
+    if (summary.data == nullptr) summary.data = data;
+    StatusOr<ImuPosition3d> report = FitInstance(
+        pre, data, model_name, **estimator, estimator_name, instance, options);
+    if (!report.ok()) return report.status();
+    if (!damage.empty()) report->warnings.push_back("damaged_log: " + damage);
+    summary.imus.push_back(std::move(report).value());
+  }
+  CompareInstances(&summary.imus);
+  summary.model = model_name;
+
+  if (options.emit != EmitFormat::kNone) {
+    StatusOr<AutopilotParameters> emitted =
+        Rigid3dAutopilotParameters(summary.imus, options.emit);
+    if (!emitted.ok()) return emitted.status();
+    if (!bytes.empty()) {
+      StatusOr<std::vector<std::pair<std::string, double>>> current =
+          ParseLogParameters(bytes, input.source());
+      if (current.ok() && !current->empty()) {
+        AddCurrentValues(*current, &*emitted);
+      }
+    }
+    IdentifyEmit emit;
+    emit.parameters.push_back(std::move(emitted).value());
+    emit.best = 0;
+    summary.emit = std::move(emit);
+  }
+  return summary;
+}
+
+}  // namespace internal
+}  // namespace imusysid
