@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "imusysid/estimator.h"
+#include "imusysid/identify.h"
 #include "imusysid/log.h"
 #include "imusysid/model.h"
 #include "imusysid/preprocess.h"
@@ -44,16 +45,11 @@ struct BenchConfig {
   std::vector<std::size_t> scaling_sizes;
   double scaling_budget_s = 2.0;
   EstimatorOptions options;  // seed, GA/LM settings; GA threads set per run
-  // How a log without a truth sidecar is read and preprocessed; empty: the
-  // CSV/ULog/DataFlash reader with its defaults and Preprocess's defaults.
-  // `imusysid bench` passes fit's own --imu/--frame/--t_start/... handling,
-  // so a real log is fitted in bench as `fit` would fit it. Simulated logs
-  // (with a sidecar) always use the experiment's settings.
-  std::function<StatusOr<FlightLog>(const std::string& path)> read_log;
-  // Returns the options and appends notes (e.g. a fallback segment).
-  std::function<StatusOr<PreprocessOptions>(const FlightLog& log,
-                                            std::vector<std::string>* notes)>
-      preprocess_options;
+  // How a log without a truth sidecar is read and preprocessed: through the
+  // library's entry point up to IdentifyStage::kPreprocess, as `fit` reads
+  // it (`imusysid bench` passes fit's own --imu/--frame/--t_start/...).
+  // Simulated logs (with a sidecar) always use the experiment's settings.
+  IdentifyOptions real_logs;
   // Receives one progress line per finished run (may be called from worker
   // threads, serialised by the runner). May be empty.
   std::function<void(const std::string&)> progress;

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "benchmarks/bench_internal.h"
+#include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 
 namespace imusysid {
@@ -16,24 +17,24 @@ std::string Stem(const std::string& path) {
   return std::filesystem::path(path).stem().string();
 }
 
-// Preprocesses pl->log: a log with a sidecar with the experiment's settings,
-// another as config.preprocess_options says (as `fit` would), its notes
-// first.
-StatusOr<PreprocessResult> PreprocessPrepared(const BenchConfig& config,
-                                              PreparedLog* pl) {
-  if (!config.preprocess_options || pl->truth.known) {
-    return PreprocessForBench(*pl->log, pl->truth);
-  }
-  std::vector<std::string> notes;
-  StatusOr<PreprocessOptions> po = config.preprocess_options(*pl->log, &notes);
-  if (!po.ok()) return po.status();
-  pl->plane = PlaneToString(po->plane);
-  pl->velocity = VelocitySourceToString(po->velocity_source);
-  StatusOr<PreprocessResult> result = Preprocess(*pl->log, *po);
-  if (result.ok()) {
-    result->notes.insert(result->notes.begin(), notes.begin(), notes.end());
-  }
-  return result;
+// A log without a sidecar, read and preprocessed as `fit` reads it (the
+// library's entry point up to its data), its notes first.
+Status PrepareRealLog(const BenchConfig& config, PreparedLog* pl) {
+  IdentifyOptions options = config.real_logs;
+  options.stop_after = IdentifyStage::kPreprocess;
+  options.keep_log = true;
+  options.on_note = [pl](const std::string& note) {
+    pl->preprocess.notes.push_back(note);
+  };
+  options.on_progress = nullptr;
+  StatusOr<IdentifySummary> summary =
+      Identify(IdentifyInput::LogFile(pl->path), options);
+  if (!summary.ok()) return summary.status();
+  pl->plane = summary->context.plane;
+  pl->velocity = summary->context.velocity;
+  pl->log = summary->log;
+  pl->data = summary->data;
+  return Status::Ok();
 }
 
 // Reads the log at `path` and its sidecar, and preprocesses it into `pl`; the
@@ -49,15 +50,17 @@ void PrepareLog(const BenchConfig& config,
     return;
   }
   pl->truth = *truth;
-  StatusOr<FlightLog> log = config.read_log && !pl->truth.known
-                                ? config.read_log(pl->path)
-                                : ReadFlightLog(pl->path);
+  if (!pl->truth.known) {
+    pl->status = PrepareRealLog(config, pl);
+    return;
+  }
+  StatusOr<FlightLog> log = ReadFlightLog(pl->path);
   if (!log.ok()) {
     pl->status = log.status();
     return;
   }
   pl->log = std::make_shared<const FlightLog>(std::move(*log));
-  StatusOr<PreprocessResult> pre = PreprocessPrepared(config, pl);
+  StatusOr<PreprocessResult> pre = PreprocessForBench(*pl->log, pl->truth);
   if (!pre.ok()) {
     pl->status = pre.status();
     return;

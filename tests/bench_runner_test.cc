@@ -300,10 +300,11 @@ TEST(BenchRunner, MissingSidecarMeansUnknownTruth) {
             ReadTruth("model_exact")["instants_s"]["reference"].get<double>());
 }
 
-// A log without a sidecar goes through the caller's reader and
-// preprocessing (how `bench` fits real logs as `fit` does); a simulated log
-// keeps the experiment's. The hook's window must be the one fitted.
-TEST(BenchRunner, LogsWithoutSidecarUseTheCallersReaderAndPreprocessing) {
+// A log without a sidecar is read and preprocessed as `fit` reads it, with
+// the caller's options (how `bench` fits real logs); a simulated log keeps
+// the experiment's. The caller's window must be the one fitted, and the
+// raw log is kept for the figures.
+TEST(BenchRunner, LogsWithoutSidecarUseTheCallersOptions) {
   const std::string dir = testing::MakeTempDir();
   const std::string copy = dir + "/flight.csv";
   {
@@ -313,38 +314,21 @@ TEST(BenchRunner, LogsWithoutSidecarUseTheCallersReaderAndPreprocessing) {
   BenchConfig config = TinyConfig();
   config.logs = {copy, testing::DataDir() + "/paper_test2.csv"};
   config.scaling_sizes.clear();
-  std::atomic<int> reads{0};
-  std::atomic<int> preprocessed{0};
-  config.read_log = [&reads](const std::string& path) {
-    ++reads;
-    return ReadFlightLog(path);
-  };
-  config.preprocess_options =
-      [&preprocessed](
-          const FlightLog&,
-          std::vector<std::string>* notes) -> StatusOr<PreprocessOptions> {
-    ++preprocessed;
-    PreprocessOptions po;
-    po.t_start = 20.0;
-    po.t_end = 40.0;
-    notes->push_back("window from the caller");
-    return po;
-  };
+  config.real_logs.preprocess.t_start = 20.0;
+  config.real_logs.preprocess.t_end = 40.0;
   StatusOr<BenchReport> report = RunBench(config);
   ASSERT_TRUE(report.ok()) << report.status().message();
-  EXPECT_EQ(reads.load(), 1);  // only the copy: paper_test2 has a sidecar
-  EXPECT_EQ(preprocessed.load(), 1);
-  const RunRecord* hooked = FindRun(*report, "flight", "linear");
+  const RunRecord* real = FindRun(*report, "flight", "linear");
   const RunRecord* simulated = FindRun(*report, "paper_test2", "linear");
-  ASSERT_NE(hooked, nullptr);
+  ASSERT_NE(real, nullptr);
   ASSERT_NE(simulated, nullptr);
-  ASSERT_TRUE(hooked->Usable()) << hooked->status.message();
+  ASSERT_TRUE(real->Usable()) << real->status.message();
   // 20 s at 250 Hz (both ends included).
-  EXPECT_EQ(hooked->samples, 5001u);
+  EXPECT_EQ(real->samples, 5001u);
   EXPECT_GT(simulated->samples, 13000u);  // the detected maneuver, 53 s
   const PreparedLog& pl = report->logs[0];
-  ASSERT_FALSE(pl.preprocess.notes.empty());
-  EXPECT_EQ(pl.preprocess.notes.front(), "window from the caller");
+  ASSERT_NE(pl.log, nullptr);
+  EXPECT_GT(pl.log->size(), pl.data->size());  // the whole flight
 }
 
 TEST(BenchFigures, IndexShowsEveryFigureAndEveryImageExists) {

@@ -115,6 +115,9 @@ struct IdentifyOptions {
   EmitFormat emit = EmitFormat::kNone;
 
   IdentifyStage stop_after = IdentifyStage::kFit;
+  // Keep the planar log as read (IdentifySummary::log), for a caller that
+  // draws the whole flight; off, the log is freed before the fit.
+  bool keep_log = false;
 
   // Progress for long work and notes on choices made for the user
   // ("model rigid3d_imu (...)", "estimator delay 20 ms ..."), in the order
@@ -144,6 +147,8 @@ struct IdentifySummary {
   std::vector<EstimateResult> fits;
   FitContext context;
   std::shared_ptr<const ProblemData> data;
+  // The log as read, with IdentifyOptions::keep_log (planar logs).
+  std::shared_ptr<const FlightLog> log;
   // What the data say of every fit of them (damaged_log, not_identifiable),
   // added to each result's warnings.
   std::vector<Warning> data_warnings;

@@ -195,23 +195,10 @@ int Run(const std::vector<std::string>& positional) {
   config.progress = [](const std::string& line) {
     std::cerr << line << std::endl;
   };
-  // Real logs (no truth sidecar) are read and preprocessed as `fit` does:
-  // binary logs without the whole-log gap check, the log's velocity when it
-  // has one, the longest gap-free stretch when no maneuver is found, and
-  // --t_start/--t_end/--plane/... applied to every such log.
-  config.read_log = [](const std::string& path) {
-    return ReadLogFromFlags(path);
-  };
-  config.preprocess_options =
-      [](const FlightLog& log,
-         std::vector<std::string>* notes) -> StatusOr<PreprocessOptions> {
-    StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(log);
-    if (!po.ok()) return po.status();
-    StatusOr<std::string> fallback = ApplyFallbackSegment(log, &*po);
-    if (!fallback.ok()) return fallback.status();
-    if (!fallback->empty()) notes->push_back(*fallback);
-    return po;
-  };
+  // Real logs (no truth sidecar) are read and preprocessed as `fit` does,
+  // with --imu/--frame/--t_start/--plane/... applied to every such log.
+  Status log_flags = LogOptionsFromFlags(/*all_imus=*/false, &config.real_logs);
+  if (!log_flags.ok()) return ReportError(cmd, log_flags);
   // Read before the runs, so that a bad file fails in a second, not after
   // the whole experiment.
   bench::GbenchScaling gbench;

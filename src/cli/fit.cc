@@ -358,24 +358,8 @@ int Run(const std::vector<std::string>& positional) {
   io.allow_damaged = FLAGS_allow_damaged;
   io.emit = emit_format;
   if (!from_problem) {
-    StatusOr<int> imu = ImuInstanceFromFlag();
-    if (!imu.ok()) return ReportError(cmd, imu.status());
-    if (*imu == kAllImus && !three_d) {
-      return ReportError(
-          cmd,
-          InvalidArgumentError("--imu=all applies to fit --model=rigid3d; "
-                               "pick one instance (0, 1 or 2) here"));
-    }
-    io.imu = *imu == kAllImus    ? kAllImuInstances
-             : FlagWasSet("imu") ? *imu
-                                 : kDefaultImu;
-    StatusOr<std::optional<Frame>> frame = FrameFromFlag();
-    if (!frame.ok()) return ReportError(cmd, frame.status());
-    io.frame = *frame;
-    StatusOr<PreprocessOptions> po =
-        PreprocessOptionsFromFlags(&io.velocity_auto);
-    if (!po.ok()) return ReportError(cmd, po.status());
-    io.preprocess = *po;
+    Status flags = LogOptionsFromFlags(/*all_imus=*/three_d, &io);
+    if (!flags.ok()) return ReportError(cmd, flags);
     io.preprocess3d = Preprocess3dOptionsFromFlags();
   }
   io.on_note = [](const std::string& text) {

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "imusysid/log_reader.h"
+#include "src/cli/common.h"
 
 DEFINE_string(log,
               "",
@@ -144,6 +145,27 @@ StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
   if (!options.ok()) return options.status();
   IMUSYSID_RETURN_IF_ERROR(FinishCsvLog(bytes, path, *options, &log));
   return log;
+}
+
+Status LogOptionsFromFlags(bool all_imus, IdentifyOptions* options) {
+  StatusOr<int> imu = ImuInstanceFromFlag();
+  if (!imu.ok()) return imu.status();
+  if (*imu == kAllImus && !all_imus) {
+    return InvalidArgumentError(
+        "--imu=all applies to fit --model=rigid3d; pick one instance (0, 1 "
+        "or 2) here");
+  }
+  options->imu = *imu == kAllImus    ? kAllImuInstances
+                 : FlagWasSet("imu") ? *imu
+                                     : kDefaultImu;
+  StatusOr<std::optional<Frame>> frame = FrameFromFlag();
+  if (!frame.ok()) return frame.status();
+  options->frame = *frame;
+  StatusOr<PreprocessOptions> po =
+      PreprocessOptionsFromFlags(&options->velocity_auto);
+  if (!po.ok()) return po.status();
+  options->preprocess = *po;
+  return Status::Ok();
 }
 
 StatusOr<std::optional<Frame>> FrameFromFlag() {

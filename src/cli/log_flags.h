@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gflags/gflags.h"
+#include "imusysid/identify.h"
 #include "imusysid/log.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/segments.h"
@@ -68,6 +69,12 @@ StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log);
 // The same before the log is read: *velocity_auto says --velocity=auto was
 // asked for (the choice is then the reader's, HasLogVelocity).
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(bool* velocity_auto);
+
+// IdentifyOptions' reading and planar preprocessing from --imu, --frame,
+// --t_start, --t_end, --cutoff_hz, --plane, --velocity and --gyro_bias, as
+// `fit` reads a log. --imu=all is refused unless `all_imus` (the 3-D
+// models); without --imu the library's default instance.
+Status LogOptionsFromFlags(bool all_imus, IdentifyOptions* options);
 
 // --frame as a frame override; nullopt when not given.
 StatusOr<std::optional<Frame>> FrameFromFlag();

@@ -30,6 +30,7 @@ struct PlanarInput {
   std::string unidentifiable;
   std::string damage;  // the reader's repairs, for a damaged_log warning
   std::string bytes;   // the log's bytes (for its parameters), if any
+  std::shared_ptr<const FlightLog> log;  // as read, with keep_log
   int imu_instance = 0;
 };
 
@@ -51,22 +52,26 @@ StatusOr<PlanarInput> DataFromLog(const IdentifyInput& input,
   if (!read.ok()) return read.status();
   StatusOr<FlightLog> log = ParseFlightLog(out.bytes, input.source(), *read);
   if (!log.ok()) return log.status();
+  if (options.keep_log) {
+    out.log = std::make_shared<const FlightLog>(std::move(*log));
+  }
+  const FlightLog& raw = options.keep_log ? *out.log : *log;
   // The gates that stop a log in the wrong units or frame, or a badly
   // damaged one, from fitting to confident wrong numbers.
-  IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
-  if (!options.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
-  out.damage = DamageSummary(*log);
+  IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(raw));
+  if (!options.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(raw));
+  out.damage = DamageSummary(raw);
   PreprocessOptions po = options.preprocess;
   if (options.velocity_auto) {
     po.velocity_source =
-        HasLogVelocity(*log) ? VelocitySource::kLog : VelocitySource::kGyro;
+        HasLogVelocity(raw) ? VelocitySource::kLog : VelocitySource::kGyro;
   }
   // No manoeuvre and no window: fit a stretch anyway and let the
   // identifiability rule answer, rather than refuse.
-  StatusOr<std::string> fallback = ApplyFallbackSegment(*log, &po);
+  StatusOr<std::string> fallback = ApplyFallbackSegment(raw, &po);
   if (!fallback.ok()) return fallback.status();
   if (!fallback->empty()) Note(options, *fallback);
-  StatusOr<PreprocessResult> pre = Preprocess(*log, po);
+  StatusOr<PreprocessResult> pre = Preprocess(raw, po);
   if (!pre.ok()) return pre.status();
   IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(pre->data, input.source()));
   out.unidentifiable = NoFlightReason(
@@ -167,7 +172,8 @@ StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
       input.kind() == IdentifyInput::Kind::kProblemFile
           ? DataFromProblemFile(input, options, &context)
       : input.kind() == IdentifyInput::Kind::kProblemData
-          ? StatusOr<PlanarInput>(PlanarInput{input.data(), "", "", "", 0})
+          ? StatusOr<PlanarInput>(
+                PlanarInput{input.data(), "", "", "", nullptr, 0})
           : DataFromLog(input, options, &context);
   if (!loaded.ok()) return loaded.status();
   std::shared_ptr<const ProblemData> data = loaded->data;
@@ -191,6 +197,7 @@ StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
     summary.data_warnings.push_back(
         {"not_identifiable", loaded->unidentifiable});
   }
+  summary.log = loaded->log;
   if (options.stop_after == IdentifyStage::kPreprocess) {
     summary.data = std::move(data);
     return summary;
