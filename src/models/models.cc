@@ -6,6 +6,7 @@
 
 #include "glog/logging.h"
 #include "imusysid/model.h"
+#include "imusysid/rigid3d.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
 #include "src/models/rigid3d_imu_model.h"
@@ -88,7 +89,7 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
   registry->Register("consistent",
                      {"drag and thrust consistent, with attitude drift", false},
                      NewConsistentModel);
-  registry->Register("rigid3d",
+  registry->Register(kRigid3dModelName,
                      {"3-D rigid body: IMU position (x, y, z) from the "
                       "autopilot's attitude and velocity",
                       true,
