@@ -69,11 +69,17 @@ std::size_t FitOne(const std::string& path, Preprocess3dOptions* shared) {
   StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
   if (!model.ok()) return 0;
   Problem problem(std::shared_ptr<const Model>(std::move(*model)));
-  StatusOr<EstimateResult> r =
-      (*BuiltinEstimators().Create("linear"))->Estimate(problem, {});
+  const std::unique_ptr<Estimator> linear =
+      BuiltinEstimators().Create("linear").value();
+  StatusOr<EstimateResult> r = linear->Estimate(problem, {});
   if (!r.ok()) return 0;
   pre->data = *data;
-  const ImuPosition3d report = Rigid3dReport(*r, *pre, 0);
+  Rigid3dReportOptions report_options;
+  StatusOr<Eigen::Vector3d> jackknife = JackknifePositionStderr(
+      problem, *linear, {}, *r, report_options.jackknife_blocks);
+  if (!jackknife.ok()) return 0;
+  report_options.jackknife_stderr_m = *jackknife;
+  const ImuPosition3d report = Rigid3dReport(*r, *pre, 0, report_options);
   benchmark::DoNotOptimize(report.position_m);
   return data->size();
 }
@@ -203,7 +209,7 @@ void Rigid3dScaling(benchmark::State& state) {
   const std::shared_ptr<const ProblemData> data =
       SyntheticMotion(state.range(0));
   const std::unique_ptr<Estimator> linear =
-      std::move(BuiltinEstimators().Create("linear")).value();
+      BuiltinEstimators().Create("linear").value();
   for (auto _ : state) {
     StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
     if (!model.ok()) {

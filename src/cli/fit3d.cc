@@ -153,24 +153,14 @@ int RunFit3d(const std::string& path,
       return ReportError(kCmd, result.status());
     }
     Rigid3dReportOptions report_options;
-    if (model_name == "rigid3d_imu" && result->IsUsable()) {
-      // The IMU-only model integrates over the whole span: its jackknife
-      // refits the model with each block's residuals left out.
-      std::vector<Eigen::Vector3d> estimates;
-      for (auto& mask :
-           LeaveBlockOutMasks(*data, report_options.jackknife_blocks)) {
-        auto masked = std::make_shared<ProblemData>(*data);
-        masked->motion.fitted = std::move(mask);
-        StatusOr<std::unique_ptr<Model>> m = CreateModel(model_name, masked);
-        if (!m.ok()) break;
-        Problem block(std::shared_ptr<const Model>(std::move(*m)));
-        (void)block.SetInitialGuess(result->parameters);
-        StatusOr<EstimateResult> r = (*estimator)->Estimate(block, options);
-        if (!r.ok() || !r->IsUsable()) break;
-        estimates.push_back(r->parameters.head<3>());
-      }
-      report_options.jackknife_stderr_m = JackknifeFromEstimates(estimates);
-    }
+    StatusOr<Eigen::Vector3d> jackknife =
+        JackknifePositionStderr(problem,
+                                **estimator,
+                                options,
+                                *result,
+                                report_options.jackknife_blocks);
+    if (!jackknife.ok()) return ReportError(kCmd, jackknife.status());
+    report_options.jackknife_stderr_m = *jackknife;
     ImuPosition3d report =
         Rigid3dReport(*result, *pre, instance, report_options);
     if (!damage.empty()) report.warnings.push_back("damaged_log: " + damage);
