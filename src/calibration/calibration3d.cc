@@ -78,7 +78,7 @@ Status IterateQuadraticWind(ProblemData* data) {
 // `nelder-mead` on QuadraticWindModel. Quadratic drag tells flying into the
 // wind from flying with it even where the heading never turns (where the
 // linear drag's wind is only a bias), so this finds the wind the fixed point
-// cannot. Sets it on `data`; keeps the start when the search fails.
+// cannot. Sets it on `data`.
 Status SearchQuadraticWind(ProblemData* data) {
   // A simplex of 1 m/s edges, stopped when it has shrunk to 0.02 m/s (its
   // size alone decides: the cost tolerance is the largest allowed, and no
@@ -106,7 +106,9 @@ Status SearchQuadraticWind(ProblemData* data) {
   if (!search.ok()) return search.status();
   StatusOr<EstimateResult> found = (*search)->Estimate(problem, options);
   if (!found.ok()) return found.status();
-  if (found->IsUsable() && found->parameters.allFinite()) {
+  // The best wind evaluated (the start when nothing better was found), also
+  // when the search's own error bars could not be formed.
+  if (found->parameters.size() == 2 && found->parameters.allFinite()) {
     data->motion.quadratic_wind_n = found->parameters[0];
     data->motion.quadratic_wind_e = found->parameters[1];
   }

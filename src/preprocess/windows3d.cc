@@ -288,8 +288,8 @@ Status ChooseWindows(const FlightLog& log,
   return Status::Ok();
 }
 
-// What SelectWindows3d and Preprocess3d both begin with: the options
-// checked, the estimator's track read and the windows chosen.
+// What the estimator path (SelectWindows3d, Condition3d, Preprocess3d)
+// begins with: the options checked, the track read, the windows chosen.
 Status EstimatorTrackAndWindows(const FlightLog& log,
                                 const Preprocess3dOptions& options,
                                 EstimatorTrack* track,
