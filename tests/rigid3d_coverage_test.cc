@@ -12,6 +12,7 @@
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
+#include "imusysid/rigid3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 
@@ -33,13 +34,20 @@ TEST(Rigid3dCoverage, TwoSigmaCoversTheTruthOnEveryAxis) {
         Preprocess3d(flight->logs[0], Preprocess3dOptions());
     ASSERT_TRUE(pre.ok()) << pre.status().ToString();
     auto data = std::make_shared<const ProblemData>(pre->data);
-    StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
+    StatusOr<std::unique_ptr<Model>> model =
+        CreateModel(kRigid3dModelName, data);
     ASSERT_TRUE(model.ok());
     Problem problem(std::shared_ptr<const Model>(std::move(*model)));
-    StatusOr<EstimateResult> r =
-        (*BuiltinEstimators().Create("linear"))->Estimate(problem, {});
+    const std::unique_ptr<Estimator> linear =
+        BuiltinEstimators().Create("linear").value();
+    StatusOr<EstimateResult> r = linear->Estimate(problem, {});
     ASSERT_TRUE(r.ok());
-    const ImuPosition3d report = Rigid3dReport(*r, *pre, 0);
+    Rigid3dReportOptions report_options;
+    StatusOr<Eigen::Vector3d> jackknife = JackknifePositionStderr(
+        problem, *linear, {}, *r, report_options.jackknife_blocks);
+    ASSERT_TRUE(jackknife.ok()) << jackknife.status().ToString();
+    report_options.jackknife_stderr_m = *jackknife;
+    const ImuPosition3d report = Rigid3dReport(*r, *pre, 0, report_options);
     for (int a = 0; a < 3; ++a) {
       if (std::abs(report.position_m[a] - o->imus[0].p_frd_m[a]) <=
           2 * report.stderr_m[a]) {

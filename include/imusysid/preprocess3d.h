@@ -1,7 +1,9 @@
 // Turns a flight log with the autopilot's attitude and NED velocity into the
-// data of the 3-D model rigid3d: the flight windows chosen automatically (and
-// why each other stretch was dropped), the IMU in FRD with its gyro bias
-// removed, filtered and differentiated, and the estimator's delay estimated.
+// data of the 3-D model rigid3d, in stages: the flight windows chosen
+// automatically (and why each other stretch was dropped), the gyro checked
+// against the attitude, the IMU in FRD with its gyro bias removed, filtered
+// and differentiated (Condition3d), and the estimator's delay and the
+// quadratic drag's wind calibrated by fitting rigid3d (Preprocess3d).
 
 #ifndef IMUSYSID_PREPROCESS3D_H_
 #define IMUSYSID_PREPROCESS3D_H_
@@ -112,6 +114,16 @@ bool HasEstimatorChannels(const FlightLog& log);
 StatusOr<Preprocess3dResult> SelectWindows3d(
     const FlightLog& log, const Preprocess3dOptions& options);
 
+// The data at the delay and wind the options give (estimator_delay_s and
+// quadratic_wind_*; NaN is taken as 0, the wind only as a pair), without
+// fitting anything: windows → gyro check → conditioning → data. Same errors
+// as Preprocess3d; delay_estimated is false.
+StatusOr<Preprocess3dResult> Condition3d(const FlightLog& log,
+                                         const Preprocess3dOptions& options);
+
+// Condition3d with the delay and the wind calibrated where the options leave
+// them NaN (src/calibration/calibration3d.h: each candidate fitted with the
+// registered `linear` estimator, the wind searched by `nelder-mead`).
 // FailedPrecondition when the log lacks the estimator channels (qw..qz or
 // roll/pitch/yaw, and vn..vd or vel_n..vel_d), when no airborne flight is
 // found (a bench or ground log), or when no window survives the exclusions;

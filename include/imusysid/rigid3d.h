@@ -10,15 +10,15 @@
 
 namespace imusysid {
 
-// The model's registry name (ModelRegistry).
+// The model's name in ModelRegistry, for code that builds it by name.
 inline constexpr char kRigid3dModelName[] = "rigid3d";
 
 // Parameter indices of rigid3d. Body frame FRD. The accelerometer at p reads,
 // on its x and y axes (a = ω̇, u = v_b − Rᵀw the air velocity in body axes),
 //   f_i = [a×p + ω×(ω×p)]_i + b_i + e_i f_z − k (v_b,i − (Rᵀw)_i) − μ|u₀| u₀,i
 // with f_z the measured z specific force (the thrust axis) and u₀ the air
-// velocity at the wind Motion3d::quadratic_wind_* (iterated to the fitted
-// wind by Preprocess3d), so that the model is linear in
+// velocity at the wind Motion3d::quadratic_wind_* (the fitted wind, found
+// by Preprocess3d's calibration), so that the model is linear in
 // (p, μ, k, b, e, k·w_N, k·w_E); docs/model-3d.md. kMu (3) is μ, as in the
 // planar models.
 inline constexpr int kPx = 0;          // IMU position, CoM → IMU, m

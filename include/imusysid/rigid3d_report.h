@@ -13,9 +13,12 @@
 
 #include "Eigen/Core"
 #include "imusysid/autopilot.h"
+#include "imusysid/estimator.h"
 #include "imusysid/model.h"
 #include "imusysid/preprocess3d.h"
+#include "imusysid/problem.h"
 #include "imusysid/result.h"
+#include "imusysid/rigid3d.h"
 #include "imusysid/status.h"
 #include "nlohmann/json.hpp"
 
@@ -32,19 +35,39 @@ struct Rigid3dReportOptions {
   // the x/y specific force about its mean, else nothing is given.
   double max_unexplained_fraction = 0.3;
   // Contiguous blocks of the delete-one-block jackknife that widens the
-  // fit's σ̂ where model error varies along the flight (0: HAC σ̂ alone).
+  // fit's σ̂ where model error varies along the flight: what a caller passes
+  // to JackknifePositionStderr (0: HAC σ̂ alone).
   int jackknife_blocks = 10;
   // Added in quadrature to each axis's σ̂, m: the part of the model error
   // that is the same on every flight (on 30 simulated figure-eights the
   // mean error of z was 0.1 mm while σ̂ could be as small as 0.1 mm), which
   // no error bar computed from one flight can see.
   double model_error_floor_m = 0.25e-3;
-  // A jackknife σ̂ of the position computed by the caller (the IMU-only
-  // model, whose blocks must be refitted whole: LeaveBlockOutMasks); NaN:
-  // computed here from rigid3d's linear structure.
+  // The jackknife σ̂ of the position (JackknifePositionStderr), m; the
+  // report computes none itself. NaN: none (HAC σ̂ alone).
   Eigen::Vector3d jackknife_stderr_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
+
+// The delete-one-block jackknife σ̂ of the position (the first three
+// parameters) of `fit`, a fit of `problem` by `estimator` with `options`,
+// over `blocks` contiguous blocks of the fitted samples, scaled by
+// t(0.975, K−1)/1.96. Where the model is linear in its coefficients outright
+// (a LinearStructure without nonlinear parameters: rigid3d) each
+// leave-one-out fit comes from the stacked least-squares factors of the other
+// blocks, without the estimator; otherwise (rigid3d_imu, which integrates
+// across the whole span) the model is refitted with each block's residuals
+// left out (LeaveBlockOutMasks), started from fit.parameters, stopping at the
+// first refit that fails. NaN when `fit` is not usable, blocks < 3, the data
+// are too short (50 samples a block) or fewer than 3 fits could be made.
+// NotFound when the model is not registered (its blocks are built by name);
+// InvalidArgument when it has no position or `fit` is not of it.
+StatusOr<Eigen::Vector3d> JackknifePositionStderr(
+    const Problem& problem,
+    const Estimator& estimator,
+    const EstimatorOptions& options,
+    const EstimateResult& fit,
+    int blocks);
 
 // The fitted-sample masks of a delete-one-block jackknife over the fitted
 // samples of `data` (Motion3d::fitted, or all): `blocks` contiguous blocks
@@ -61,8 +84,8 @@ struct ImuPosition3d {
   int instance = 0;  // the log's IMU instance (0-based)
   std::string source;
   std::string estimator;
-  std::string model = "rigid3d";  // or rigid3d_imu
-  bool usable = false;            // the fit produced parameters
+  std::string model = kRigid3dModelName;  // or rigid3d_imu
+  bool usable = false;                    // the fit produced parameters
   Eigen::Vector3d position_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector3d stderr_m =
@@ -96,7 +119,8 @@ struct ImuPosition3d {
   std::vector<Baseline> baselines;
 };
 
-// Judges `result` (a rigid3d fit) on the data `pre` made.
+// Judges `result` (a rigid3d or rigid3d_imu fit) on the data `pre` made,
+// with σ̂ widened to options.jackknife_stderr_m where that is larger.
 ImuPosition3d Rigid3dReport(const EstimateResult& result,
                             const Preprocess3dResult& pre,
                             int instance,

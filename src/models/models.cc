@@ -6,6 +6,7 @@
 
 #include "glog/logging.h"
 #include "imusysid/model.h"
+#include "imusysid/rigid3d.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"
 #include "src/models/rigid3d_imu_model.h"
@@ -120,7 +121,7 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
   registry->Register("consistent",
                      {"drag and thrust consistent, with attitude drift", false},
                      NewConsistentModel);
-  registry->Register("rigid3d", Rigid3dDescription(), NewRigid3dModel);
+  registry->Register(kRigid3dModelName, Rigid3dDescription(), NewRigid3dModel);
   registry->Register(
       "rigid3d_imu", Rigid3dImuDescription(), NewRigid3dImuModel);
 }

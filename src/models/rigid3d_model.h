@@ -12,6 +12,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/model.h"
+#include "imusysid/rigid3d.h"
 #include "imusysid/status.h"
 
 namespace imusysid {
@@ -27,7 +28,7 @@ class Rigid3dModel : public Model, public LinearStructure {
 
   explicit Rigid3dModel(std::shared_ptr<const ProblemData> data);
 
-  std::string_view name() const override { return "rigid3d"; }
+  std::string_view name() const override { return kRigid3dModelName; }
   const std::vector<ParameterInfo>& parameter_info() const override;
   int num_residuals() const override {
     return 2 * static_cast<int>(data().size());

@@ -60,26 +60,14 @@ StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
     return result.status();
   }
   Rigid3dReportOptions report_options = options.report3d;
-  const LinearStructure* linear = problem.model().linear_structure();
-  if (result->IsUsable() &&
-      (linear == nullptr || linear->num_nonlinear() > 0)) {
-    // A model that is not linear outright (the IMU-only one integrates over
-    // the whole span): its jackknife refits the model with each block's
-    // residuals left out; a linear one's is formed by the report.
-    std::vector<Eigen::Vector3d> estimates;
-    for (auto& mask :
-         LeaveBlockOutMasks(*data, report_options.jackknife_blocks)) {
-      auto masked = std::make_shared<ProblemData>(*data);
-      masked->motion.fitted = std::move(mask);
-      StatusOr<std::unique_ptr<Model>> m = CreateModel(model_name, masked);
-      if (!m.ok()) break;
-      Problem block(std::shared_ptr<const Model>(std::move(*m)));
-      (void)block.SetInitialGuess(result->parameters);
-      StatusOr<EstimateResult> r = estimator.Estimate(block, options.estimator);
-      if (!r.ok() || !r->IsUsable()) break;
-      estimates.push_back(r->parameters.head<3>());
-    }
-    report_options.jackknife_stderr_m = JackknifeFromEstimates(estimates);
+  if (result->IsUsable()) {
+    StatusOr<Eigen::Vector3d> jackknife =
+        JackknifePositionStderr(problem,
+                                estimator,
+                                options.estimator,
+                                *result,
+                                report_options.jackknife_blocks);
+    if (jackknife.ok()) report_options.jackknife_stderr_m = *jackknife;
   }
   return Rigid3dReport(*result, pre, instance, report_options);
 }

@@ -14,6 +14,7 @@
 #include "imusysid/parameters.h"
 #include "imusysid/rigid3d.h"
 #include "src/report/parameter_file.h"
+#include "src/report/uncertainty3d.h"
 
 namespace imusysid {
 namespace {
@@ -44,18 +45,6 @@ double RmsAboutMean(const std::vector<double>& x) {
   return std::sqrt(sum / static_cast<double>(x.size()));
 }
 
-// The triangular factor of rigid3d's [A target] on samples [i0, i1) of
-// `data`. False when it cannot be formed.
-bool SliceFactor(const ProblemData& data,
-                 std::size_t i0,
-                 std::size_t i1,
-                 Eigen::MatrixXd* r) {
-  auto piece = std::make_shared<const ProblemData>(SelectSamples(data, i0, i1));
-  StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", piece);
-  if (!model.ok()) return false;
-  return (*model)->linear_structure()->TriangularFactor(nullptr, r);
-}
-
 // The position a factor gives (column-pivoted solve; NaN when singular).
 Eigen::Vector3d PositionOfFactor(const Eigen::MatrixXd& r) {
   const Eigen::Index m = r.cols() - 1;
@@ -67,115 +56,12 @@ Eigen::Vector3d PositionOfFactor(const Eigen::MatrixXd& r) {
   return coef.head<3>();
 }
 
-// Delete-one-block jackknife standard errors of the position from a
-// least-squares fit on `blocks` contiguous pieces of the data: R factors of
-// each block (rigid3d's linear structure), each leave-one-out fit from the
-// stacked factors of the others. Unlike the HAC sandwich it sees model error
-// that changes along the flight (a manoeuvre the model follows less well),
-// which is what made σ̂ too small. NaN when it cannot be formed.
-Eigen::Vector3d JackknifeStderr(const ProblemData& data, int blocks) {
-  const Eigen::Vector3d nan =
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  const std::size_t n = data.size();
-  if (blocks < 3 || n < static_cast<std::size_t>(blocks) * 50) return nan;
-  std::vector<Eigen::MatrixXd> factors;
-  for (int b = 0; b < blocks; ++b) {
-    const std::size_t i0 =
-        n * static_cast<std::size_t>(b) / static_cast<std::size_t>(blocks);
-    const std::size_t i1 =
-        n * static_cast<std::size_t>(b + 1) / static_cast<std::size_t>(blocks);
-    Eigen::MatrixXd r;
-    if (!SliceFactor(data, i0, i1, &r)) return nan;
-    factors.push_back(std::move(r));
-  }
-  const Eigen::Index cols = factors.front().cols();
-  const Eigen::Index m = cols - 1;
-  std::vector<Eigen::Vector3d> estimates;
-  for (int left = 0; left < blocks; ++left) {
-    Eigen::MatrixXd stack((blocks - 1) * cols, cols);
-    Eigen::Index row = 0;
-    for (int b = 0; b < blocks; ++b) {
-      if (b == left) continue;
-      stack.middleRows(row, cols) = factors[static_cast<std::size_t>(b)];
-      row += cols;
-    }
-    const Eigen::MatrixXd a = stack.leftCols(m);
-    const Eigen::VectorXd y = stack.col(m);
-    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(y);
-    if (!coef.allFinite()) return nan;
-    estimates.push_back(coef.head<3>());
-  }
-  return JackknifeFromEstimates(estimates);
-}
-
 nlohmann::ordered_json Num(double v) {
   if (!std::isfinite(v)) return nullptr;
   return v;
 }
 
 }  // namespace
-
-Eigen::Vector3d JackknifeFromEstimates(
-    const std::vector<Eigen::Vector3d>& estimates) {
-  const int blocks = static_cast<int>(estimates.size());
-  if (blocks < 3) {
-    return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  }
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& e : estimates) mean += e;
-  mean /= blocks;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& e : estimates) sum += (e - mean).cwiseAbs2();
-  // A jackknife σ̂ from K blocks has K − 1 degrees of freedom: scaled by
-  // t(0.975, K−1) / 1.96 so that ±2σ̂ keeps its 95 % meaning (1.15 at K = 10).
-  const double t975[] = {12.71,
-                         4.303,
-                         3.182,
-                         2.776,
-                         2.571,
-                         2.447,
-                         2.365,
-                         2.306,
-                         2.262,
-                         2.228,
-                         2.201,
-                         2.179,
-                         2.160,
-                         2.145,
-                         2.131,
-                         2.120,
-                         2.110,
-                         2.101,
-                         2.093};
-  const int dof = blocks - 1;
-  const double t = dof <= 19 ? t975[dof - 1] : 1.96 + 2.5 / dof;
-  return (sum * (blocks - 1.0) / blocks).cwiseSqrt() * (t / 1.96);
-}
-
-std::vector<std::vector<unsigned char>> LeaveBlockOutMasks(
-    const ProblemData& data, int blocks) {
-  const Motion3d& m = data.motion;
-  const std::size_t n = data.size();
-  std::vector<std::size_t> fitted;
-  for (std::size_t k = 0; k < n; ++k) {
-    if (m.fitted.empty() || m.fitted[k] != 0) fitted.push_back(k);
-  }
-  std::vector<std::vector<unsigned char>> masks;
-  if (blocks < 3 || fitted.size() < static_cast<std::size_t>(blocks) * 50) {
-    return masks;
-  }
-  for (int b = 0; b < blocks; ++b) {
-    std::vector<unsigned char> mask(n, 0);
-    for (std::size_t k : fitted) mask[k] = 1;
-    const std::size_t i0 = fitted.size() * static_cast<std::size_t>(b) /
-                           static_cast<std::size_t>(blocks);
-    const std::size_t i1 = fitted.size() * static_cast<std::size_t>(b + 1) /
-                           static_cast<std::size_t>(blocks);
-    for (std::size_t i = i0; i < i1; ++i) mask[fitted[i]] = 0;
-    masks.push_back(std::move(mask));
-  }
-  return masks;
-}
 
 ImuPosition3d Rigid3dReport(const EstimateResult& result,
                             const Preprocess3dResult& pre,
@@ -209,18 +95,10 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   if (result.standard_errors.size() == kNumRigid3dParameters) {
     out.stderr_m = result.standard_errors.head<3>();
   }
-  // σ̂ widened to the jackknife's where that is larger (see JackknifeStderr):
-  // over 30 simulated figure-eights the HAC σ̂ alone was half the
-  // seed-to-seed spread.
-  // (rigid3d only: the IMU-only model integrates across the whole span, so
-  // its blocks cannot be fitted on their own.)
-  const bool algebraic = result.model == "rigid3d";
-  const Eigen::Vector3d jackknife =
-      options.jackknife_stderr_m.allFinite()
-          ? options.jackknife_stderr_m
-          : (algebraic ? JackknifeStderr(pre.data, options.jackknife_blocks)
-                       : Eigen::Vector3d::Constant(
-                             std::numeric_limits<double>::quiet_NaN()));
+  // σ̂ widened to the jackknife's where that is larger
+  // (JackknifePositionStderr): over 30 simulated figure-eights the HAC σ̂
+  // alone was half the seed-to-seed spread.
+  const Eigen::Vector3d& jackknife = options.jackknife_stderr_m;
   for (int a = 0; a < 3; ++a) {
     if (std::isfinite(jackknife[a]) && !(out.stderr_m[a] >= jackknife[a])) {
       out.stderr_m[a] = jackknife[a];
@@ -288,14 +166,16 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   // fit, with σ̂ scaled to the window's share of the samples. A window that
   // disagrees beyond 4σ on a determined axis (and by more than 5 mm) means
   // the flight is not one rigid body with one set of parameters (a payload
-  // shifted, a bad stretch): the axis is withheld.
-  if (algebraic && pre.windows.size() >= 2) {
+  // shifted, a bad stretch): the axis is withheld. (Only where a window can
+  // be fitted on its own, by a model linear outright: the IMU-only model
+  // integrates across the whole span.)
+  if (pre.windows.size() >= 2) {
     std::size_t start = 0;
     for (const Stretch3d& w : pre.windows) {
       const std::size_t end = start + w.samples;
       Eigen::MatrixXd r;
       if (end <= pre.data.size() && w.samples >= 200 &&
-          SliceFactor(pre.data, start, end, &r)) {
+          internal::SliceFactor(result.model, pre.data, start, end, &r)) {
         const Eigen::Vector3d pw = PositionOfFactor(r);
         const double share = std::sqrt(static_cast<double>(out.samples) /
                                        static_cast<double>(w.samples));

@@ -1,0 +1,96 @@
+// The calibration stage of the 3-D path: the estimator's delay and the wind
+// at which rigid3d takes its quadratic drag, for a conditioned flight
+// (src/preprocess/preprocess3d_internal.h). Each candidate is judged by
+// fitting the registered rigid3d model with the registered `linear`
+// estimator; the wind is searched by the registered `nelder-mead` on a small
+// problem of its own (QuadraticWindModel). Internal: Preprocess3d is the API.
+
+#ifndef IMUSYSID_SRC_CALIBRATION_CALIBRATION3D_H_
+#define IMUSYSID_SRC_CALIBRATION_CALIBRATION3D_H_
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "imusysid/estimator.h"
+#include "imusysid/model.h"
+#include "imusysid/preprocess3d.h"
+#include "imusysid/status.h"
+#include "src/preprocess/preprocess3d_internal.h"
+
+namespace imusysid {
+namespace internal {
+
+// A linear least-squares fit of rigid3d (`linear`, white covariance): its
+// RMS residual, m/s², and its wind where the flight determines it (1σ under
+// 0.3 m/s on both axes, with a rotor drag above 1e-3 /s), else NaN.
+struct LinearFit3d {
+  double rmse = 0.0;
+  double wind_n = std::numeric_limits<double>::quiet_NaN();
+  double wind_e = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The fit on `data` at its Motion3d::quadratic_wind_*. FailedPrecondition,
+// with the estimator's message, when the fit fails (regressors not finite).
+StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data);
+
+// The calibration's own problem: two parameters, the quadratic drag's wind
+// (w_N, w_E), m/s, NED, in ±kMaxWindMps; its residuals at w are rigid3d's at
+// the linear fit on the data with that wind (the 11 parameters profiled
+// out), so its cost is the profile of rigid3d's cost over the wind. Not
+// registered: it exists for the search. Residuals' Jacobian is a central
+// difference (only FinalizeResult asks for it); a wind beyond
+// kMaxWindMps in norm, or a failed fit, cannot be evaluated.
+class QuadraticWindModel : public Model {
+ public:
+  static constexpr double kMaxWindMps = 30.0;
+
+  explicit QuadraticWindModel(std::shared_ptr<const ProblemData> data);
+
+  std::string_view name() const override { return "quadratic_wind"; }
+  const std::vector<ParameterInfo>& parameter_info() const override;
+  int num_residuals() const override {
+    return 2 * static_cast<int>(data().size());
+  }
+  bool Residuals(const double* x,
+                 double* residuals,
+                 double* jacobian) const override;
+  // ½ Σ r² of the profiled fit.
+  bool Cost(const double* x, double* cost) const override;
+
+ private:
+  // The linear fit at wind x and its model; false when it cannot be made.
+  bool FitAt(const double* x,
+             std::shared_ptr<const Model>* model,
+             EstimateResult* fit) const;
+};
+
+// What the calibration found.
+struct Calibration3d {
+  double estimator_delay_s = 0.0;
+  bool delay_estimated = false;
+  bool delay_at_limit = false;  // as Preprocess3dResult's
+  // The fit's RMSE with no delay (NaN when the delay was given).
+  double rmse_without_delay = std::numeric_limits<double>::quiet_NaN();
+  double wind_n = 0.0;
+  double wind_e = 0.0;
+  std::vector<std::string> notes;
+};
+
+// The delay: options.estimator_delay_s, or (NaN) the one in
+// [0, options.max_estimator_delay_s] whose linear fit has the smallest RMSE
+// (a 10 ms grid, the log's resolution around its best, a parabola through
+// the best three), at the wind of a fixed point at no delay. The wind:
+// options.quadratic_wind_* (both given), or found at that delay: the fixed
+// point w ← the fit's wind where it is determined, then `nelder-mead` over
+// QuadraticWindModel from there. Everything is searched on a copy thinned to
+// about 50 Hz (the motion lies below the filter's cutoff).
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Preprocess3dOptions& options);
+
+}  // namespace internal
+}  // namespace imusysid
+
+#endif  // IMUSYSID_SRC_CALIBRATION_CALIBRATION3D_H_

@@ -1,0 +1,39 @@
+// Preprocess3d composed of the 3-D stages: windows → gyro check →
+// conditioning (src/preprocess) → calibration of the delay and the wind
+// (calibration3d.h) → the data at them.
+
+#include "imusysid/preprocess3d.h"
+#include "src/calibration/calibration3d.h"
+#include "src/preprocess/preprocess3d_internal.h"
+
+namespace imusysid {
+
+StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
+                                          const Preprocess3dOptions& options) {
+  Preprocess3dResult out;
+  StatusOr<internal::Conditioned3d> conditioned =
+      internal::ConditionFlight(log, options, &out);
+  if (!conditioned.ok()) return conditioned.status();
+  StatusOr<internal::Calibration3d> calibration =
+      internal::Calibrate3d(*conditioned, options);
+  if (!calibration.ok()) return calibration.status();
+  out.delay_estimated = calibration->delay_estimated;
+  out.delay_at_limit = calibration->delay_at_limit;
+  out.rmse_without_delay = calibration->rmse_without_delay;
+  out.notes.insert(
+      out.notes.end(), calibration->notes.begin(), calibration->notes.end());
+  IMUSYSID_RETURN_IF_ERROR(internal::SetDataAt(*conditioned,
+                                               calibration->estimator_delay_s,
+                                               calibration->wind_n,
+                                               calibration->wind_e,
+                                               &out));
+  if (out.delay_estimated) {
+    // How much the delay matters: the full data's fit at it.
+    StatusOr<internal::LinearFit3d> fit = internal::FitRigid3dLinear(out.data);
+    if (!fit.ok()) return fit.status();
+    out.rmse_at_delay = fit->rmse;
+  }
+  return out;
+}
+
+}  // namespace imusysid

@@ -1,0 +1,220 @@
+// Conditioning of the 3-D data: the IMU of every window filtered and
+// differentiated once, and the data assembled from it at a given estimator
+// delay and quadratic-drag wind (Condition3d; the calibration finds them).
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "imusysid/preprocess3d.h"
+#include "src/preprocess/preprocess3d_internal.h"
+#include "src/preprocess/signal.h"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+using Axes = Motion3d::Axes;
+
+}  // namespace
+
+StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
+                                const Stretch3d& w,
+                                const Eigen::Vector3d& bias,
+                                const Preprocess3dOptions& o,
+                                double rate_hz) {
+  const auto& ts = log.t_s;
+  const auto i0 = static_cast<std::size_t>(
+      std::lower_bound(ts.begin(), ts.end(), w.t0) - ts.begin());
+  const std::size_t i1 = i0 + w.samples;
+  WindowImu out;
+  out.t.assign(ts.begin() + static_cast<std::ptrdiff_t>(i0),
+               ts.begin() + static_cast<std::ptrdiff_t>(i1));
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> f, g;
+    for (std::size_t k = i0; k < i1; ++k) {
+      f.push_back(AccelFrd(log, k)[a]);
+      g.push_back(GyroFrd(log, k)[a] - bias[a]);
+    }
+    if (o.cutoff_hz > 0) {
+      StatusOr<std::vector<double>> ff =
+          ZeroPhaseLowPassOnTimes(out.t, f, o.cutoff_hz, o.filter_order);
+      if (!ff.ok()) return ff.status().WithPrefix("--cutoff_hz");
+      StatusOr<std::vector<double>> gf =
+          ZeroPhaseLowPassOnTimes(out.t, g, o.cutoff_hz, o.filter_order);
+      if (!gf.ok()) return gf.status().WithPrefix("--cutoff_hz");
+      f = std::move(*ff);
+      g = std::move(*gf);
+    }
+    const int half = std::max(
+        o.derivative_degree,
+        static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
+    StatusOr<std::vector<double>> d =
+        SavitzkyGolayDerivative(out.t, g, half, o.derivative_degree);
+    if (!d.ok()) return d.status();
+    out.f[static_cast<std::size_t>(a)] = std::move(f);
+    out.omega[static_cast<std::size_t>(a)] = std::move(g);
+    out.omega_dot[static_cast<std::size_t>(a)] = std::move(*d);
+  }
+  return out;
+}
+
+StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
+                             double delay_s,
+                             double wind_n,
+                             double wind_e) {
+  const FlightLog& log = *conditioned.log;
+  const Preprocess3dOptions& o = conditioned.options;
+  ProblemData d;
+  d.source = log.source;
+  Motion3d& m = d.motion;
+  std::size_t hint = 0;
+  for (const WindowImu& w : conditioned.windows) {
+    Axes velocity, north, east;
+    for (auto& axis : velocity) axis.reserve(w.t.size());
+    for (auto& axis : north) axis.reserve(w.t.size());
+    for (auto& axis : east) axis.reserve(w.t.size());
+    for (double t : w.t) {
+      Eigen::Matrix3d r;
+      Eigen::Vector3d v_ned;
+      if (!TrackAt(log, conditioned.track, t + delay_s, &r, &v_ned, &hint)) {
+        return FailedPreconditionError(
+            log.source + ": the estimator channels are missing at t = " +
+            Num3d(t + delay_s) + " s inside a flight window");
+      }
+      const Eigen::Vector3d vb = r.transpose() * v_ned;
+      for (std::size_t a = 0; a < 3; ++a) {
+        velocity[a].push_back(vb[static_cast<Eigen::Index>(a)]);
+        north[a].push_back(r(0, static_cast<Eigen::Index>(a)));
+        east[a].push_back(r(1, static_cast<Eigen::Index>(a)));
+      }
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (o.cutoff_hz > 0) {
+        StatusOr<std::vector<double>> vf = ZeroPhaseLowPassOnTimes(
+            w.t, velocity[a], o.cutoff_hz, o.filter_order);
+        if (!vf.ok()) return vf.status();
+        velocity[a] = std::move(*vf);
+      }
+      auto append = [](std::vector<double>* to, const std::vector<double>& x) {
+        to->insert(to->end(), x.begin(), x.end());
+      };
+      append(&m.f[a], w.f[a]);
+      append(&m.omega[a], w.omega[a]);
+      append(&m.omega_dot[a], w.omega_dot[a]);
+      append(&m.velocity[a], velocity[a]);
+      append(&m.north[a], north[a]);
+      append(&m.east[a], east[a]);
+    }
+    // The planar view (FLU x–z plane) of the same samples; θ restarts at
+    // each window.
+    double theta = 0.0;
+    for (std::size_t k = 0; k < w.t.size(); ++k) {
+      const double omega_flu = -w.omega[1][k];
+      if (k > 0) {
+        theta += 0.5 * (w.t[k] - w.t[k - 1]) * (omega_flu - w.omega[1][k - 1]);
+      }
+      d.t_s.push_back(w.t[k]);
+      d.f_x.push_back(w.f[0][k]);
+      d.f_z.push_back(-w.f[2][k]);
+      d.omega.push_back(omega_flu);
+      d.omega_dot.push_back(-w.omega_dot[1][k]);
+      d.theta.push_back(theta);
+      d.v.push_back(velocity[0][k]);
+    }
+  }
+  m.quadratic_wind_n = wind_n;
+  m.quadratic_wind_e = wind_e;
+  return d;
+}
+
+StatusOr<Conditioned3d> ConditionFlight(const FlightLog& log,
+                                        const Preprocess3dOptions& options,
+                                        Preprocess3dResult* out) {
+  Conditioned3d conditioned;
+  conditioned.log = &log;
+  conditioned.options = options;
+  IMUSYSID_RETURN_IF_ERROR(
+      EstimatorTrackAndWindows(log, options, &conditioned.track, out));
+  IMUSYSID_RETURN_IF_ERROR(CheckGyroAgainstAttitude(
+      log, conditioned.track, out->windows, out->gyro_bias_frd));
+  conditioned.sample_rate_hz = out->sample_rate_hz;
+  for (const Stretch3d& w : out->windows) {
+    StatusOr<WindowImu> imu =
+        ImuOfWindow(log, w, out->gyro_bias_frd, options, out->sample_rate_hz);
+    if (!imu.ok()) return imu.status();
+    conditioned.windows.push_back(std::move(*imu));
+  }
+  return conditioned;
+}
+
+Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step) {
+  Conditioned3d thin = conditioned;
+  auto every_step = [step](std::vector<double>* x) {
+    std::size_t j = 0;
+    for (std::size_t i = 0; i < x->size(); i += step) (*x)[j++] = (*x)[i];
+    x->resize(j);
+  };
+  for (WindowImu& w : thin.windows) {
+    every_step(&w.t);
+    for (std::size_t a = 0; a < 3; ++a) {
+      every_step(&w.f[a]);
+      every_step(&w.omega[a]);
+      every_step(&w.omega_dot[a]);
+    }
+  }
+  thin.sample_rate_hz = conditioned.sample_rate_hz / static_cast<double>(step);
+  return thin;
+}
+
+Status SetDataAt(const Conditioned3d& conditioned,
+                 double delay_s,
+                 double wind_n,
+                 double wind_e,
+                 Preprocess3dResult* out) {
+  StatusOr<ProblemData> data = DataAt(conditioned, delay_s, wind_n, wind_e);
+  if (!data.ok()) return data.status();
+  IMUSYSID_RETURN_IF_ERROR(data->Validate());
+  out->data = std::move(*data);
+  out->estimator_delay_s = delay_s;
+  std::ostringstream windows;
+  windows << out->windows.size() << " flight window"
+          << (out->windows.size() == 1 ? "" : "s") << ":";
+  for (const Stretch3d& w : out->windows) {
+    windows << " " << Num3d(w.t0) << "-" << Num3d(w.t1) << " s";
+  }
+  out->notes.insert(out->notes.begin(), windows.str());
+  if (!out->gyro_bias_from_still) {
+    out->notes.push_back(
+        "no still stretch before take-off: gyro bias not removed (the "
+        "autopilot's own calibration stands)");
+  }
+  return Status::Ok();
+}
+
+}  // namespace internal
+
+StatusOr<Preprocess3dResult> Condition3d(const FlightLog& log,
+                                         const Preprocess3dOptions& options) {
+  Preprocess3dResult out;
+  StatusOr<internal::Conditioned3d> conditioned =
+      internal::ConditionFlight(log, options, &out);
+  if (!conditioned.ok()) return conditioned.status();
+  // Not given: no delay, no wind (the wind only as a pair, as Preprocess3d
+  // takes it).
+  const bool wind_given = !std::isnan(options.quadratic_wind_n) &&
+                          !std::isnan(options.quadratic_wind_e);
+  IMUSYSID_RETURN_IF_ERROR(internal::SetDataAt(
+      *conditioned,
+      std::isnan(options.estimator_delay_s) ? 0.0 : options.estimator_delay_s,
+      wind_given ? options.quadratic_wind_n : 0.0,
+      wind_given ? options.quadratic_wind_e : 0.0,
+      &out));
+  return out;
+}
+
+}  // namespace imusysid

@@ -1,0 +1,29 @@
+// What the 3-D report shares with the jackknife (JackknifePositionStderr,
+// rigid3d_report.h): the least-squares factor of a block of samples, for
+// models linear in their coefficients outright. Internal.
+
+#ifndef IMUSYSID_SRC_REPORT_UNCERTAINTY3D_H_
+#define IMUSYSID_SRC_REPORT_UNCERTAINTY3D_H_
+
+#include <cstddef>
+#include <string_view>
+
+#include "Eigen/Core"
+#include "imusysid/model.h"
+
+namespace imusysid {
+namespace internal {
+
+// The triangular factor of model `model_name`'s [A target] on samples
+// [i0, i1) of `data`. False when the model has no linear structure without
+// nonlinear parameters, or the factor cannot be formed.
+bool SliceFactor(std::string_view model_name,
+                 const ProblemData& data,
+                 std::size_t i0,
+                 std::size_t i1,
+                 Eigen::MatrixXd* r);
+
+}  // namespace internal
+}  // namespace imusysid
+
+#endif  // IMUSYSID_SRC_REPORT_UNCERTAINTY3D_H_
