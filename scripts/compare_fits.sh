@@ -34,7 +34,7 @@ class Num(str):
 def timing(key):
     return re.match(r"(wall|cpu|elapsed)(_|$)", key) is not None
 def load(b):
-    text = open(f"{tmp}/{b}.out").read()
+    text = open(f"{tmp}/{b}.out", errors="surrogateescape").read()
     try:
         j = json.loads(text, parse_float=Num, parse_int=Num,
                        parse_constant=Num) if text.strip() else None
@@ -43,7 +43,7 @@ def load(b):
     emit = f"{tmp}/{b}.emit"
     emitted = open(emit, "rb").read() if os.path.exists(emit) else None
     return (j, open(f"{tmp}/{b}.rc").read().strip(),
-            open(f"{tmp}/{b}.err").read(), emitted)
+            open(f"{tmp}/{b}.err", errors="surrogateescape").read(), emitted)
 (o, orc, oerr, oemit), (n, nrc, nerr, nemit) = load("old"), load("new")
 problems = []
 if orc != nrc: problems.append(f"exit {orc} -> {nrc}")
