@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Checks that two builds of imusysid give bit-identical output, section by
-# section (run counts and times are printed at the end):
+# section (run counts and times are printed at the end); the two builds run
+# side by side:
 #   planar   fit --estimator=all, both planar models, every log in data/;
 #   real     each log in ../shared/data/real (skipped, said so, if absent):
 #            fit --model=rigid3d (every IMU; --imu=0, 1, 2; --emit=px4 and
@@ -8,8 +9,8 @@
 #   sim3d    the 3-D scenarios of `simulate --help`, flown once by OLD with a
 #            fixed seed (CSV: the simulator writes no other format): the 3-D
 #            runs and inspect on each scenario's first IMU, the default 3-D
-#            fit on the others, --estimator=lm and varpro on the first
-#            scenario, and its copy without the estimator's channels (the
+#            fit on the others; on figure8_3d also --estimator=lm and
+#            varpro, and its copy without the estimator's channels (the
 #            IMU-only fallback, rigid3d_imu: fit and inspect).
 # Timing keys (wall_ms, elapsed_s, any wall*/cpu*/elapsed* key) are dropped;
 # every other JSON number must have the same text. A `details` entry that the
@@ -18,14 +19,20 @@
 # and --emit_out files must match. Exit 1 on any difference.
 #   scripts/compare_fits.sh OLD_IMUSYSID NEW_IMUSYSID
 set -euo pipefail
+if [ $# -ne 2 ]; then sed -n '2,20p' "$0"; exit 2; fi
+# Absolute paths: the two builds run side by side, each in its own folder.
+for b in "$1" "$2"; do
+  command -v "$b" > /dev/null || { echo "$b: not found" >&2; exit 2; }
+done
+old=$(realpath "$(command -v "$1")") new=$(realpath "$(command -v "$2")")
 cd "$(dirname "$0")/.."
-if [ $# -ne 2 ]; then sed -n '2,19p' "$0"; exit 2; fi
-old=$1 new=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+mkdir "$tmp/old" "$tmp/new"
 fail=0 runs=0
 
-# One comparison for every run: OLD's and NEW's stdout (.out), stderr (.err),
-# exit code (.rc) and --emit_out file (.emit, if written) in $tmp.
+# One comparison for every run: OLD's and NEW's stdout (out), stderr (err),
+# exit code (rc) and --emit_out file (emit_out, if written) in $tmp/old and
+# $tmp/new.
 cat > "$tmp/compare.py" <<'PY'
 import json, os, re, sys
 tmp, label, by_estimator = sys.argv[1], sys.argv[2], sys.argv[3] == "1"
@@ -34,16 +41,16 @@ class Num(str):
 def timing(key):
     return re.match(r"(wall|cpu|elapsed)(_|$)", key) is not None
 def load(b):
-    text = open(f"{tmp}/{b}.out", errors="surrogateescape").read()
+    text = open(f"{tmp}/{b}/out", errors="surrogateescape").read()
     try:
         j = json.loads(text, parse_float=Num, parse_int=Num,
                        parse_constant=Num) if text.strip() else None
     except ValueError:
         j = text
-    emit = f"{tmp}/{b}.emit"
+    emit = f"{tmp}/{b}/emit_out"
     emitted = open(emit, "rb").read() if os.path.exists(emit) else None
-    return (j, open(f"{tmp}/{b}.rc").read().strip(),
-            open(f"{tmp}/{b}.err", errors="surrogateescape").read(), emitted)
+    return (j, open(f"{tmp}/{b}/rc").read().strip(),
+            open(f"{tmp}/{b}/err", errors="surrogateescape").read(), emitted)
 (o, orc, oerr, oemit), (n, nrc, nerr, nemit) = load("old"), load("new")
 problems = []
 if orc != nrc: problems.append(f"exit {orc} -> {nrc}")
@@ -105,23 +112,25 @@ if problems:
 print(f"identical  {label} ({summary})")
 PY
 
-# pair SECTION LABEL ARGS...: runs `imusysid ARGS` with both builds and
-# compares. ARGS may name $tmp/emit_out as --emit_out. BY_ESTIMATOR=1 matches
-# the fits of --estimator=all by estimator name.
+# pair SECTION LABEL ARGS...: runs `imusysid ARGS` with both builds at once
+# (each in its own folder, so ARGS name logs by absolute path and may name
+# --emit_out=emit_out) and compares. BY_ESTIMATOR=1 matches the fits of
+# --estimator=all by estimator name.
 declare -A count different ms
 sections=()
 pair() {
-  local section=$1 label=$2 bin exe rc start
+  local section=$1 label=$2 bin start
   shift 2
   start=$(date +%s%N)
   for bin in old new; do
-    exe=${!bin}
-    rm -f "$tmp/emit_out" "$tmp/$bin.emit"
-    rc=0
-    "$exe" "$@" > "$tmp/$bin.out" 2> "$tmp/$bin.err" || rc=$?
-    echo "$rc" > "$tmp/$bin.rc"
-    if [ -e "$tmp/emit_out" ]; then mv "$tmp/emit_out" "$tmp/$bin.emit"; fi
+    (
+      cd "$tmp/$bin" && rm -f emit_out
+      rc=0
+      "${!bin}" "$@" > out 2> err || rc=$?
+      echo "$rc" > rc
+    ) &
   done
+  wait
   if [ -z "${count[$section]+set}" ]; then
     sections+=("$section"); count[$section]=0 different[$section]=0
     ms[$section]=0
@@ -145,7 +154,7 @@ runs3d() {
   done
   for emit in px4 ardupilot; do
     pair "$section" "rigid3d $name --emit=$emit" fit --log="$log" \
-      --model=rigid3d --emit="$emit" --emit_out="$tmp/emit_out" --format=json
+      --model=rigid3d --emit="$emit" --emit_out=emit_out --format=json
   done
   pair "$section" "inspect $name" inspect --log="$log" --format=json
 }
@@ -153,11 +162,11 @@ runs3d() {
 for log in data/*.csv; do
   for model in paper consistent; do
     BY_ESTIMATOR=1 pair planar "$log --model=$model" \
-      fit --log="$log" --model="$model" --estimator=all --format=json
+      fit --log="$PWD/$log" --model="$model" --estimator=all --format=json
   done
 done
 
-real=../shared/data/real
+real=$(realpath -m ../shared/data/real)
 if [ -d "$real" ]; then
   for log in "$real"/*; do
     case $log in *.md) continue ;; esac
