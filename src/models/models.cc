@@ -92,13 +92,11 @@ void RegisterBuiltinModels(ModelRegistry* registry) {
                      {"3-D rigid body: IMU position (x, y, z) from the "
                       "autopilot's attitude and velocity",
                       true,
-                      false,
                       true},
                      NewRigid3dModel);
   registry->Register("rigid3d_imu",
                      {"3-D rigid body from the IMU alone: attitude from the "
                       "gyro, velocity integrated with the drag model",
-                      false,
                       false,
                       true},
                      NewRigid3dImuModel);
