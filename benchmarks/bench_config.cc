@@ -11,10 +11,13 @@
 namespace imusysid {
 namespace bench {
 std::vector<std::string> BenchModelNames() {
+  // bench flies planar logs: every model that does not need 3-D motion.
   std::vector<std::string> planar;
   for (const std::string& model : ModelNames()) {
     StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
-    if (description.ok() && description->planar) planar.push_back(model);
+    if (description.ok() && !description->needs_motion3d) {
+      planar.push_back(model);
+    }
   }
   return planar;
 }

@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <numeric>
 #include <utility>
+#include <vector>
 
 #include "benchmarks/bench_internal.h"
 #include "imusysid/identify.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
 #include "imusysid/registry.h"
@@ -39,6 +42,25 @@ double ExpectedCost(const Model* model, const std::string& estimator) {
   return costly ? 0.2 : 0.05;
 }
 
+// The bench fits planar models only (BenchModelNames): their four physical
+// parameters, in the reports' order, label a run whose model could not be
+// built (its log failed), so that its record lists them as every other does.
+std::vector<ParameterInfo> PlanarParameterInfo() {
+  constexpr ParameterRole kRoles[] = {ParameterRole::kLeverArmRadius,
+                                      ParameterRole::kLeverArmAngle,
+                                      ParameterRole::kTilt,
+                                      ParameterRole::kDrag};
+  std::vector<ParameterInfo> info;
+  for (std::size_t i = 0; i < std::size(kRoles); ++i) {
+    ParameterInfo p;
+    p.name = internal::kParamNames[i];
+    p.unit = internal::kParamUnits[i];
+    p.role = kRoles[i];
+    info.push_back(p);
+  }
+  return info;
+}
+
 // A record of `job` before it runs: what it is and on which log.
 RunRecord StartRecord(const BenchConfig& config,
                       const RunJob& job,
@@ -54,6 +76,8 @@ RunRecord StartRecord(const BenchConfig& config,
   run.status = job.status;
   run.result.model = job.model;
   run.result.estimator = job.estimator;
+  run.result.parameter_info = job.built != nullptr ? job.built->parameter_info()
+                                                   : PlanarParameterInfo();
   if (pl.data != nullptr) run.samples = pl.data->size();
   return run;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <string>
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
@@ -147,10 +148,19 @@ std::string EstimateResult::BriefReport() const {
   std::ostringstream out;
   out << estimator << " on " << model << ": "
       << TerminationToString(termination);
-  if (IsUsable() && parameters.size() >= kNumPhysicalParameters) {
-    out << std::setprecision(6) << ", OF " << rmse << " m/s^2, r "
-        << parameters[kR] << " m, beta " << parameters[kBeta] << " deg, alpha "
-        << parameters[kAlpha] << " deg, mu " << parameters[kMu];
+  if (IsUsable()) {
+    out << std::setprecision(6) << ", OF " << rmse << " m/s^2";
+    for (Eigen::Index i = 0; i < parameters.size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      // A result built by hand may carry no names: the index stands in.
+      const bool named = k < parameter_info.size();
+      out << ", " << (named ? parameter_info[k].name : "x" + std::to_string(i))
+          << " " << parameters[i];
+      if (named && !parameter_info[k].unit.empty() &&
+          parameter_info[k].unit != "1") {
+        out << " " << parameter_info[k].unit;
+      }
+    }
   } else {
     out << " (" << message << ")";
   }
@@ -182,9 +192,7 @@ StatusOr<EstimateResult> Estimator::Estimate(
   EstimateResult result;
   result.estimator = std::string(name());
   result.model = model_name;
-  for (const auto& info : problem.model().parameter_info()) {
-    result.parameter_names.push_back(info.name);
-  }
+  result.parameter_info = problem.model().parameter_info();
   const std::int64_t cost_before = problem.cost_evaluations();
   const std::int64_t jac_before = problem.jacobian_evaluations();
   const auto start = std::chrono::steady_clock::now();

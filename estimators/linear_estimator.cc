@@ -9,6 +9,7 @@
 #include "Eigen/Dense"
 #include "glog/logging.h"
 #include "imusysid/format.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 
 namespace imusysid {
@@ -120,8 +121,11 @@ Status LinearEstimator::Solve(const Problem& problem,
     result->message = "linear estimator: the model's regressors are not finite";
     return Status::Ok();
   }
-  const int mu = options.linear.enforce_nonnegative_mu
-                     ? structure->CoefficientOfParameter(kMu)
+  // μ is found by its role; a model without a drag has no bound to keep.
+  const int drag =
+      FindParameter(problem.model().parameter_info(), ParameterRole::kDrag);
+  const int mu = options.linear.enforce_nonnegative_mu && drag >= 0
+                     ? structure->CoefficientOfParameter(drag)
                      : -1;
   double condition = 0.0;
   bool mu_constrained = false;

@@ -26,7 +26,8 @@ namespace imusysid {
 //       in blocks, so memory is O(block), not O(n))
 //   D = diag(column norms of A) = column norms of R (Q is orthogonal)
 //   b = D⁻¹ · SVD-solve(R₁₁ D⁻¹, z)       free least squares, rank-safe
-//   if enforce_nonnegative_mu, μ is a coefficient and b_μ < 0:  b_μ = 0 and
+//   if enforce_nonnegative_mu, μ (the parameter whose role is kDrag) is a
+//   coefficient and b_μ < 0:  b_μ = 0 and
 //       re-solve the other columns (for one bound the KKT point is on the
 //       bound when the free optimum violates it; when μ is the last column,
 //       as in the paper model, the re-solve is the leading triangle of R)

@@ -190,12 +190,25 @@ StatusOr<LmRun> RunLm(const Problem& problem,
     run.x = start.cwiseMax(lower).cwiseMin(upper);
   }
 
-  const double wrapped = WrapDegrees(run.x[kBeta]);
-  if (wrapped != run.x[kBeta] && wrapped >= lower[kBeta] &&
-      wrapped <= upper[kBeta]) {
-    run.x[kBeta] = wrapped;
-  }
+  WrapAngleParameters(problem.model().parameter_info(), lower, upper, &run.x);
   return run;
+}
+
+void WrapAngleParameters(const std::vector<ParameterInfo>& info,
+                         const Eigen::VectorXd& lower,
+                         const Eigen::VectorXd& upper,
+                         Eigen::VectorXd* x) {
+  CHECK(x != nullptr);
+  CHECK_EQ(static_cast<Eigen::Index>(info.size()), x->size());
+  CHECK_EQ(lower.size(), x->size());
+  CHECK_EQ(upper.size(), x->size());
+  for (Eigen::Index i = 0; i < x->size(); ++i) {
+    if (!RoleWraps(info[static_cast<std::size_t>(i)].role)) continue;
+    const double wrapped = WrapDegrees((*x)[i]);
+    if (wrapped != (*x)[i] && wrapped >= lower[i] && wrapped <= upper[i]) {
+      (*x)[i] = wrapped;
+    }
+  }
 }
 
 std::unique_ptr<Estimator> NewLmEstimator() {

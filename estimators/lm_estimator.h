@@ -13,6 +13,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/estimator.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/problem.h"
 #include "imusysid/status.h"
 
@@ -52,8 +53,9 @@ struct LmRun {
 //           once per iteration                             → kMaxEvaluations
 //           or Ceres failure (e.g. the start is not evaluable) → kFailure
 //
-// After the solve β is wrapped into (−180°, 180°] when the wrapped value is
-// still within the bounds (β is periodic; only custom bounds can let it out).
+// After the solve every parameter whose role wraps (RoleWraps: the planar β)
+// is wrapped into (−180°, 180°] when the wrapped value is still within the
+// bounds (WrapAngleParameters); no other parameter is touched.
 // Returns InvalidArgument when `start` has the wrong size or is not finite;
 // a failed solve is an outcome (termination kFailure, x = the clamped start).
 // Cost per iteration O(n·p²).
@@ -63,6 +65,16 @@ StatusOr<LmRun> RunLm(const Problem& problem,
                       int max_iterations,
                       double max_time_s,
                       std::int64_t max_evaluations = -1);
+
+// Wraps each x[i] whose role wraps (RoleWraps(info[i].role)) into
+// (−180°, 180°] when the wrapped value lies within [lower[i], upper[i]]:
+// an angle on a circle is the same model either way, and the reports want
+// the principal value. A parameter of any other role (metres, a tilt, a
+// drag) is left as it is. `info`, the bounds and *x have the same size.
+void WrapAngleParameters(const std::vector<ParameterInfo>& info,
+                         const Eigen::VectorXd& lower,
+                         const Eigen::VectorXd& upper,
+                         Eigen::VectorXd* x);
 
 // LM's tuning flags (lm_max_iterations), declared once for lm, ga+lm and
 // hybrid.
@@ -84,7 +96,6 @@ class LmEstimator : public Estimator {
 };
 
 std::unique_ptr<Estimator> NewLmEstimator();
-
 
 }  // namespace imusysid
 

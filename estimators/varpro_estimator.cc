@@ -13,6 +13,7 @@
 #include "Eigen/Dense"
 #include "ceres/ceres.h"
 #include "glog/logging.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 
 namespace imusysid {
@@ -353,7 +354,10 @@ Status SolveLinear(const Problem& problem,
   const Eigen::MatrixXd r11 = r.topLeftCorner(m, m);
   const Eigen::VectorXd z = r.block(0, m, m, 1);
   Eigen::VectorXd b = ScaledLeastSquares(r11, z);
-  const int mu = structure.CoefficientOfParameter(kMu);
+  // μ is found by its role; a model without a drag has no bound to keep.
+  const int drag =
+      FindParameter(problem.model().parameter_info(), ParameterRole::kDrag);
+  const int mu = drag >= 0 ? structure.CoefficientOfParameter(drag) : -1;
   bool mu_constrained = false;
   if (options.linear.enforce_nonnegative_mu && mu >= 0 && b[mu] < 0.0) {
     // One bound: when the free optimum violates it the KKT point lies on it.
@@ -421,8 +425,10 @@ Status SolveSeparable(const Problem& problem,
   for (std::size_t j = 0; j < p.size(); ++j) {
     p[j] = std::clamp(0.0, lower[j], upper[j]);
   }
-  const auto mu_it = std::find(nonlinear.begin(), nonlinear.end(), kMu);
-  const bool grid_over_mu = mu_it != nonlinear.end();
+  const int drag =
+      FindParameter(problem.model().parameter_info(), ParameterRole::kDrag);
+  const auto mu_it = std::find(nonlinear.begin(), nonlinear.end(), drag);
+  const bool grid_over_mu = drag >= 0 && mu_it != nonlinear.end();
   const auto g = static_cast<std::size_t>(mu_it - nonlinear.begin());
   const std::vector<double> fractions =
       grid_over_mu ? std::vector<double>(std::begin(kMuGridFractions),

@@ -36,11 +36,12 @@ namespace imusysid {
 //   gradient and JᵀJ (see ProjectedResidual in the .cc), so its work is O(1)
 //   per iteration and only the model's O(n) passes remain.
 //   start: every nonlinear parameter at 0 (clamped into the bounds); when μ
-//          is one of them, the best of a short grid, lo + (hi − lo)·{0, 1/16,
-//          1/8, 1/4, 1/2} over μ's box (profiled cost, one counted
-//          evaluation each, Problem::SeparableCost): the profiled cost is
-//          one-dimensional and smooth in μ, so the grid puts LM in the right
-//          basin for realistic μ ≈ 0.05–0.2 without a global search.
+//          (the parameter whose role is kDrag) is one of them, the best of a
+//          short grid, lo + (hi − lo)·{0, 1/16, 1/8, 1/4, 1/2} over μ's box
+//          (profiled cost, one counted evaluation each,
+//          Problem::SeparableCost): the profiled cost is one-dimensional and
+//          smooth in μ, so the grid puts LM in the right basin for realistic μ
+//          ≈ 0.05–0.2 without a global search.
 //   Ceres LM (DENSE_QR) on p within the problem's bounds for p. Stopping:
 //   Ceres's function/gradient/parameter tolerances and max_iterations from
 //   options.lm; options.max_wall_time_s and options.max_evaluations are

@@ -13,6 +13,7 @@
 #include "gtest/gtest.h"
 #include "imusysid/parameters.h"
 #include "imusysid/result.h"
+#include "src/models/paper_model.h"
 
 namespace imusysid {
 namespace {
@@ -34,6 +35,7 @@ EstimateResult FitAt(double h_m,
   result.rmse = 0.25;
   const double r = std::hypot(h_m, z_frd_m);
   const double beta_deg = std::atan2(-z_frd_m, h_m) * kRadToDeg;
+  result.parameter_info = PhysicalParameterInfo();
   result.parameters = Eigen::Vector4d(r, beta_deg, alpha_deg, 0.07);
   result.standard_errors =
       Eigen::Vector4d(sigma_r_m, sigma_beta_deg, 0.05, 0.001);
@@ -259,6 +261,18 @@ TEST(Autopilot, RefusesWhatItCannotMap) {
   failed.termination = Termination::kFailure;
   EXPECT_FALSE(
       ToAutopilotParameters(failed, EmitFormat::kPx4, "pitch", 0, "t").ok());
+  // The same numbers from a model that declares no planar lever arm: r and
+  // β are found by role, not by index, so there is nothing to map.
+  EstimateResult no_lever_arm = fit;
+  for (ParameterInfo& p : no_lever_arm.parameter_info) {
+    p.role = ParameterRole::kNuisance;
+  }
+  const auto refused =
+      ToAutopilotParameters(no_lever_arm, EmitFormat::kPx4, "pitch", 0, "t");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("no planar lever arm"),
+            std::string::npos)
+      << refused.status().message();
   EXPECT_EQ(EmitFormatFromString("px4").value(), EmitFormat::kPx4);
   EXPECT_EQ(EmitFormatFromString("ardupilot").value(), EmitFormat::kArduPilot);
   EXPECT_FALSE(EmitFormatFromString("PX4").ok());

@@ -82,7 +82,7 @@ void ExpectAtOptimumAndNearTruth(const Problem& problem,
   const Eigen::MatrixXd fisher = InverseGram(problem, truth);
   const double cost_excess = kCostRelTol * optimum.final_cost;
   for (int i = 0; i < problem.num_parameters(); ++i) {
-    const auto name = estimate.parameter_names[static_cast<std::size_t>(i)];
+    const auto name = estimate.parameter_info[static_cast<std::size_t>(i)].name;
     EXPECT_NEAR(estimate.parameters[i],
                 optimum.parameters[i],
                 kCurvatureSlack * std::sqrt(2.0 * cost_excess * h_inv(i, i)))
@@ -250,7 +250,7 @@ TEST(CmaesEstimator, RecoversTheTruthFromNoiseFreePaperData) {
   for (int i = 0; i < 4; ++i) {
     EXPECT_NEAR(
         result.parameters[i], kTruth[i], resolution * std::sqrt(h_inv(i, i)))
-        << result.parameter_names[static_cast<std::size_t>(i)];
+        << result.parameter_info[static_cast<std::size_t>(i)].name;
   }
 }
 

@@ -244,7 +244,7 @@ TEST_P(EstimatorContractTest, RecoversTruthOnStandardProblem) {
   for (int i = 0; i < 4; ++i) {
     const double sigma_i = std::sqrt(cov(i, i));
     EXPECT_LE(std::abs(result.parameters[i] - kTruth[i]), k_sigmas * sigma_i)
-        << result.parameter_names[static_cast<std::size_t>(i)] << " = "
+        << result.parameter_info[static_cast<std::size_t>(i)].name << " = "
         << result.parameters[i] << ", truth " << kTruth[i] << ", sigma "
         << sigma_i;
   }
@@ -331,7 +331,7 @@ TEST_P(EstimatorContractTest, RecoversTruthOnItsModelsOwnFlight) {
   for (int i = 0; i < kNumPhysicalParameters; ++i) {
     const double sigma_i = std::sqrt(cov(i, i));
     EXPECT_LE(std::abs(result->parameters[i] - truth[i]), k_sigmas * sigma_i)
-        << result->parameter_names[static_cast<std::size_t>(i)] << " = "
+        << result->parameter_info[static_cast<std::size_t>(i)].name << " = "
         << result->parameters[i] << ", truth " << truth[i] << ", sigma "
         << sigma_i;
   }

@@ -84,7 +84,7 @@ TEST(LinearEstimator, RecoversTruthWhenNoiseFree) {
   for (int i = 0; i < 4; ++i) {
     EXPECT_NEAR(
         result.parameters[i], kTruth[i], kNoiseFreeRelTol * std::abs(kTruth[i]))
-        << result.parameter_names[static_cast<std::size_t>(i)];
+        << result.parameter_info[static_cast<std::size_t>(i)].name;
   }
   EXPECT_EQ(result.iterations, 1);
   EXPECT_GT(result.cost_evaluations, 0);
@@ -121,7 +121,7 @@ TEST(LinearEstimator, WithinFourSigmaWhenNoisy) {
   for (int i = 0; i < 4; ++i) {
     const double sigma_i = std::sqrt(cov(i, i));
     EXPECT_LE(std::abs(result.parameters[i] - kTruth[i]), kSigmas * sigma_i)
-        << result.parameter_names[static_cast<std::size_t>(i)] << " = "
+        << result.parameter_info[static_cast<std::size_t>(i)].name << " = "
         << result.parameters[i] << ", sigma " << sigma_i;
   }
   // The estimate is the least-squares optimum: the normal equations hold.

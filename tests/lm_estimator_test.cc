@@ -13,9 +13,12 @@
 #include "Eigen/Dense"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
+#include "imusysid/model.h"
 #include "imusysid/paper_reference.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem.h"
+#include "imusysid/rigid3d.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -46,7 +49,7 @@ TEST(LmEstimator, ConvergesFromBoxCentreWhenNoiseFree) {
   for (int i = 0; i < 4; ++i) {
     EXPECT_NEAR(
         result.parameters[i], kTruth[i], kNoiseFreeRelTol * std::abs(kTruth[i]))
-        << result.parameter_names[static_cast<std::size_t>(i)];
+        << result.parameter_info[static_cast<std::size_t>(i)].name;
   }
   EXPECT_GT(result.iterations, 0);
   EXPECT_GT(result.cost_evaluations, 0);
@@ -207,6 +210,78 @@ TEST(LmEstimator, WrapsBetaOnlyWhenWrappedValueIsInBounds) {
   ASSERT_TRUE(run.ok()) << run.status().ToString();
   EXPECT_NEAR(
       run->x[kBeta], kTruth[kBeta] + 360.0, kNoiseFreeRelTol * kTruth[kBeta]);
+}
+
+// The wrap is the role's, not the index's: of one value 190 in a box that
+// holds its wrapped −170, only the planar lever-arm angle is wrapped.
+TEST(WrapAngleParameters, WrapsOnlyTheRolesThatAreAnglesOnACircle) {
+  const ParameterRole kRoles[] = {ParameterRole::kLeverArmRadius,
+                                  ParameterRole::kLeverArmAngle,
+                                  ParameterRole::kPositionX,
+                                  ParameterRole::kPositionY,
+                                  ParameterRole::kPositionZ,
+                                  ParameterRole::kTilt,
+                                  ParameterRole::kDrag,
+                                  ParameterRole::kLinearDrag,
+                                  ParameterRole::kBias,
+                                  ParameterRole::kNuisance};
+  for (ParameterRole role : kRoles) {
+    const std::vector<ParameterInfo> info = {{"x", "", -1000.0, 1000.0}};
+    std::vector<ParameterInfo> with_role = info;
+    with_role[0].role = role;
+    Eigen::VectorXd x = Eigen::VectorXd::Constant(1, 190.0);
+    WrapAngleParameters(with_role,
+                        Eigen::VectorXd::Constant(1, -1000.0),
+                        Eigen::VectorXd::Constant(1, 1000.0),
+                        &x);
+    EXPECT_EQ(x[0], role == ParameterRole::kLeverArmAngle ? -170.0 : 190.0)
+        << ParameterRoleToString(role);
+  }
+}
+
+// rigid3d keeps the IMU's y position (metres) at index 1, where the planar
+// models keep β: a p_y of 200 m must come back as 200 m, not as −160.
+// Noise-free rigid3d data with p_y = 200 m (the accelerometer readings are
+// the model's own prediction at the truth), bounds that hold ±200: LM, started
+// at p_y = 150 m, converges to the truth and reports it unwrapped.
+TEST(LmEstimator, DoesNotWrapAPositionInMetres) {
+  std::shared_ptr<ProblemData> data = testing::FlightForEveryModel();
+  data->motion.f[0].assign(data->size(), 0.0);
+  data->motion.f[1].assign(data->size(), 0.0);
+  Eigen::VectorXd truth(kNumRigid3dParameters);
+  truth << 0.1, 200.0, -0.05, 0.1, 0.3, 0.02, -0.01, 0.01, -0.02, 1.5, -0.5;
+  {
+    StatusOr<std::unique_ptr<Model>> zero = CreateModel("rigid3d", data);
+    ASSERT_TRUE(zero.ok()) << zero.status().ToString();
+    // With f = 0 the residual is −prediction (rigid3d's residual is f minus
+    // a prediction that does not read f_x, f_y), axis after axis.
+    Eigen::VectorXd residuals((*zero)->num_residuals());
+    ASSERT_TRUE((*zero)->Residuals(truth.data(), residuals.data(), nullptr));
+    for (std::size_t k = 0; k < data->size(); ++k) {
+      data->motion.f[0][k] = -residuals[static_cast<Eigen::Index>(k)];
+      data->motion.f[1][k] =
+          -residuals[static_cast<Eigen::Index>(data->size() + k)];
+    }
+  }
+  StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", data);
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  const auto& info = (*model)->parameter_info();
+  const int p_y = FindParameter(info, ParameterRole::kPositionY);
+  ASSERT_EQ(p_y, 1) << "the case this test is about: p_y where β sits";
+  Problem problem(std::shared_ptr<const Model>(std::move(model).value()));
+  Eigen::VectorXd lower = problem.lower_bounds();
+  Eigen::VectorXd upper = problem.upper_bounds();
+  lower[p_y] = -300.0;
+  upper[p_y] = 300.0;
+  ASSERT_TRUE(problem.SetBounds(lower, upper).ok());
+  Eigen::VectorXd start = truth;
+  start[p_y] = 150.0;
+  StatusOr<LmRun> run = RunLm(problem, start, LmOptions{}, -1, 10.0);
+  ASSERT_TRUE(run.ok()) << run.status().ToString();
+  ASSERT_NE(run->termination, Termination::kFailure);
+  // p_y enters the prediction linearly: noise-free LM lands on it to the
+  // deterministic estimators' 1e-8 relative.
+  EXPECT_NEAR(run->x[p_y], 200.0, kNoiseFreeRelTol * 200.0);
 }
 
 TEST(LmEstimator, RunLmRejectsStartOfWrongSize) {

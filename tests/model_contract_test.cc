@@ -1,11 +1,12 @@
 // The contract every registered model keeps, run over ModelNames() (so a new
 // model is checked by registering it): the name round-trips through the
-// registry, the parameter box is sane, the analytic Jacobian agrees with
-// central differences, Cost is ½Σr², compressed residuals (where a model has
-// them) carry the same norm, gradient and Gauss–Newton matrix as the full
-// residuals, the velocity is the data's exactly when the registry says the
-// model reads it, and a linear structure (where it has one) reproduces the
-// residuals exactly and maps coefficients and parameters both ways.
+// registry, the parameter box is sane, every parameter declares a role that
+// fits its unit, the analytic Jacobian agrees with central differences, Cost
+// is ½Σr², compressed residuals (where a model has them) carry the same norm,
+// gradient and Gauss–Newton matrix as the full residuals, the velocity is the
+// data's exactly when the registry says the model reads it, and a linear
+// structure (where it has one) reproduces the residuals exactly and maps
+// coefficients and parameters both ways.
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/model.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "src/sim/synthetic_flight.h"
 #include "tests/test_util.h"
@@ -89,28 +91,106 @@ TEST_P(ModelContractTest, NameRoundTripsThroughTheRegistry) {
   EXPECT_THAT(ModelNames(), ::testing::Contains(GetParam()));
 }
 
-TEST_P(ModelContractTest, ParameterBoxIsSaneAndStartsWithThePhysicalFour) {
+TEST_P(ModelContractTest, ParameterBoxIsSane) {
   const auto& info = model_->parameter_info();
-  ASSERT_GE(info.size(), static_cast<std::size_t>(kNumPhysicalParameters));
-  StatusOr<ModelDescription> description = BuiltinModels().Describe(GetParam());
-  ASSERT_TRUE(description.ok());
-  if (description->planar) {
-    EXPECT_EQ(info[kR].name, "r");
-    EXPECT_EQ(info[kBeta].name, "beta");
-    EXPECT_EQ(info[kAlpha].name, "alpha");
-  }
-  // μ sits at kMu in every model: the closed forms keep it ≥ 0.
-  EXPECT_EQ(info[kMu].name, "mu");
+  ASSERT_FALSE(info.empty());
   for (std::size_t i = 0; i < info.size(); ++i) {
     EXPECT_TRUE(std::isfinite(info[i].lower) && std::isfinite(info[i].upper))
         << info[i].name;
     EXPECT_LT(info[i].lower, info[i].upper) << info[i].name;
-    EXPECT_EQ(info[i].nuisance, i >= kNumPhysicalParameters) << info[i].name;
     EXPECT_FALSE(info[i].unit.empty()) << info[i].name;
+    EXPECT_FALSE(info[i].name.empty()) << "parameter " << i;
   }
   // One residual per sample and modelled accelerometer axis.
   EXPECT_EQ(model_->num_residuals() % static_cast<int>(model_->data().size()),
             0);
+}
+
+// Shared code reads parameters by role, so each role must mean what the
+// code assumes of it: its unit, and for the roles the closed forms and the
+// optimisers act on, its box.
+TEST_P(ModelContractTest, EveryParameterDeclaresARoleConsistentWithItsUnit) {
+  const auto& info = model_->parameter_info();
+  for (const ParameterInfo& p : info) {
+    const std::string what =
+        p.name + " (" + ParameterRoleToString(p.role) + ", " + p.unit + ")";
+    switch (p.role) {
+      case ParameterRole::kLeverArmRadius:
+        EXPECT_EQ(p.unit, "m") << what;
+        EXPECT_GE(p.lower, 0.0) << what << ": a radius";
+        break;
+      case ParameterRole::kLeverArmAngle:
+        // LM wraps it by WrapDegrees: degrees, and a box the wrap can map
+        // into (one turn).
+        EXPECT_EQ(p.unit, "deg") << what;
+        EXPECT_LE(p.upper - p.lower, 360.0) << what;
+        break;
+      case ParameterRole::kPositionX:
+      case ParameterRole::kPositionY:
+      case ParameterRole::kPositionZ:
+        EXPECT_EQ(p.unit, "m") << what;
+        break;
+      case ParameterRole::kTilt:
+        // An angle (α) or the sine of one (e_x, e_y): a small one either way.
+        EXPECT_THAT(p.unit, ::testing::AnyOf("deg", "1")) << what;
+        if (p.unit == "1") {
+          EXPECT_GE(p.lower, -1.0) << what;
+          EXPECT_LE(p.upper, 1.0) << what;
+        } else {
+          EXPECT_GE(p.lower, -90.0) << what;
+          EXPECT_LE(p.upper, 90.0) << what;
+        }
+        break;
+      case ParameterRole::kDrag:
+        // The closed forms keep it ≥ 0; the default box agrees.
+        EXPECT_EQ(p.unit, "1/m") << what;
+        EXPECT_EQ(p.lower, 0.0) << what;
+        break;
+      case ParameterRole::kLinearDrag:
+        EXPECT_EQ(p.unit, "1/s") << what;
+        break;
+      case ParameterRole::kBias:
+        EXPECT_EQ(p.unit, "m/s^2") << what;
+        break;
+      case ParameterRole::kNuisance:
+        // Nothing reads it by meaning: it must be flagged as a nuisance, or
+        // a physical parameter forgot its role.
+        EXPECT_TRUE(p.nuisance) << what;
+        break;
+    }
+    EXPECT_EQ(RoleWraps(p.role), p.role == ParameterRole::kLeverArmAngle)
+        << what;
+  }
+  // Roles that name one quantity appear at most once: FindParameter returns
+  // the first, so a second would be silently ignored.
+  for (ParameterRole role : {ParameterRole::kLeverArmRadius,
+                             ParameterRole::kLeverArmAngle,
+                             ParameterRole::kPositionX,
+                             ParameterRole::kPositionY,
+                             ParameterRole::kPositionZ,
+                             ParameterRole::kDrag}) {
+    EXPECT_LE(std::count_if(
+                  info.begin(),
+                  info.end(),
+                  [role](const ParameterInfo& p) { return p.role == role; }),
+              1)
+        << ParameterRoleToString(role);
+  }
+  // Every model places the IMU, either in its plane (r and β together) or in
+  // 3-D (all three components), not both.
+  const bool planar = HasPlanarLeverArm(info);
+  EXPECT_EQ(FindParameter(info, ParameterRole::kLeverArmRadius) >= 0,
+            FindParameter(info, ParameterRole::kLeverArmAngle) >= 0);
+  const int position_axes =
+      (FindParameter(info, ParameterRole::kPositionX) >= 0) +
+      (FindParameter(info, ParameterRole::kPositionY) >= 0) +
+      (FindParameter(info, ParameterRole::kPositionZ) >= 0);
+  EXPECT_TRUE(planar ? position_axes == 0 : position_axes == 3)
+      << "planar lever arm " << planar << ", position axes " << position_axes;
+  // A 3-D model is fitted on 3-D motion; a planar one on planar data.
+  StatusOr<ModelDescription> description = BuiltinModels().Describe(GetParam());
+  ASSERT_TRUE(description.ok());
+  EXPECT_EQ(description->needs_motion3d, !planar);
 }
 
 TEST_P(ModelContractTest, JacobianMatchesCentralDifferences) {

@@ -91,7 +91,7 @@ TEST_F(ModelExact, EveryEstimatorReachesTheLinearOptimumAndTheTruth) {
       const double se = r.standard_errors[i];
       ASSERT_TRUE(std::isfinite(se)) << name;
       EXPECT_NEAR(r.parameters[i], truth[i], kSigmas * se)
-          << name << " parameter " << r.parameter_names[i];
+          << name << " parameter " << r.parameter_info[i].name;
     }
     std::cout << name << ": OF " << r.rmse << " (linear " << linear.rmse
               << "), r " << r.parameters[0] << " beta " << r.parameters[1]

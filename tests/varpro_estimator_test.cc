@@ -129,9 +129,9 @@ TEST(VarproEstimator, NoisyEstimateIsWithinFourStandardErrors) {
   const Eigen::VectorXd x_true = truth.Vector();
   for (int i = 0; i < 6; ++i) {
     const double se = result.standard_errors[i];
-    ASSERT_TRUE(std::isfinite(se) && se > 0.0) << result.parameter_names[i];
+    ASSERT_TRUE(std::isfinite(se) && se > 0.0) << result.parameter_info[i].name;
     EXPECT_LE(std::abs(result.parameters[i] - x_true[i]), kSigmas * se)
-        << result.parameter_names[i] << " = " << result.parameters[i]
+        << result.parameter_info[i].name << " = " << result.parameters[i]
         << ", truth " << x_true[i] << ", se " << se;
   }
   // The OF is the noise level (n ≫ p): within 5 % at n = 10 001.

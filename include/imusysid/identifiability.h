@@ -20,15 +20,18 @@ inline constexpr double kAtBoundFraction = 1e-6;
 // some combination of parameters moves the residuals 1e6 times less than
 // another.
 inline constexpr double kIllConditioned = 1e6;
-// r and β are reported as not identifiable when their 1σ uncertainty is this
-// large: the 2σ interval of r then spans half of r itself (or 4 cm), or β is
-// unknown to ±20°.
+// r and β (the parameters whose roles are kLeverArmRadius and
+// kLeverArmAngle, in any model that declares both) are reported as not
+// identifiable when their 1σ uncertainty is this large: the 2σ interval of r
+// then spans half of r itself (or 4 cm), or β is unknown to ±20°.
 inline constexpr double kMaxRelativeStderrR = 0.5;
 inline constexpr double kMinAbsoluteStderrR = 0.02;  // m
 inline constexpr double kMaxStderrBetaDeg = 20.0;
 
 // Computes final_cost, rmse, standard_errors (of the given covariance type),
-// condition_number and the common warnings for result->parameters. Called by
+// condition_number and the common warnings for result->parameters; the
+// not_identifiable rule only for a model with a planar lever arm (its
+// parameters' roles; HasPlanarLeverArm), whatever its name. Called by
 // Estimator::Estimate with EstimatorOptions::covariance; exposed for tests and
 // for callers that build results by hand. Does not count evaluations.
 void FinalizeResult(const Problem& problem,
@@ -37,8 +40,8 @@ void FinalizeResult(const Problem& problem,
 // The same with the default covariance type (kHac).
 void FinalizeResult(const Problem& problem, EstimateResult* result);
 
-// True when r and β can be reported: FinalizeResult found no
-// not_identifiable warning.
+// True when the IMU's placement can be reported: FinalizeResult found no
+// not_identifiable warning (always, for a model without a planar lever arm).
 bool Identifiable(const EstimateResult& result);
 
 }  // namespace imusysid

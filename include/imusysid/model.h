@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/status.h"
 
@@ -77,15 +78,6 @@ ProblemData SelectSamples(const ProblemData& data,
                           std::size_t begin,
                           std::size_t end,
                           std::size_t step = 1);
-
-// Describes one entry of a model's parameter vector.
-struct ParameterInfo {
-  std::string name;    // "r", "beta", "alpha", "mu", "c0", "c1"
-  std::string unit;    // "m", "deg", "1/m", "deg/s"
-  double lower = 0.0;  // default bounds (the GA's search box)
-  double upper = 0.0;
-  bool nuisance = false;  // not one of the four physical parameters
-};
 
 // A capability a model may declare (Model::linear_structure()): once its few
 // nonlinear parameters p are fixed, the prediction is linear in m
@@ -162,9 +154,10 @@ class Model {
 
   // Registry key (ModelRegistry).
   virtual std::string_view name() const = 0;
-  // A planar model's first four parameters are (r, β, α, μ) at kR..kMu
-  // (ModelDescription::planar). In every model parameter kMu is the
-  // quadratic drag per unit mass μ (1/m), which the closed forms keep ≥ 0.
+  // Name, unit, default box and role of each parameter. Code outside the
+  // model finds a parameter by its role (FindParameter): the lever arm the
+  // identifiability rule judges, the angle LM may wrap, the drag μ the
+  // closed forms keep ≥ 0; the order is the model's own.
   virtual const std::vector<ParameterInfo>& parameter_info() const = 0;
   int num_parameters() const {
     return static_cast<int>(parameter_info().size());
@@ -246,10 +239,6 @@ struct ModelDescription {
   // made, or the log's); false when the model integrates its own from the IMU
   // and so needs the raw log behind the data.
   bool uses_data_velocity = true;
-  // True for the x–z plane models whose first four parameters are
-  // (r, β, α, μ); false for a 3-D model (rigid3d), whose results are read
-  // through its own report (rigid3d_report.h).
-  bool planar = true;
   // True when the model needs ProblemData::motion (Preprocess3d).
   bool needs_motion3d = false;
   // The estimator a fit uses unless told otherwise: the closed form where

@@ -20,10 +20,12 @@ inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kDegToRad = kPi / 180.0;
 inline constexpr double kRadToDeg = 180.0 / kPi;
 
-// Index of each physical parameter in every parameter vector. Parameters are
-// kept in the paper's units everywhere (r in m, angles in degrees, μ in 1/m):
-// the GA's adaptive-feasible mutation takes absolute steps, so the units are
-// part of the method, and reporting needs no conversion.
+// Index of each physical parameter in the paper's parameter vector (and the
+// planar models built on it); code that serves any model finds a parameter
+// by its role instead (parameter_info.h). Parameters are kept in the paper's
+// units everywhere (r in m, angles in degrees, μ in 1/m): the GA's
+// adaptive-feasible mutation takes absolute steps, so the units are part of
+// the method, and reporting needs no conversion.
 inline constexpr int kR = 0;      // IMU distance from the CoM, m
 inline constexpr int kBeta = 1;   // IMU direction from +x_b toward +z_b, deg
 inline constexpr int kAlpha = 2;  // sensor x-axis tilt toward +z_b, deg

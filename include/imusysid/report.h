@@ -31,15 +31,20 @@ struct FitContext {
   bool include_trace = false;
 };
 
-// One fit as a JSON object: model, estimator, r_m, beta_deg, alpha_deg, mu,
-// rmse, stderr, evaluations, iterations, wall_ms, termination, warnings, ...
-// r_m and beta_deg are null when they are not identifiable (the values are
-// kept under raw_parameters).
+// One fit as a JSON object: model, estimator, the model's physical (not
+// nuisance) parameters keyed by name and unit (r_m, beta_deg, alpha_deg, mu
+// for the planar models; p_x_m, ... for a 3-D one), rmse, stderr,
+// evaluations, iterations, wall_ms, termination, warnings, ... Parameters
+// are labelled and picked by result.parameter_info (names, units, roles):
+// whatever places the IMU (ParameterRole: lever arm, position) is null when
+// it is not identifiable (the values are kept under raw_parameters), and
+// imu_position_frd_m restates the lever arm or position in FRD.
 nlohmann::ordered_json ResultToJson(const EstimateResult& result,
                                     const FitContext& context);
 
-// A table with one row per result (estimator, OF, r, β, α, μ, ±, time,
-// evaluations, termination) followed by the warnings.
+// A table with one row per result (estimator, OF, each physical parameter
+// with its ±, labelled by name and unit as in the first result's
+// parameter_info, time, evaluations, termination) followed by the warnings.
 std::string ResultsToTable(const std::vector<EstimateResult>& results,
                            const FitContext& context);
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "imusysid/parameter_info.h"
 
 namespace imusysid {
 
@@ -104,7 +105,8 @@ struct EstimateResult {
   Termination termination = Termination::kFailure;
   std::string message = "Estimate was not called";
 
-  // The model's full parameter vector (r m, β deg, α deg, μ 1/m, nuisance...).
+  // The model's full parameter vector, in the order and units of
+  // parameter_info.
   Eigen::VectorXd parameters;
   // 1σ standard errors at the solution from the covariance chosen by
   // EstimatorOptions::covariance: by default the Newey–West (HAC) sandwich,
@@ -116,7 +118,10 @@ struct EstimateResult {
   // The full p × p covariance the standard errors come from (empty when there
   // are none), for quantities that combine parameters (the PX4 position).
   Eigen::MatrixXd covariance;
-  std::vector<std::string> parameter_names;
+  // What the model declared of each parameter (name, unit, role): the
+  // reports label and pick parameters by it. Estimator::Estimate copies it
+  // from the model; a result built by hand sets it itself.
+  std::vector<ParameterInfo> parameter_info;
 
   double initial_cost = -1.0;  // ½Σr² at the start (-1: not applicable)
   double final_cost = -1.0;    // ½Σr² at the solution
@@ -135,7 +140,7 @@ struct EstimateResult {
   ResultDetails details;
 
   bool HasWarning(std::string_view code) const;
-  // One line: estimator, model, termination, OF, parameters.
+  // One line: estimator, model, termination, OF, each parameter by name.
   std::string BriefReport() const;
   bool IsUsable() const { return termination != Termination::kFailure; }
 };

@@ -19,20 +19,22 @@ inline constexpr char kRigid3dModelName[] = "rigid3d";
 // with f_z the measured z specific force (the thrust axis) and u₀ the air
 // velocity at the wind Motion3d::quadratic_wind_* (the fitted wind, found
 // by Preprocess3d's calibration), so that the model is linear in
-// (p, μ, k, b, e, k·w_N, k·w_E); docs/model-3d.md. kMu (3) is μ, as in the
-// planar models.
-inline constexpr int kPx = 0;          // IMU position, CoM → IMU, m
-inline constexpr int kPy = 1;          //
-inline constexpr int kPz = 2;          //
-inline constexpr int kDrag3dMu = kMu;  // quadratic drag per unit mass, 1/m
-inline constexpr int kRotorDrag = 4;   // rotor (linear) drag k, 1/s
-inline constexpr int kBiasX = 5;       // accelerometer bias, m/s²
-inline constexpr int kBiasY = 6;       //
-inline constexpr int kThrustToX = 7;   // e_x: thrust axis seen on x (−sin of
-                                       // the sensor's pitch misalignment)
-inline constexpr int kThrustToY = 8;   // e_y: sin of its roll misalignment
-inline constexpr int kWindNorth = 9;   // constant wind, m/s (NED)
-inline constexpr int kWindEast = 10;   //
+// (p, μ, k, b, e, k·w_N, k·w_E); docs/model-3d.md. Shared code finds each
+// parameter by its ParameterRole (parameter_info.h), not by these indices;
+// μ stays at index 3 because the linear solves' column order, and so every
+// fitted bit, follows the parameter order.
+inline constexpr int kPx = 0;         // IMU position, CoM → IMU, m
+inline constexpr int kPy = 1;         //
+inline constexpr int kPz = 2;         //
+inline constexpr int kDrag3dMu = 3;   // quadratic drag per unit mass, 1/m
+inline constexpr int kRotorDrag = 4;  // rotor (linear) drag k, 1/s
+inline constexpr int kBiasX = 5;      // accelerometer bias, m/s²
+inline constexpr int kBiasY = 6;      //
+inline constexpr int kThrustToX = 7;  // e_x: thrust axis seen on x (−sin of
+                                      // the sensor's pitch misalignment)
+inline constexpr int kThrustToY = 8;  // e_y: sin of its roll misalignment
+inline constexpr int kWindNorth = 9;  // constant wind, m/s (NED)
+inline constexpr int kWindEast = 10;  //
 inline constexpr int kNumRigid3dParameters = 11;
 
 }  // namespace imusysid

@@ -59,8 +59,9 @@ inline double SpecificForceZ(const SampleState& st,
 
 std::vector<ParameterInfo> ConsistentParameterInfo() {
   std::vector<ParameterInfo> info = PhysicalParameterInfo();
-  info.push_back({"c0", "deg", -3.0, 3.0, true});
-  info.push_back({"c1", "deg/s", -0.1, 0.1, true});
+  // The attitude drift is a nuisance: an angle, but one no shared code reads.
+  info.push_back({"c0", "deg", -3.0, 3.0, true, ParameterRole::kNuisance});
+  info.push_back({"c1", "deg/s", -0.1, 0.1, true, ParameterRole::kNuisance});
   return info;
 }
 

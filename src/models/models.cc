@@ -89,7 +89,6 @@ ModelDescription Rigid3dDescription() {
       "3-D rigid body: IMU position (x, y, z) from the autopilot's attitude "
       "and velocity";
   d.uses_data_velocity = true;
-  d.planar = false;
   d.needs_motion3d = true;
   d.default_estimator = "linear";
   d.needs_estimator_channels = true;
@@ -104,7 +103,6 @@ ModelDescription Rigid3dImuDescription() {
       "3-D rigid body from the IMU alone: attitude from the gyro, velocity "
       "integrated with the drag model";
   d.uses_data_velocity = false;
-  d.planar = false;
   d.needs_motion3d = true;
   d.default_estimator = "varpro";
   d.inputs = "attitude from the gyro, velocity integrated with the drag model";

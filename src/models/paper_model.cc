@@ -20,10 +20,10 @@ double SignedSquare(double v) {
 }  // namespace
 
 std::vector<ParameterInfo> PhysicalParameterInfo() {
-  return {{"r", "m", 0.0, 0.5, false},
-          {"beta", "deg", -180.0, 180.0, false},
-          {"alpha", "deg", -15.0, 15.0, false},
-          {"mu", "1/m", 0.0, 1.0, false}};
+  return {{"r", "m", 0.0, 0.5, false, ParameterRole::kLeverArmRadius},
+          {"beta", "deg", -180.0, 180.0, false, ParameterRole::kLeverArmAngle},
+          {"alpha", "deg", -15.0, 15.0, false, ParameterRole::kTilt},
+          {"mu", "1/m", 0.0, 1.0, false, ParameterRole::kDrag}};
 }
 
 PaperModel::PaperModel(std::shared_ptr<const ProblemData> data)

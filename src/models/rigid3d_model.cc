@@ -82,17 +82,17 @@ const std::vector<ParameterInfo>& Rigid3dParameterInfo() {
   // metre of the centre of mass on any multicopter this applies to; the
   // drags, bias, misalignment and wind at their physical extremes.
   static const std::vector<ParameterInfo> info = {
-      {"p_x", "m", -0.5, 0.5, false},
-      {"p_y", "m", -0.5, 0.5, false},
-      {"p_z", "m", -0.5, 0.5, false},
-      {"mu", "1/m", 0.0, 1.0, false},
-      {"rotor_drag", "1/s", 0.0, 2.0, true},
-      {"bias_x", "m/s^2", -2.0, 2.0, true},
-      {"bias_y", "m/s^2", -2.0, 2.0, true},
-      {"thrust_to_x", "1", -0.2, 0.2, true},
-      {"thrust_to_y", "1", -0.2, 0.2, true},
-      {"wind_n", "m/s", -20.0, 20.0, true},
-      {"wind_e", "m/s", -20.0, 20.0, true},
+      {"p_x", "m", -0.5, 0.5, false, ParameterRole::kPositionX},
+      {"p_y", "m", -0.5, 0.5, false, ParameterRole::kPositionY},
+      {"p_z", "m", -0.5, 0.5, false, ParameterRole::kPositionZ},
+      {"mu", "1/m", 0.0, 1.0, false, ParameterRole::kDrag},
+      {"rotor_drag", "1/s", 0.0, 2.0, true, ParameterRole::kLinearDrag},
+      {"bias_x", "m/s^2", -2.0, 2.0, true, ParameterRole::kBias},
+      {"bias_y", "m/s^2", -2.0, 2.0, true, ParameterRole::kBias},
+      {"thrust_to_x", "1", -0.2, 0.2, true, ParameterRole::kTilt},
+      {"thrust_to_y", "1", -0.2, 0.2, true, ParameterRole::kTilt},
+      {"wind_n", "m/s", -20.0, 20.0, true, ParameterRole::kNuisance},
+      {"wind_e", "m/s", -20.0, 20.0, true, ParameterRole::kNuisance},
   };
   return info;
 }

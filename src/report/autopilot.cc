@@ -1,11 +1,14 @@
 #include "imusysid/autopilot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "Eigen/Dense"
 #include "imusysid/format.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
 #include "src/report/parameter_file.h"
@@ -19,16 +22,19 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr NonFiniteStyle kQuoted = NonFiniteStyle::kPrintf;
 
 // The (r, β) block of the fit's covariance (the kind its standard errors
-// use), β in degrees. Falls back to the standard errors without correlation
-// when the result carries no covariance matrix.
-Eigen::Matrix2d PositionCovariance(const EstimateResult& result) {
+// use), β in degrees; `r` and `beta` index them. Falls back to the standard
+// errors without correlation when the result carries no covariance matrix.
+Eigen::Matrix2d PositionCovariance(const EstimateResult& result,
+                                   int r,
+                                   int beta) {
   Eigen::Matrix2d diagonal = Eigen::Matrix2d::Zero();
-  diagonal(0, 0) = std::pow(result.standard_errors[kR], 2);
-  diagonal(1, 1) = std::pow(result.standard_errors[kBeta], 2);
+  diagonal(0, 0) = std::pow(result.standard_errors[r], 2);
+  diagonal(1, 1) = std::pow(result.standard_errors[beta], 2);
   const Eigen::MatrixXd& cov = result.covariance;
-  if (cov.rows() <= kBeta || cov.cols() <= kBeta) return diagonal;
+  const int last = std::max(r, beta);
+  if (cov.rows() <= last || cov.cols() <= last) return diagonal;
   Eigen::Matrix2d block;
-  block << cov(kR, kR), cov(kR, kBeta), cov(kBeta, kR), cov(kBeta, kBeta);
+  block << cov(r, r), cov(r, beta), cov(beta, r), cov(beta, beta);
   if (!block.allFinite()) return diagonal;
   return block;
 }
@@ -64,11 +70,22 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
   if (format == EmitFormat::kNone) {
     return FailedPreconditionError("no emit format chosen");
   }
-  if (!result.IsUsable() || result.parameters.size() < kNumPhysicalParameters ||
-      result.standard_errors.size() < kNumPhysicalParameters) {
+  // The planar lever arm and tilt, found by their roles.
+  const std::vector<ParameterInfo>& info = result.parameter_info;
+  const int r_index = FindParameter(info, ParameterRole::kLeverArmRadius);
+  const int beta_index = FindParameter(info, ParameterRole::kLeverArmAngle);
+  const int tilt_index = FindParameter(info, ParameterRole::kTilt);
+  const auto p = static_cast<Eigen::Index>(info.size());
+  if (!result.IsUsable() || result.parameters.size() != p ||
+      result.standard_errors.size() != p) {
     return FailedPreconditionError("the " + result.estimator +
                                    " fit has no usable parameters to emit (" +
                                    result.message + ")");
+  }
+  if (r_index < 0 || beta_index < 0 || tilt_index < 0) {
+    return FailedPreconditionError(
+        "the " + result.estimator + " fit of model '" + result.model +
+        "' has no planar lever arm (r, beta) and tilt to emit");
   }
   const bool roll = plane == "roll";
   if (!roll && plane != "pitch") {
@@ -97,12 +114,12 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
       if (w.code == "not_identifiable") out.withheld_reason = w.message;
     }
   } else {
-    const double r = x[kR];
-    const double b = x[kBeta] * kDegToRad;
+    const double r = x[r_index];
+    const double b = x[beta_index] * kDegToRad;
     const double h = r * std::cos(b);
     const double z = -r * std::sin(b);
     // First-order propagation with the (r, β[deg]) covariance.
-    const Eigen::Matrix2d cov = PositionCovariance(result);
+    const Eigen::Matrix2d cov = PositionCovariance(result, r_index, beta_index);
     const Eigen::Vector2d dh(std::cos(b), -r * std::sin(b) * kDegToRad);
     const Eigen::Vector2d dz(-std::sin(b), -r * std::cos(b) * kDegToRad);
     const double var_h = dh.dot(cov * dh);
@@ -121,9 +138,9 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
   // (cos α, 0, −sin α) in FRD: pitch offset = +α. A sensor y axis rolled up
   // by α is R(φ, 0, 0)·e_y = (0, cos φ, sin φ) = (0, cos α, −sin α) for
   // φ = −α: roll offset = −α.
-  out.tilt_deg = x[kAlpha];
-  out.tilt_stderr_deg = result.standard_errors[kAlpha];
-  const double offset_deg = roll ? -x[kAlpha] : x[kAlpha];
+  out.tilt_deg = x[tilt_index];
+  out.tilt_stderr_deg = result.standard_errors[tilt_index];
+  const double offset_deg = roll ? -x[tilt_index] : x[tilt_index];
   const std::string what = roll ? "roll" : "pitch";
   if (px4) {
     out.trim_parameter = roll ? "SENS_BOARD_X_OFF" : "SENS_BOARD_Y_OFF";

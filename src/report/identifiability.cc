@@ -8,6 +8,7 @@
 #include "Eigen/Dense"
 #include "glog/logging.h"
 #include "imusysid/estimator.h"
+#include "imusysid/parameter_info.h"
 
 namespace imusysid {
 
@@ -104,30 +105,32 @@ void FinalizeResult(const Problem& problem,
         << "): the data do not determine every parameter";
     result->warnings.push_back({"ill_conditioned", msg.str()});
   }
-  // The r/β rule is the planar models'; a 3-D model's positions are judged
-  // axis by axis in its own report (rigid3d_report.h).
-  StatusOr<ModelDescription> description =
-      BuiltinModels().Describe(model.name());
-  const bool planar = !description.ok() || description->planar;
-  const double se_r = planar ? result->standard_errors[kR] : 0.0;
-  const double se_beta = result->standard_errors[kBeta];
-  // Judge r's uncertainty against a plausible r: an unconstrained solve on
-  // data without excitation can return r = 100 m with a "small" relative
-  // error, which is no identification at all.
-  const double r_upper = problem.upper_bounds()[kR];
-  const double r = std::min(std::abs(x[kR]), r_upper);
-  if (planar &&
-      (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
-       std::abs(x[kR]) > r_upper ||
-       se_r > std::max(kMaxRelativeStderrR * r, kMinAbsoluteStderrR) ||
-       se_beta > kMaxStderrBetaDeg)) {
-    std::ostringstream msg;
-    msg << "r and beta are not identifiable from this log (1-sigma: r +/- "
-        << se_r << " m, beta +/- " << se_beta << " deg, "
-        << CovarianceTypeToString(covariance)
-        << "): the segment does not excite the lever-arm terms enough for "
-           "the noise and model error in the residuals";
-    result->warnings.push_back({"not_identifiable", msg.str()});
+  // The r/β rule judges a planar lever arm, wherever a model declares one
+  // (by the roles of its parameters, whatever its name or order). A model
+  // without it is not judged here: a 3-D model's positions are judged axis
+  // by axis in its own report (rigid3d_report.h).
+  const int r_index = FindParameter(info, ParameterRole::kLeverArmRadius);
+  const int beta_index = FindParameter(info, ParameterRole::kLeverArmAngle);
+  if (r_index >= 0 && beta_index >= 0) {
+    const double se_r = result->standard_errors[r_index];
+    const double se_beta = result->standard_errors[beta_index];
+    // Judge r's uncertainty against a plausible r: an unconstrained solve on
+    // data without excitation can return r = 100 m with a "small" relative
+    // error, which is no identification at all.
+    const double r_upper = problem.upper_bounds()[r_index];
+    const double r = std::min(std::abs(x[r_index]), r_upper);
+    if (!std::isfinite(se_r) || !std::isfinite(se_beta) ||
+        std::abs(x[r_index]) > r_upper ||
+        se_r > std::max(kMaxRelativeStderrR * r, kMinAbsoluteStderrR) ||
+        se_beta > kMaxStderrBetaDeg) {
+      std::ostringstream msg;
+      msg << "r and beta are not identifiable from this log (1-sigma: r +/- "
+          << se_r << " m, beta +/- " << se_beta << " deg, "
+          << CovarianceTypeToString(covariance)
+          << "): the segment does not excite the lever-arm terms enough for "
+             "the noise and model error in the residuals";
+      result->warnings.push_back({"not_identifiable", msg.str()});
+    }
   }
   if (result->termination != Termination::kConverged) {
     result->warnings.push_back({"no_convergence",

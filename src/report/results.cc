@@ -2,7 +2,11 @@
 #include <cstdlib>
 #include <limits>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
 
@@ -26,6 +30,44 @@ std::string DetailValue(const EstimateResult& result, const std::string& key) {
   return result.details.Format(key);
 }
 
+// True when the result has one value per parameter the model declared.
+bool Usable(const EstimateResult& result) {
+  return result.IsUsable() && !result.parameter_info.empty() &&
+         result.parameters.size() ==
+             static_cast<Eigen::Index>(result.parameter_info.size());
+}
+
+// Where the fit puts the IMU in FRD metres, by the roles of its parameters:
+// a planar lever arm gives x and z (x = r cos β, z = −r sin β; the plane
+// says nothing about y), a 3-D position its three components. Null when the
+// model has neither.
+nlohmann::ordered_json FrdPosition(const EstimateResult& result,
+                                   bool identifiable) {
+  const std::vector<ParameterInfo>& info = result.parameter_info;
+  const Eigen::VectorXd& x = result.parameters;
+  auto value = [&](double v) {
+    return identifiable ? Num(v) : nlohmann::ordered_json();
+  };
+  if (HasPlanarLeverArm(info)) {
+    ImuParameters lever_arm;
+    lever_arm.r_m = x[FindParameter(info, ParameterRole::kLeverArmRadius)];
+    lever_arm.beta_deg = x[FindParameter(info, ParameterRole::kLeverArmAngle)];
+    const ImuPositionFrd pos = ToFrdPosition(lever_arm);
+    return {{"x", value(pos.x_m)}, {"z", value(pos.z_m)}};
+  }
+  const int px = FindParameter(info, ParameterRole::kPositionX);
+  const int py = FindParameter(info, ParameterRole::kPositionY);
+  const int pz = FindParameter(info, ParameterRole::kPositionZ);
+  if (px >= 0 && py >= 0 && pz >= 0) {
+    return {{"x", value(x[px])}, {"y", value(x[py])}, {"z", value(x[pz])}};
+  }
+  return nullptr;
+}
+
+// Significant digits of a parameter in the table: an angle on a circle
+// (±180°) carries one more for the same resolution as its neighbours.
+int TableDigits(ParameterRole role) { return RoleWraps(role) ? 5 : 4; }
+
 }  // namespace
 
 nlohmann::ordered_json ResultToJson(const EstimateResult& result,
@@ -40,27 +82,27 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
   j["segment"] = {{"t_start_s", context.t_start_s},
                   {"t_end_s", context.t_end_s},
                   {"samples", context.samples}};
-  const bool usable =
-      result.IsUsable() && result.parameters.size() >= kNumPhysicalParameters;
+  const bool usable = Usable(result);
   const bool identifiable = usable && Identifiable(result);
   const auto& x = result.parameters;
-  j["r_m"] = identifiable ? Num(x[kR]) : nullptr;
-  j["beta_deg"] = identifiable ? Num(x[kBeta]) : nullptr;
-  j["alpha_deg"] = usable ? Num(x[kAlpha]) : nullptr;
-  j["mu"] = usable ? Num(x[kMu]) : nullptr;
+  const std::vector<ParameterInfo>& info = result.parameter_info;
+  // The physical parameters by name and unit; whatever places the IMU is
+  // withheld (null) when the fit cannot identify it.
+  for (std::size_t i = 0; i < info.size(); ++i) {
+    if (info[i].nuisance) continue;
+    const bool shown = RoleIsImuPlacement(info[i].role) ? identifiable : usable;
+    j[ParamKey(info[i].name, info[i].unit)] =
+        shown ? Num(x[static_cast<Eigen::Index>(i)]) : nullptr;
+  }
   j["identifiable"] = identifiable;
   nlohmann::ordered_json raw = nlohmann::ordered_json::object();
   nlohmann::ordered_json se = nlohmann::ordered_json::object();
-  // Units follow the model's parameter_info; names come with the result.
-  static const char* const kUnits[] = {
-      "m", "deg", "deg", "1/m", "deg", "deg/s"};
-  for (int i = 0; i < static_cast<int>(result.parameter_names.size()); ++i) {
-    const std::string unit = i < 6 ? kUnits[i] : "";
-    const std::string key =
-        ParamKey(result.parameter_names[static_cast<std::size_t>(i)], unit);
-    if (usable && i < x.size()) raw[key] = Num(x[i]);
-    if (usable && i < result.standard_errors.size()) {
-      se[key] = Num(result.standard_errors[i]);
+  for (std::size_t i = 0; i < info.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    const std::string key = ParamKey(info[i].name, info[i].unit);
+    if (usable) raw[key] = Num(x[k]);
+    if (usable && k < result.standard_errors.size()) {
+      se[key] = Num(result.standard_errors[k]);
     }
   }
   j["stderr"] = se;
@@ -76,10 +118,8 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
                                       : nlohmann::ordered_json();
   j["raw_parameters"] = raw;
   if (usable) {
-    const ImuPositionFrd pos =
-        ToFrdPosition(ImuParameters::FromVector(x.data()));
-    j["imu_position_frd_m"] = {{"x", identifiable ? Num(pos.x_m) : nullptr},
-                               {"z", identifiable ? Num(pos.z_m) : nullptr}};
+    nlohmann::ordered_json position = FrdPosition(result, identifiable);
+    if (!position.is_null()) j["imu_position_frd_m"] = std::move(position);
   }
   j["rmse"] = Num(result.rmse);
   j["final_cost"] = Num(result.final_cost);
@@ -131,39 +171,54 @@ std::string ResultsToTable(const std::vector<EstimateResult>& results,
     if (std::isfinite(se)) s += " +/- " + FormatNumber(se, 2);
     return s;
   };
+  // One column per physical parameter of the first result's model (a fit
+  // runs one model), labelled by the model's name and unit for it.
+  std::vector<ParameterInfo> columns;
+  if (!results.empty()) {
+    for (const ParameterInfo& p : results.front().parameter_info) {
+      if (!p.nuisance) columns.push_back(p);
+    }
+  }
   for (const auto& r : results) {
-    const bool usable =
-        r.IsUsable() && r.parameters.size() >= kNumPhysicalParameters;
+    const bool usable = Usable(r);
     const bool ident = usable && Identifiable(r);
-    auto se = [&](int i) {
+    auto se = [&](Eigen::Index i) {
       return i < r.standard_errors.size()
                  ? r.standard_errors[i]
                  : std::numeric_limits<double>::quiet_NaN();
     };
-    rows.push_back(
-        {r.estimator,
-         r.model,
-         usable ? FormatNumber(r.rmse, 6) : "-",
-         ident ? with_se(r.parameters[kR], se(kR), 4) : "not identifiable",
-         ident ? with_se(r.parameters[kBeta], se(kBeta), 5)
-               : "not identifiable",
-         usable ? with_se(r.parameters[kAlpha], se(kAlpha), 4) : "-",
-         usable ? with_se(r.parameters[kMu], se(kMu), 4) : "-",
-         FormatNumber(1000.0 * r.wall_time_s, 3),
-         std::to_string(r.cost_evaluations),
-         TerminationToString(r.termination)});
+    std::vector<std::string> row = {
+        r.estimator, r.model, usable ? FormatNumber(r.rmse, 6) : "-"};
+    for (const ParameterInfo& column : columns) {
+      Eigen::Index k = -1;
+      for (std::size_t i = 0; i < r.parameter_info.size() && k < 0; ++i) {
+        if (r.parameter_info[i].name == column.name) {
+          k = static_cast<Eigen::Index>(i);
+        }
+      }
+      const bool placement = RoleIsImuPlacement(column.role);
+      if (k < 0) {
+        row.push_back("-");
+      } else if (placement ? ident : usable) {
+        row.push_back(
+            with_se(r.parameters[k], se(k), TableDigits(column.role)));
+      } else {
+        row.push_back(placement ? "not identifiable" : "-");
+      }
+    }
+    row.push_back(FormatNumber(1000.0 * r.wall_time_s, 3));
+    row.push_back(std::to_string(r.cost_evaluations));
+    row.push_back(TerminationToString(r.termination));
+    rows.push_back(std::move(row));
   }
-  out << FormatTable({"estimator",
-                      "model",
-                      "OF m/s^2",
-                      "r m",
-                      "beta deg",
-                      "alpha deg",
-                      "mu 1/m",
-                      "time ms",
-                      "evals",
-                      "termination"},
-                     rows);
+  std::vector<std::string> header = {"estimator", "model", "OF m/s^2"};
+  for (const ParameterInfo& column : columns) {
+    header.push_back(column.name + " " + column.unit);
+  }
+  for (const char* label : {"time ms", "evals", "termination"}) {
+    header.push_back(label);
+  }
+  out << FormatTable(header, rows);
   if (!results.empty()) {
     const std::string kind = DetailValue(results.front(), "covariance");
     const std::string bandwidth =
