@@ -11,7 +11,6 @@
 #include <utility>
 #include <vector>
 
-#include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
@@ -27,6 +26,7 @@
 #include "src/cli/fit3d.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
+#include "src/report/figures.h"
 
 namespace imusysid {
 namespace cli {
@@ -505,10 +505,10 @@ int Run(const std::vector<std::string>& positional) {
   if (!s.ok()) return ReportError(cmd, s);
   if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
   if (!FLAGS_plot.empty()) {
-    bench::FitFigureOptions figure_options;
+    report::FitFigureOptions figure_options;
     figure_options.title = path;
-    std::vector<bench::Figure> figures;
-    s = bench::WriteFitFigures(
+    std::vector<report::Figure> figures;
+    s = report::WriteFitFigures(
         FLAGS_plot, data, results, figure_options, &figures);
     if (s.code() == StatusCode::kFailedPrecondition) {
       std::cerr << "warning: no figures: " << s.message() << "\n";
