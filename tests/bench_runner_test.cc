@@ -19,6 +19,8 @@
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "nlohmann/json.hpp"
+#include "src/report/figures.h"
+#include "src/report/gnuplot.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -332,12 +334,12 @@ TEST(BenchRunner, LogsWithoutSidecarUseTheCallersOptions) {
 }
 
 TEST(BenchFigures, IndexShowsEveryFigureAndEveryImageExists) {
-  if (FindGnuplot().empty()) {
+  if (report::FindGnuplot().empty()) {
     GTEST_SKIP() << "gnuplot not installed";
   }
   const BenchReport& report = TinyReport();
   const std::string dir = testing::MakeTempDir();
-  std::vector<Figure> figures;
+  std::vector<report::Figure> figures;
   Status s = WriteBenchFigures(report, dir, &figures);
   ASSERT_TRUE(s.ok()) << s.message();
   const std::string html = ReadAll(dir + "/index.html");
@@ -369,7 +371,7 @@ TEST(BenchFigures, IndexShowsEveryFigureAndEveryImageExists) {
 TEST(BenchFigures, FitFiguresNeedOnlyTheProblemData) {
   // What `fit --plot` has for a --problem file: data and results, no raw
   // log, no truth. Figs. 7, 8, 10, residuals and velocity are still drawn.
-  if (FindGnuplot().empty()) {
+  if (report::FindGnuplot().empty()) {
     GTEST_SKIP() << "gnuplot not installed";
   }
   const BenchReport& report = TinyReport();
@@ -380,9 +382,9 @@ TEST(BenchFigures, FitFiguresNeedOnlyTheProblemData) {
     if (run.log == log.name) results.push_back(run.result);
   }
   const std::string dir = testing::MakeTempDir() + "/plots";
-  FitFigureOptions options;
-  std::vector<Figure> figures;
-  Status s = WriteFitFigures(dir, log.data, results, options, &figures);
+  report::FitFigureOptions options;
+  std::vector<report::Figure> figures;
+  Status s = report::WriteFitFigures(dir, log.data, results, options, &figures);
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_EQ(figures.size(), 5u);
   for (const auto& f : figures) {

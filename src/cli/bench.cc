@@ -242,7 +242,7 @@ int Run(const std::vector<std::string>& positional) {
     if (!s.ok()) return fail(s);
     std::size_t figure_count = 0;
     if (FLAGS_figures) {
-      std::vector<bench::Figure> figures;
+      std::vector<report::Figure> figures;
       s = bench::WriteBenchFigures(*report, *staging, &figures);
       if (s.code() == StatusCode::kFailedPrecondition) {
         std::cerr << "warning: " << s.message() << "\n";

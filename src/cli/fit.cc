@@ -11,7 +11,6 @@
 #include <utility>
 #include <vector>
 
-#include "benchmarks/figures.h"
 #include "imusysid/autopilot.h"
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
@@ -28,6 +27,7 @@
 #include "src/cli/fit3d.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
+#include "src/report/figures.h"
 
 namespace imusysid {
 namespace cli {
@@ -269,10 +269,10 @@ int WritePlanar(IdentifySummary& summary, EmitFormat emit_format) {
   if (!s.ok()) return ReportError(cmd, s);
   if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
   if (!FLAGS_plot.empty()) {
-    bench::FitFigureOptions figure_options;
+    report::FitFigureOptions figure_options;
     figure_options.title = context.log;
-    std::vector<bench::Figure> figures;
-    s = bench::WriteFitFigures(
+    std::vector<report::Figure> figures;
+    s = report::WriteFitFigures(
         FLAGS_plot, summary.data, results, figure_options, &figures);
     if (s.code() == StatusCode::kFailedPrecondition) {
       std::cerr << "warning: no figures: " << s.message() << "\n";
