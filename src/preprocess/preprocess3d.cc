@@ -673,7 +673,7 @@ Status FindQuadraticWind(ProblemData* data, double rate_hz) {
   if (!fixed.ok()) return fixed.status();
   const auto step =
       static_cast<std::size_t>(std::max(1.0, std::floor(rate_hz / 50.0)));
-  ProblemData thin = SelectSamples(*data, 0, data->size(), step);
+  ProblemData thin = SelectSamples(*data, 0, data->size(), step).value();
   SearchQuadraticWind(
       &thin, {data->motion.quadratic_wind_n, data->motion.quadratic_wind_e});
   data->motion.quadratic_wind_n = thin.motion.quadratic_wind_n;

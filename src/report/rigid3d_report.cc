@@ -50,7 +50,9 @@ bool SliceFactor(const ProblemData& data,
                  std::size_t i0,
                  std::size_t i1,
                  Eigen::MatrixXd* r) {
-  auto piece = std::make_shared<const ProblemData>(SelectSamples(data, i0, i1));
+  StatusOr<ProblemData> slice = SelectSamples(data, i0, i1);
+  if (!slice.ok()) return false;
+  auto piece = std::make_shared<const ProblemData>(std::move(slice).value());
   StatusOr<std::unique_ptr<Model>> model = CreateModel("rigid3d", piece);
   if (!model.ok()) return false;
   return (*model)->linear_structure()->TriangularFactor(nullptr, r);
