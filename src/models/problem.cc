@@ -26,8 +26,9 @@ Status CheckColumnSizes(const ProblemData& data) {
     return InvalidArgumentError(msg.str());
   };
   IMUSYSID_RETURN_IF_ERROR(check(data.f_x.size(), "f"));
-  if (!data.f_z.empty())
+  if (!data.f_z.empty()) {
     IMUSYSID_RETURN_IF_ERROR(check(data.f_z.size(), "f_z"));
+  }
   IMUSYSID_RETURN_IF_ERROR(check(data.omega.size(), "omega"));
   IMUSYSID_RETURN_IF_ERROR(check(data.omega_dot.size(), "omega_dot"));
   if (!data.theta.empty()) {
@@ -62,8 +63,9 @@ Status CheckColumnSizes(const ProblemData& data) {
           IMUSYSID_RETURN_IF_ERROR(check((*axis)[i].size(), "motion"));
         }
       }
-      if (!m.f[i].empty())
+      if (!m.f[i].empty()) {
         IMUSYSID_RETURN_IF_ERROR(check(m.f[i].size(), "motion"));
+      }
     }
   }
   return Status::Ok();
