@@ -136,7 +136,7 @@ TestFile LogAtRate(int rate_hz, bool long_flight = false) {
   const FlightLog& log = flight->log;
   const double columns = static_cast<double>(7 + log.extra.size()) *
                          static_cast<double>(log.size()) * sizeof(double);
-  return WriteTestFile(key, FormatCsvLog(log), columns);
+  return WriteTestFile(key, FormatCsvLog(log).value(), columns);
 }
 
 // A problem file of `rows` rows: the 4 kHz paper_test1 flight's fit segment
@@ -168,7 +168,7 @@ TestFile ProblemFileOfRows(std::size_t rows) {
     data.v.push_back(one.v[k]);
   }
   const double columns = 5.0 * static_cast<double>(rows) * sizeof(double);
-  return WriteTestFile(key, FormatProblemCsv(data), columns);
+  return WriteTestFile(key, FormatProblemCsv(data).value(), columns);
 }
 
 // Runs `job` (--memory_child's value) in a child process; its peak resident

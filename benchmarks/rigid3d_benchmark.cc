@@ -45,7 +45,8 @@ const std::vector<std::string>* Logs() {
     for (std::size_t i = 0; i < flight->logs.size(); ++i) {
       const std::string path =
           std::string(dir) + "/imu" + std::to_string(i) + ".csv";
-      if (!WriteFileAtomically(path, FormatSimulated3dCsv(flight->logs[i]))
+      if (!WriteFileAtomically(path,
+                               FormatSimulated3dCsv(flight->logs[i]).value())
                .ok()) {
         paths->clear();
         return paths;

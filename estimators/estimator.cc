@@ -178,8 +178,12 @@ StatusOr<EstimateResult> Estimator::Estimate(
   for (const OptionSpec& spec : this->options()) {
     auto it = options.named.find(spec.name);
     if (it == options.named.end()) continue;
-    EstimatorOptions scratch;
-    IMUSYSID_RETURN_IF_ERROR(spec.apply(it->second, &scratch));
+    // A spec that stores into the structs above (IntOption, DoubleOption)
+    // checks only the type: applied to these options, the value must also
+    // pass the structs' rules, or a nonsense value would go unnoticed.
+    EstimatorOptions applied = options;
+    IMUSYSID_RETURN_IF_ERROR(spec.apply(it->second, &applied));
+    IMUSYSID_RETURN_IF_ERROR(applied.Validate().WithPrefix(spec.name));
   }
   const std::string model_name(problem.model().name());
   if (!Supports(problem.model())) {

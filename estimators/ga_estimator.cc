@@ -497,7 +497,7 @@ void BreedNextGeneration(const GaPlan& plan,
                            row,
                            &state->next);
   }
-  CHECK_EQ(row, plan.pop_size);
+  CHECK_EQ(row, plan.pop_size);  // the operators fill every row by design
   state->population.swap(state->next);
 }
 
@@ -519,6 +519,7 @@ void ApplyHook(const GaGenerationHook& hook,
                const GaPlan& plan,
                GaState* state) {
   hook(state->generation, &state->population, &state->scores);
+  // The hook is code (hybrid's LM refinement), not an option.
   CHECK_EQ(state->population.rows(), plan.pop_size)
       << "the hook resized the population";
   CHECK_EQ(state->population.cols(), plan.nvars)

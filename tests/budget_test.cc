@@ -57,7 +57,8 @@ TEST(Budget, CountsOnlyEvaluationsAfterItStartedByAnyCopy) {
   EXPECT_EQ(budget.evaluations(), 0);
   Evaluate(problem, 2);
   // A copy with another start shares the counters (how ga+lm hands on).
-  const Problem copy = problem.WithInitialGuess(problem.initial_guess());
+  const Problem copy =
+      problem.WithInitialGuess(problem.initial_guess()).value();
   Evaluate(copy, 4);
   EXPECT_EQ(budget.evaluations(), 6);
   EXPECT_EQ(budget.Left().evaluations_left, 94);

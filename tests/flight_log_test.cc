@@ -302,7 +302,7 @@ TEST(FlightLog, RoundTripKeepsValuesToTheWrittenPrecision) {
     write.frame = frame;
     write.precision = 9;
     const StatusOr<FlightLog> read =
-        ParseCsvLog(FormatCsvLog(original, write), kName);
+        ParseCsvLog(FormatCsvLog(original, write).value(), kName);
     ASSERT_TRUE(read.ok()) << read.status().ToString();
     EXPECT_EQ(read->source_frame, frame);
     ASSERT_EQ(read->size(), original.size());
@@ -334,7 +334,7 @@ TEST(FlightLog, RoundTripIsExactWithShortestOrSeventeenDigits) {
     write.precision = precision;
     write.frame = Frame::kFrd;
     const StatusOr<FlightLog> read =
-        ParseCsvLog(FormatCsvLog(original, write), kName);
+        ParseCsvLog(FormatCsvLog(original, write).value(), kName);
     ASSERT_TRUE(read.ok()) << read.status().ToString();
     EXPECT_EQ(read->t_s, original.t_s);
     EXPECT_EQ(read->ax, original.ax);
@@ -363,7 +363,7 @@ TEST(FlightLog, FormatWritesMetadataFrameHeaderAndRowsExactly) {
   options.precision = 4;
   // FRD flips y and z; 1/3 at 4 digits is 0.3333; time keeps the millisecond
   // with 12 digits; an exact zero flipped stays "0".
-  EXPECT_EQ(FormatCsvLog(log, options),
+  EXPECT_EQ(FormatCsvLog(log, options).value(),
             "# vehicle: quad\n"
             "# rate_hz: 100\n"
             "# frame: frd\n"

@@ -110,9 +110,10 @@ TEST(Identify, ThreeImusShareTheFlightsDelayAndWind) {
   IdentifyOptions options = Rigid3d();
   options.on_note = [&notes](const std::string& n) { notes.push_back(n); };
   // The first IMU's log finds the calibration; the second's takes it.
-  StatusOr<IdentifySummary> first = Identify(
-      IdentifyInput::LogBytes(FormatSimulated3dCsv(flight.logs[0]), "imu0"),
-      options);
+  StatusOr<IdentifySummary> first =
+      Identify(IdentifyInput::LogBytes(
+                   FormatSimulated3dCsv(flight.logs[0]).value(), "imu0"),
+               options);
   ASSERT_TRUE(first.ok()) << first.status().ToString();
   ASSERT_TRUE(first->three_d);
   ASSERT_EQ(first->imus.size(), 1u);
@@ -122,9 +123,10 @@ TEST(Identify, ThreeImusShareTheFlightsDelayAndWind) {
   options.preprocess3d.estimator_delay_s = first->estimator_delay_s;
   options.preprocess3d.quadratic_wind_n = first->quadratic_wind_n;
   options.preprocess3d.quadratic_wind_e = first->quadratic_wind_e;
-  StatusOr<IdentifySummary> second = Identify(
-      IdentifyInput::LogBytes(FormatSimulated3dCsv(flight.logs[1]), "imu1"),
-      options);
+  StatusOr<IdentifySummary> second =
+      Identify(IdentifyInput::LogBytes(
+                   FormatSimulated3dCsv(flight.logs[1]).value(), "imu1"),
+               options);
   ASSERT_TRUE(second.ok()) << second.status().ToString();
   EXPECT_EQ(second->estimator_delay_s, first->estimator_delay_s);
   for (int i = 0; i < 2; ++i) {
@@ -145,7 +147,8 @@ TEST(Identify, ALogWithoutEstimatorChannelsFallsBackToTheImuOnlyModel) {
   IdentifyOptions options = Rigid3d();
   options.on_note = [&notes](const std::string& n) { notes.push_back(n); };
   StatusOr<IdentifySummary> s = Identify(
-      IdentifyInput::LogBytes(FormatSimulated3dCsv(log), "imu-only"), options);
+      IdentifyInput::LogBytes(FormatSimulated3dCsv(log).value(), "imu-only"),
+      options);
   ASSERT_TRUE(s.ok()) << s.status().ToString();
   StatusOr<ModelDescription> rigid3d = BuiltinModels().Describe(s->model);
   ASSERT_TRUE(rigid3d.ok());
@@ -166,7 +169,7 @@ TEST(Identify, WindowsStageListsTheWindowsWithoutFitting) {
   options.stop_after = IdentifyStage::kWindows;
   StatusOr<IdentifySummary> s =
       Identify(IdentifyInput::LogBytes(
-                   FormatSimulated3dCsv(FigureEight().logs[0]), "imu0"),
+                   FormatSimulated3dCsv(FigureEight().logs[0]).value(), "imu0"),
                options);
   ASSERT_TRUE(s.ok()) << s.status().ToString();
   ASSERT_TRUE(s->windows.has_value());
@@ -210,7 +213,7 @@ TEST(Identify, ErrorsNameWhatIsWrong) {
   IdentifyOptions two = Rigid3d();
   two.estimators = {"linear", "lm"};
   s = Identify(IdentifyInput::LogBytes(
-                   FormatSimulated3dCsv(FigureEight().logs[0]), "imu0"),
+                   FormatSimulated3dCsv(FigureEight().logs[0]).value(), "imu0"),
                two);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument);

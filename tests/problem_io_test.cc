@@ -56,8 +56,9 @@ void ExpectSameBits(const std::vector<double>& a,
 
 TEST(ProblemIo, RoundTripIsBitExact) {
   const ProblemData d = MakeData();
-  const std::string text = FormatProblemCsv(
-      d, {{"source", "logs/flight 1.csv"}, {"plane", "pitch"}});
+  const std::string text =
+      FormatProblemCsv(d, {{"source", "logs/flight 1.csv"}, {"plane", "pitch"}})
+          .value();
   StatusOr<ProblemFile> file = ParseProblemCsv(text, "p.csv");
   ASSERT_TRUE(file.ok()) << file.status().message();
   ExpectSameBits(file->data.t_s, d.t_s, "t");
@@ -78,7 +79,7 @@ TEST(ProblemIo, RoundTripIsBitExact) {
 TEST(ProblemIo, GravityComesFromDataNotFromMetadata) {
   ProblemData d = MakeData();
   d.gravity = 9.81;
-  const std::string text = FormatProblemCsv(d, {{"gravity", "1.5"}});
+  const std::string text = FormatProblemCsv(d, {{"gravity", "1.5"}}).value();
   EXPECT_EQ(text.find("# gravity: 1.5"), std::string::npos);
   StatusOr<ProblemFile> file = ParseProblemCsv(text, "p.csv");
   ASSERT_TRUE(file.ok()) << file.status().message();

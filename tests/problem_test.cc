@@ -163,7 +163,7 @@ TEST(Problem, WithInitialGuessSharesTheCounters) {
   const Problem problem = MakeProblem(ModelNames().front());
   Eigen::VectorXd start = problem.initial_guess();
   start[kR] = 0.1;
-  const Problem restarted = problem.WithInitialGuess(start);
+  const Problem restarted = problem.WithInitialGuess(start).value();
   EXPECT_EQ(restarted.initial_guess(), start);
   EXPECT_NE(problem.initial_guess(), start);
   EXPECT_EQ(&restarted.model(), &problem.model());

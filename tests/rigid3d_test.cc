@@ -200,8 +200,8 @@ TEST(Rigid3d, PitchOnlyFlightWithholdsY) {
 ProblemData WithoutBlock(const ProblemData& data,
                          std::size_t i0,
                          std::size_t i1) {
-  ProblemData out = SelectSamples(data, 0, i0);
-  const ProblemData tail = SelectSamples(data, i1, data.size());
+  ProblemData out = SelectSamples(data, 0, i0).value();
+  const ProblemData tail = SelectSamples(data, i1, data.size()).value();
   auto append = [](std::vector<double>* to, const std::vector<double>& x) {
     to->insert(to->end(), x.begin(), x.end());
   };

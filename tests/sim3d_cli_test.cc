@@ -63,7 +63,8 @@ TEST(Simulate3dCli, WritesOneFrdCsvPerImuThatReadsBack) {
     EXPECT_THAT(text, HasSubstr("# frame: frd\n"));
     EXPECT_THAT(text,
                 HasSubstr("\nt,ax,ay,az,gx,gy,gz,qw,qx,qy,qz,vn,ve,vd\n"));
-    EXPECT_TRUE(text == FormatSimulated3dCsv(flight->logs[k])) << paths[k];
+    EXPECT_TRUE(text == FormatSimulated3dCsv(flight->logs[k]).value())
+        << paths[k];
 
     // The whole file reads back; the estimator cells are empty (NaN) for
     // the 20 ms of estimator delay, 4 rows at 200 Hz.

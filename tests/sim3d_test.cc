@@ -362,8 +362,8 @@ TEST(Simulate3d, DeterministicForASeed) {
   const Simulated3dFlight b = Fly(o);
   ASSERT_EQ(a.logs.size(), b.logs.size());
   for (std::size_t k = 0; k < a.logs.size(); ++k) {
-    EXPECT_TRUE(FormatSimulated3dCsv(a.logs[k]) ==
-                FormatSimulated3dCsv(b.logs[k]))
+    EXPECT_TRUE(FormatSimulated3dCsv(a.logs[k]).value() ==
+                FormatSimulated3dCsv(b.logs[k]).value())
         << k;
   }
   EXPECT_EQ(Truth3dJson(o, a), Truth3dJson(o, b));
@@ -378,7 +378,7 @@ TEST(Simulate3d, DeterministicForASeed) {
 // estimator had not started.
 TEST(Simulate3d, CsvTextIsFrdWithEmptyCellsBeforeTheFirstEstimate) {
   const FlightLog& log = Figure8().logs[1];
-  const std::string text = FormatSimulated3dCsv(log);
+  const std::string text = FormatSimulated3dCsv(log).value();
   EXPECT_THAT(text, HasSubstr("# frame: frd\n"));
   EXPECT_THAT(text, HasSubstr("\nt,ax,ay,az,gx,gy,gz,qw,qx,qy,qz,vn,ve,vd\n"));
   EXPECT_EQ(text.find("nan"), std::string::npos);

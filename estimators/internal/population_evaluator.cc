@@ -29,6 +29,8 @@ PopulationEvaluator::PopulationEvaluator(const Problem& problem,
     : problem_(problem),
       num_threads_(num_threads),
       min_parallel_batch_ns_(min_parallel_batch_ns) {
+  // GaOptions::Validate keeps num_threads in [1, 256] before any Solve; the
+  // batch threshold is a constant of the caller's.
   CHECK_GE(num_threads_, 1);
   CHECK_GE(min_parallel_batch_ns_, 0.0);
 }
@@ -36,7 +38,7 @@ PopulationEvaluator::PopulationEvaluator(const Problem& problem,
 PopulationEvaluator::~PopulationEvaluator() = default;
 
 void PopulationEvaluator::Evaluate(const double* xs, int count, double* costs) {
-  CHECK_GE(count, 0);
+  CHECK_GE(count, 0);  // a buffer length, from the caller's own matrix
   last_call_parallel_ = false;
   if (num_threads_ <= 1 || count <= kChunkRows) {
     problem_.CostBatch(xs, count, costs);
@@ -89,6 +91,7 @@ void PopulationEvaluator::EvaluateParallel(const double* xs,
 void PopulationEvaluator::Evaluate(const Eigen::MatrixXd& population,
                                    Eigen::VectorXd* costs) {
   CHECK(costs != nullptr);
+  // The GA sizes its population from the same problem.
   CHECK_EQ(population.cols(), problem_.num_parameters());
   const auto rows = static_cast<int>(population.rows());
   const auto cols = static_cast<int>(population.cols());

@@ -6,7 +6,7 @@ namespace imusysid {
 namespace internal {
 
 ThreadPool::ThreadPool(int num_threads) {
-  CHECK_GE(num_threads, 1);
+  CHECK_GE(num_threads, 1);  // from a validated option (PopulationEvaluator)
   workers_.reserve(static_cast<std::size_t>(num_threads - 1));
   for (int w = 1; w < num_threads; ++w) {
     workers_.emplace_back([this, w] { WorkerLoop(w); });

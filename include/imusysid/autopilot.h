@@ -56,7 +56,9 @@ struct AutopilotParameters {
 // position's standard errors come from the (r, β) block of the fit's
 // covariance (result.covariance, the kind its standard errors use), so their
 // correlation is kept.
-// FailedPrecondition for kNone or an unusable result. `imu_instance` picks
+// FailedPrecondition for kNone or an unusable result (or one whose r, β, α
+// or μ is not finite); InvalidArgument for an ArduPilot `imu_instance`
+// outside 0..2. `imu_instance` picks
 // ArduPilot's INS_POS1/2/3; `source` names the log in the file's comments.
 StatusOr<AutopilotParameters> ToAutopilotParameters(
     const EstimateResult& result,

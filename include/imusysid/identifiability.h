@@ -33,7 +33,10 @@ inline constexpr double kMaxStderrBetaDeg = 20.0;
 // not_identifiable rule only for a model with a planar lever arm (its
 // parameters' roles; HasPlanarLeverArm), whatever its name. Called by
 // Estimator::Estimate with EstimatorOptions::covariance; exposed for tests and
-// for callers that build results by hand. Does not count evaluations.
+// for callers that build results by hand. Does not count evaluations. When
+// result->parameters has the wrong size or the residuals are not finite
+// there, sets termination to kFailure with a message saying why (and the
+// standard errors to NaN) instead.
 void FinalizeResult(const Problem& problem,
                     CovarianceType covariance,
                     EstimateResult* result);

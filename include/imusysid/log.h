@@ -120,8 +120,9 @@ struct CsvWriteOptions {
 };
 
 // Serialises `log` as CSV text (metadata lines, `# frame:` line, header, rows).
-std::string FormatCsvLog(const FlightLog& log,
-                         const CsvWriteOptions& options = {});
+// InvalidArgument, naming the column, when a column's size differs from t's.
+StatusOr<std::string> FormatCsvLog(const FlightLog& log,
+                                   const CsvWriteOptions& options = {});
 
 // Writes `contents` to `path` so that no half-written file is ever left
 // behind and nothing but a regular file is ever replaced:

@@ -73,11 +73,13 @@ struct ProblemData {
 
 // Samples begin, begin + step, ... (< end) of `data`, every column (and the
 // 3-D motion, its wind and fitted mask) alike: a block for a jackknife or a
-// window, or a thinned copy for a search. CHECKs begin ≤ end ≤ size, step ≥ 1.
-ProblemData SelectSamples(const ProblemData& data,
-                          std::size_t begin,
-                          std::size_t end,
-                          std::size_t step = 1);
+// window, or a thinned copy for a search. InvalidArgument, naming the rule,
+// unless begin ≤ end ≤ size and step ≥ 1, or when a column's size differs
+// from t's (values are copied as they are, not validated).
+StatusOr<ProblemData> SelectSamples(const ProblemData& data,
+                                    std::size_t begin,
+                                    std::size_t end,
+                                    std::size_t step = 1);
 
 // A capability a model may declare (Model::linear_structure()): once its few
 // nonlinear parameters p are fixed, the prediction is linear in m
@@ -272,8 +274,8 @@ class ModelRegistry {
                 ModelDescription description,
                 ModelFactory factory);
   // InvalidArgument when `data` is null or fails ProblemData::Validate;
-  // NotFound, listing the valid names, for an unknown name; else the
-  // factory's result.
+  // FailedPrecondition when it has no samples; NotFound, listing the valid
+  // names, for an unknown name; else the factory's result.
   StatusOr<std::unique_ptr<Model>> Create(
       std::string_view name,
       std::shared_ptr<const ProblemData> data,

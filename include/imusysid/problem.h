@@ -62,10 +62,12 @@ class Problem {
   Status SetBounds(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper);
 
   const Eigen::VectorXd& initial_guess() const { return initial_guess_; }
+  // InvalidArgument when the size is wrong or an entry (named) is not finite.
   Status SetInitialGuess(const Eigen::VectorXd& x);
   // A problem with the same model, bounds and counters but another start
-  // (how ga+lm hands the GA's answer to LM).
-  Problem WithInitialGuess(const Eigen::VectorXd& x) const;
+  // (how ga+lm hands the GA's answer to LM). InvalidArgument as
+  // SetInitialGuess.
+  StatusOr<Problem> WithInitialGuess(const Eigen::VectorXd& x) const;
 
   // ½ Σ r², or +inf when the model cannot evaluate x. Counts one cost
   // evaluation.
@@ -93,7 +95,8 @@ class Problem {
   // order, column-major (num_residuals() × num_nonlinear()). Counts one cost
   // evaluation however far it gets (the inner solve is part of the evaluation)
   // and, when a Jacobian is asked, one Jacobian evaluation once the model is
-  // reached. CHECKs that the model has a linear structure.
+  // reached. The model must have a linear structure (a programmer error
+  // otherwise, CHECKed: estimators ask for the capability in Supports()).
   SeparableOutcome SeparableResiduals(const double* p,
                                       const CoefficientSolve& solve,
                                       Eigen::VectorXd* x,

@@ -47,10 +47,10 @@ inline constexpr std::size_t kMinProblemSamples = 10;
 // the same doubles): a title comment, `metadata` as '# key: value' lines, a
 // '# gravity:' line from data.gravity (a 'gravity' entry in `metadata` is
 // skipped so the two cannot disagree), the header and one row per sample.
-// theta and f_z are written when present. `data` must be valid
-// (ProblemData::Validate); that is CHECKed.
-std::string FormatProblemCsv(const ProblemData& data,
-                             const ProblemMetadata& metadata = {});
+// theta and f_z are written when present. InvalidArgument when `data` is
+// not valid (ProblemData::Validate) or its gravity is not finite.
+StatusOr<std::string> FormatProblemCsv(const ProblemData& data,
+                                       const ProblemMetadata& metadata = {});
 
 // FormatProblemCsv + WriteFileAtomically.
 Status WriteProblemCsv(const std::string& path,

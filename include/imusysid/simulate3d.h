@@ -174,7 +174,8 @@ std::string Truth3dJson(const Simulator3dOptions& options,
 // One simulated log as CSV text in FRD (docs/log-format.md) with the
 // estimator columns. Where the estimator had not started (NaN in the log)
 // those cells are left empty: the only cells a simulated CSV leaves empty.
-std::string FormatSimulated3dCsv(const FlightLog& log);
+// InvalidArgument as FormatCsvLog.
+StatusOr<std::string> FormatSimulated3dCsv(const FlightLog& log);
 
 }  // namespace imusysid
 

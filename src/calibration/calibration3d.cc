@@ -121,10 +121,11 @@ Status FindQuadraticWind(ProblemData* data, double rate_hz) {
   IMUSYSID_RETURN_IF_ERROR(IterateQuadraticWind(data));
   const auto step =
       static_cast<std::size_t>(std::max(1.0, std::floor(rate_hz / 50.0)));
-  ProblemData thin = SelectSamples(*data, 0, data->size(), step);
-  IMUSYSID_RETURN_IF_ERROR(SearchQuadraticWind(&thin));
-  data->motion.quadratic_wind_n = thin.motion.quadratic_wind_n;
-  data->motion.quadratic_wind_e = thin.motion.quadratic_wind_e;
+  StatusOr<ProblemData> thin = SelectSamples(*data, 0, data->size(), step);
+  if (!thin.ok()) return thin.status();
+  IMUSYSID_RETURN_IF_ERROR(SearchQuadraticWind(&*thin));
+  data->motion.quadratic_wind_n = thin->motion.quadratic_wind_n;
+  data->motion.quadratic_wind_e = thin->motion.quadratic_wind_e;
   return Status::Ok();
 }
 

@@ -49,7 +49,8 @@ int Run(const std::vector<std::string>& positional) {
       {"sample_rate_hz", FormatShortest(pre->sample_rate_hz)},
       {"model", FirstModelUsingDataVelocity(true)},
   };
-  Status s = EmitOutput(FormatProblemCsv(data, metadata), FLAGS_out);
+  StatusOr<std::string> text = FormatProblemCsv(data, metadata);
+  Status s = text.ok() ? EmitOutput(*text, FLAGS_out) : text.status();
   if (!s.ok()) return ReportError(cmd, s);
   if (!FLAGS_out.empty()) {
     std::cerr << "wrote " << FLAGS_out << " (" << data.size() << " samples, t "

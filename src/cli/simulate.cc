@@ -151,7 +151,8 @@ int Run3d() {
   if (s.ok()) written.push_back(truth_path);
   for (std::size_t k = 0; s.ok() && k < f.logs.size(); ++k) {
     const std::string path = ImuPath(FLAGS_out, k + 1);
-    s = WriteFileAtomically(path, FormatSimulated3dCsv(f.logs[k]));
+    StatusOr<std::string> text = FormatSimulated3dCsv(f.logs[k]);
+    s = text.ok() ? WriteFileAtomically(path, *text) : text.status();
     if (s.ok()) written.push_back(path);
   }
   if (!s.ok()) {
@@ -261,9 +262,10 @@ int Run(const std::vector<std::string>& positional) {
   write_options.frame = frame;
   // The log and its truth are one result: both or neither, and never the
   // log of one run beside the truth of another.
+  StatusOr<std::string> log_text = FormatCsvLog(flight->log, write_options);
+  if (!log_text.ok()) return ReportError(cmd, log_text.status());
   s = WriteFilesTogether(
-      {{truth_path, TruthJson(*options, *flight)},
-       {FLAGS_out, FormatCsvLog(flight->log, write_options)}});
+      {{truth_path, TruthJson(*options, *flight)}, {FLAGS_out, *log_text}});
   if (!s.ok()) return ReportError(cmd, s);
 
   const SimulatedFlight& f = *flight;

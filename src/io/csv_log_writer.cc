@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <string>
 #include <string_view>
+#include <vector>
 
-#include "glog/logging.h"
 #include "imusysid/format.h"
 #include "imusysid/log.h"
 
@@ -30,16 +30,25 @@ std::string SanitizeForLine(std::string_view text, bool is_column_name) {
 
 }  // namespace
 
-std::string FormatCsvLog(const FlightLog& log, const CsvWriteOptions& options) {
+StatusOr<std::string> FormatCsvLog(const FlightLog& log,
+                                   const CsvWriteOptions& options) {
   const std::size_t n = log.size();
-  CHECK_EQ(log.ax.size(), n);
-  CHECK_EQ(log.ay.size(), n);
-  CHECK_EQ(log.az.size(), n);
-  CHECK_EQ(log.gx.size(), n);
-  CHECK_EQ(log.gy.size(), n);
-  CHECK_EQ(log.gz.size(), n);
+  auto check = [&](const std::vector<double>& column,
+                   std::string_view name) -> Status {
+    if (column.size() == n) return Status::Ok();
+    return InvalidArgumentError(log.source + ": column '" + std::string(name) +
+                                "' has " + std::to_string(column.size()) +
+                                " samples, t has " + std::to_string(n) +
+                                "; required equal sizes");
+  };
+  IMUSYSID_RETURN_IF_ERROR(check(log.ax, "ax"));
+  IMUSYSID_RETURN_IF_ERROR(check(log.ay, "ay"));
+  IMUSYSID_RETURN_IF_ERROR(check(log.az, "az"));
+  IMUSYSID_RETURN_IF_ERROR(check(log.gx, "gx"));
+  IMUSYSID_RETURN_IF_ERROR(check(log.gy, "gy"));
+  IMUSYSID_RETURN_IF_ERROR(check(log.gz, "gz"));
   for (const Channel& channel : log.extra) {
-    CHECK_EQ(channel.values.size(), n) << "channel " << channel.name;
+    IMUSYSID_RETURN_IF_ERROR(check(channel.values, channel.name));
   }
 
   std::string out;
@@ -92,7 +101,9 @@ std::string FormatCsvLog(const FlightLog& log, const CsvWriteOptions& options) {
 Status WriteCsvLog(const FlightLog& log,
                    const std::string& path,
                    const CsvWriteOptions& options) {
-  return WriteFileAtomically(path, FormatCsvLog(log, options));
+  StatusOr<std::string> text = FormatCsvLog(log, options);
+  if (!text.ok()) return text.status();
+  return WriteFileAtomically(path, *text);
 }
 
 }  // namespace imusysid

@@ -5,9 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <sstream>
+#include <string>
 #include <system_error>
 
-#include "glog/logging.h"
 #include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "src/io/csv_text.h"
@@ -201,11 +202,14 @@ std::vector<std::string> ProblemOptionalColumns() {
                                   kRoleNames + kNumRoles);
 }
 
-std::string FormatProblemCsv(const ProblemData& data,
-                             const ProblemMetadata& metadata) {
-  const Status valid = data.Validate();
-  CHECK(valid.ok()) << valid.message();
-  CHECK(std::isfinite(data.gravity)) << "gravity " << data.gravity;
+StatusOr<std::string> FormatProblemCsv(const ProblemData& data,
+                                       const ProblemMetadata& metadata) {
+  IMUSYSID_RETURN_IF_ERROR(data.Validate());
+  if (!std::isfinite(data.gravity)) {
+    std::ostringstream msg;
+    msg << data.source << ": gravity = " << data.gravity << "; required finite";
+    return InvalidArgumentError(msg.str());
+  }
   const std::size_t n = data.size();
   std::vector<const std::vector<double>*> columns = {
       &data.t_s, &data.f_x, &data.omega, &data.omega_dot, &data.v};
@@ -246,7 +250,9 @@ std::string FormatProblemCsv(const ProblemData& data,
 Status WriteProblemCsv(const std::string& path,
                        const ProblemData& data,
                        const ProblemMetadata& metadata) {
-  return WriteFileAtomically(path, FormatProblemCsv(data, metadata));
+  StatusOr<std::string> text = FormatProblemCsv(data, metadata);
+  if (!text.ok()) return text.status();
+  return WriteFileAtomically(path, *text);
 }
 
 StatusOr<ProblemFile> ParseProblemCsv(std::string_view text,

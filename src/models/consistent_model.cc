@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <utility>
 
 #include "glog/logging.h"
@@ -392,6 +393,7 @@ bool ConsistentModel::ResidualsWithJacobianColumns(
     double* residuals,
     double* jacobian) const {
   CHECK(jacobian != nullptr);
+  // Indices come from code (nonlinear_parameters()), as in the base class.
   for (int column : columns) {
     CHECK(column >= 0 && column < kNumConsistentParameters) << column;
   }
@@ -420,6 +422,7 @@ bool ConsistentModel::CostBatchWithIsa(internal::BatchIsa isa,
                                        const double* xs,
                                        int count,
                                        double* costs) const {
+  // CostBatch passes the best supported ISA; tests pass one they checked.
   CHECK(internal::BatchIsaSupported(isa)) << internal::BatchIsaName(isa);
   constexpr int kLanes = internal::kConsistentBatchLanes;
   const ProblemData& d = data();
@@ -618,8 +621,12 @@ Eigen::VectorXd ConsistentModel::CoefficientsFromParameters(
 
 StatusOr<Eigen::VectorXd> ConsistentModel::ParametersFromCoefficients(
     const Eigen::VectorXd& b, const double* p) const {
-  CHECK_EQ(b.size(), 3);
-  CHECK(p != nullptr);
+  if (b.size() != 3) {
+    return InvalidArgumentError("consistent coefficients b have " +
+                                std::to_string(b.size()) +
+                                " entries; required 3");
+  }
+  CHECK(p != nullptr);  // the structure has nonlinear parameters
   return ParametersFromLinear(Eigen::Vector3d(b), p[0], p[1], p[2]);
 }
 

@@ -54,11 +54,19 @@ StatusOr<std::unique_ptr<Model>> ModelRegistry::Create(
     const ModelOptions& options) const {
   if (data == nullptr) return InvalidArgumentError("no problem data");
   IMUSYSID_RETURN_IF_ERROR(data->Validate());
+  // With no residual every parameter vector costs 0: an estimator would
+  // "converge" anywhere.
+  if (data->size() == 0) {
+    return FailedPreconditionError(
+        data->source + ": the problem has 0 samples; a model needs at least 1");
+  }
   for (const Entry& entry : entries_) {
     if (entry.name != name) continue;
     StatusOr<std::unique_ptr<Model>> model =
         entry.factory(std::move(data), options);
     if (model.ok()) {
+      // A factory's own contract (it returns a model or a status), whatever
+      // the data: a breach is a bug in the factory.
       CHECK(*model != nullptr) << "model '" << name << "': null model";
       CHECK_EQ((*model)->name(), name) << "model registered under another name";
     }

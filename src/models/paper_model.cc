@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "Eigen/Cholesky"
@@ -211,7 +212,11 @@ Eigen::VectorXd PaperModel::CoefficientsFromParameters(const double* x) const {
 
 StatusOr<Eigen::VectorXd> PaperModel::ParametersFromCoefficients(
     const Eigen::VectorXd& b, const double* /*p*/) const {
-  CHECK_EQ(b.size(), kNumPhysicalParameters);
+  if (b.size() != kNumPhysicalParameters) {
+    return InvalidArgumentError("paper coefficients b have " +
+                                std::to_string(b.size()) +
+                                " entries; required 4");
+  }
   StatusOr<ImuParameters> params =
       CoefficientsToParameters(Eigen::Vector4d(b), data().gravity);
   if (!params.ok()) return params.status();

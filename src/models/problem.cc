@@ -11,6 +11,67 @@
 #include "glog/logging.h"
 
 namespace imusysid {
+namespace {
+
+// Every column SelectSamples and Validate read: the required ones by name,
+// the optional ones (f_z, theta, the fitted mask, the 3-D motion) when
+// present. Sizes only; Validate adds the values.
+Status CheckColumnSizes(const ProblemData& data) {
+  const std::size_t n = data.t_s.size();
+  auto check = [&](std::size_t size, const std::string& name) -> Status {
+    if (size == n) return Status::Ok();
+    std::ostringstream msg;
+    msg << data.source << ": problem column '" << name << "' has " << size
+        << " samples, t has " << n;
+    return InvalidArgumentError(msg.str());
+  };
+  IMUSYSID_RETURN_IF_ERROR(check(data.f_x.size(), "f"));
+  if (!data.f_z.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(check(data.f_z.size(), "f_z"));
+  }
+  IMUSYSID_RETURN_IF_ERROR(check(data.omega.size(), "omega"));
+  IMUSYSID_RETURN_IF_ERROR(check(data.omega_dot.size(), "omega_dot"));
+  if (!data.theta.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(check(data.theta.size(), "theta"));
+  }
+  IMUSYSID_RETURN_IF_ERROR(check(data.v.size(), "v"));
+  const Motion3d& m = data.motion;
+  if (!m.fitted.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(check(m.fitted.size(), "fitted"));
+  }
+  if (!m.empty()) {
+    const std::pair<const Motion3d::Axes*, const char*> axes[] = {
+        {&m.f, "f"},
+        {&m.omega, "omega"},
+        {&m.omega_dot, "omega_dot"},
+        {&m.velocity, "velocity"},
+        {&m.north, "north"},
+        {&m.east, "east"}};
+    for (const auto& [a, name] : axes) {
+      for (std::size_t i = 0; i < 3; ++i) {
+        IMUSYSID_RETURN_IF_ERROR(
+            check((*a)[i].size(), std::string(name) + "_" + "xyz"[i]));
+      }
+    }
+  } else {
+    // SelectSamples copies every non-empty axis, so a partly filled motion
+    // must match t as well.
+    for (std::size_t i = 0; i < 3; ++i) {
+      for (const auto* axis :
+           {&m.omega, &m.omega_dot, &m.velocity, &m.north, &m.east}) {
+        if (!(*axis)[i].empty()) {
+          IMUSYSID_RETURN_IF_ERROR(check((*axis)[i].size(), "motion"));
+        }
+      }
+      if (!m.f[i].empty()) {
+        IMUSYSID_RETURN_IF_ERROR(check(m.f[i].size(), "motion"));
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
 
 Status ProblemData::Validate() const {
   const std::size_t n = t_s.size();
@@ -74,11 +135,24 @@ Status ProblemData::Validate() const {
   return Status::Ok();
 }
 
-ProblemData SelectSamples(const ProblemData& data,
-                          std::size_t begin,
-                          std::size_t end,
-                          std::size_t step) {
-  CHECK(begin <= end && end <= data.size() && step >= 1);
+StatusOr<ProblemData> SelectSamples(const ProblemData& data,
+                                    std::size_t begin,
+                                    std::size_t end,
+                                    std::size_t step) {
+  const std::size_t n = data.size();
+  if (!(begin <= end && end <= n)) {
+    std::ostringstream msg;
+    msg << "SelectSamples: begin = " << begin << ", end = " << end
+        << "; required begin <= end <= size() = " << n;
+    return InvalidArgumentError(msg.str());
+  }
+  if (step < 1) {
+    return InvalidArgumentError(
+        "SelectSamples: step = " + std::to_string(step) + "; required >= 1");
+  }
+  // Only the sizes matter here (values are copied, not judged): a column
+  // shorter than t would be read past its end.
+  IMUSYSID_RETURN_IF_ERROR(CheckColumnSizes(data));
   auto pick = [&](const std::vector<double>& x) {
     std::vector<double> y;
     if (x.empty()) return y;
@@ -137,6 +211,7 @@ bool DenseTriangularFactor(const LinearStructure& structure,
 }
 
 Model::Model(std::shared_ptr<const ProblemData> data) : data_(std::move(data)) {
+  // ModelRegistry::Create refuses null data before any factory runs.
   CHECK(data_ != nullptr);
 }
 
@@ -160,6 +235,9 @@ bool Model::ResidualsWithJacobianColumns(const double* x,
   if (!Residuals(x, residuals, full.data())) return false;
   for (std::size_t j = 0; j < columns.size(); ++j) {
     const auto column = static_cast<std::size_t>(columns[j]);
+    // Column indices come from code (a LinearStructure's
+    // nonlinear_parameters()), never from data: one out of range is a bug
+    // like a short output buffer, which cannot be checked at all.
     CHECK_LT(column, p);
     double* out = jacobian + j * n;
     for (std::size_t k = 0; k < n; ++k) out[k] = full[k * p + column];
@@ -242,14 +320,22 @@ Status Problem::SetInitialGuess(const Eigen::VectorXd& x) {
         << model_->name() << "' has " << num_parameters() << " parameters";
     return InvalidArgumentError(msg.str());
   }
-  if (!x.allFinite()) return InvalidArgumentError("initial guess not finite");
+  const auto& info = model_->parameter_info();
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i])) {
+      std::ostringstream msg;
+      msg << "initial guess for " << info[static_cast<std::size_t>(i)].name
+          << " = " << x[i] << "; required finite";
+      return InvalidArgumentError(msg.str());
+    }
+  }
   initial_guess_ = x;
   return Status::Ok();
 }
 
-Problem Problem::WithInitialGuess(const Eigen::VectorXd& x) const {
+StatusOr<Problem> Problem::WithInitialGuess(const Eigen::VectorXd& x) const {
   Problem copy(*this);
-  CHECK(copy.SetInitialGuess(x).ok());
+  IMUSYSID_RETURN_IF_ERROR(copy.SetInitialGuess(x));
   return copy;
 }
 
@@ -263,6 +349,7 @@ double Problem::Cost(const double* x) const {
 }
 
 bool Problem::CostBatch(const double* xs, int count, double* costs) const {
+  // `count` is the caller's buffer length (rows of xs and costs).
   CHECK_GE(count, 0);
   counters_->cost.fetch_add(count, std::memory_order_relaxed);
   if (count == 0) return true;
@@ -304,6 +391,7 @@ SeparableOutcome Problem::SeparablePoint(const double* p,
                                          const CoefficientSolve& solve,
                                          Eigen::VectorXd* x) const {
   const LinearStructure* structure = model_->linear_structure();
+  // Only estimators whose Supports() asked for the capability get here.
   CHECK(structure != nullptr)
       << "model '" << model_->name() << "' has no linear structure";
   CHECK(x != nullptr);

@@ -154,6 +154,7 @@ bool Rigid3dImuModel::Evaluate(const double* x,
   } else if (jacobian != nullptr) {
     for (std::size_t k = 0; k < columns->size(); ++k) {
       const int parameter = (*columns)[k];
+      // Indices come from code (nonlinear_parameters()), never from data.
       CHECK(parameter >= 0 && parameter < kNumRigid3dParameters) << parameter;
       Eigen::Map<Eigen::VectorXd> out(
           jacobian + k * static_cast<std::size_t>(rows), rows);

@@ -80,6 +80,21 @@ StatusOr<EstimatorTrack> ReadEstimator(const FlightLog& log) {
         "; log the estimator's outputs (PX4 logs them by default) and fly "
         "again");
   }
+  // Every channel read below must hold one value per IMU sample (the readers
+  // interpolate them so; a caller's own FlightLog may not).
+  std::vector<const Channel*> used(v, v + 3);
+  if (have_q) {
+    used.insert(used.end(), q, q + 4);
+  } else {
+    used.insert(used.end(), euler, euler + 3);
+  }
+  for (const Channel* c : used) {
+    if (c->values.size() != n) {
+      return InvalidArgumentError(log.source + ": channel '" + c->name +
+                                  "' has " + std::to_string(c->values.size()) +
+                                  " samples, t has " + std::to_string(n));
+    }
+  }
   for (std::size_t k = 0; k < n; ++k) {
     Eigen::Vector4d value;
     if (have_q) {

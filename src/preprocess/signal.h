@@ -110,7 +110,8 @@ namespace internal {
 // The FIR weights of SavitzkyGolayDerivative's centred window on a uniform
 // grid of step dt: the slope at sample k is Σ_{j=1..h} w[j] (x[k+j] − x[k−j])
 // / dt (w[0] = 0; the weights are odd in j). CHECKs 1 ≤ degree ≤ 4,
-// half_width ≥ 1.
+// half_width ≥ 1: its only caller, SavitzkyGolayDerivative, has returned
+// InvalidArgument for them already.
 std::vector<double> SavitzkyGolayCentredWeights(int half_width, int degree);
 // SavitzkyGolayDerivative with the per-sample solve everywhere, also on a
 // uniform grid (the reference the FIR is tested against).
@@ -123,13 +124,17 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivativeGeneral(
 
 // Cumulative trapezoid: y[0] = 0, y[k] = y[k−1] + (t[k]−t[k−1])(x[k]+x[k−1])/2.
 // Works on any increasing t. For smooth x the error after time T is at most
-// T · max(dt)² · max|x''| / 12. CHECKs that t and x have the same size.
+// T · max(dt)² · max|x''| / 12. CHECKs that t and x have the same size:
+// internal, its callers pass columns of one validated log or problem
+// (Preprocess's CheckLog), never sizes from input.
 std::vector<double> CumulativeTrapezoid(const std::vector<double>& t,
                                         const std::vector<double>& x);
 
 // Moving statistics over the centred time window [t[k] − w/2, t[k] + w/2]
 // (clipped at the ends, so edge windows hold fewer samples). O(n) with prefix
-// sums of the mean-removed signal. CHECK on size mismatch or w ≤ 0.
+// sums of the mean-removed signal. CHECK on size mismatch or w ≤ 0:
+// internal, called on columns of one validated log with constant windows
+// (detect_segments.cc), never with sizes or windows from input.
 std::vector<double> MovingMean(const std::vector<double>& t,
                                const std::vector<double>& x,
                                double window_s);

@@ -87,6 +87,17 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
         "the " + result.estimator + " fit of model '" + result.model +
         "' has no planar lever arm (r, beta) and tilt to emit");
   }
+  if (!result.parameters.head(kNumPhysicalParameters).allFinite()) {
+    return FailedPreconditionError(
+        "the " + result.estimator +
+        " fit's r, beta, alpha or mu is not finite: nothing to emit");
+  }
+  if (format == EmitFormat::kArduPilot &&
+      (imu_instance < 0 || imu_instance > 2)) {
+    return InvalidArgumentError(
+        "imu_instance = " + std::to_string(imu_instance) +
+        "; required 0, 1 or 2 (INS_POS1..3)");
+  }
   const bool roll = plane == "roll";
   if (!roll && plane != "pitch") {
     return FailedPreconditionError("the fit's plane '" + plane +

@@ -27,14 +27,23 @@ void FinalizeResult(const Problem& problem,
   const Model& model = problem.model();
   const int p = model.num_parameters();
   const int n = model.num_residuals();
-  CHECK_EQ(result->parameters.size(), p) << "estimator returned wrong size";
+  result->standard_errors =
+      Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
+  // A result built by hand (or read back) may not fit the problem: the
+  // failure channel of a result, not an abort.
+  if (result->parameters.size() != p) {
+    std::ostringstream msg;
+    msg << "result parameters have " << result->parameters.size()
+        << " entries; required " << p << " (model '" << model.name() << "')";
+    result->termination = Termination::kFailure;
+    result->message = msg.str();
+    return;
+  }
   const double* x = result->parameters.data();
 
   Eigen::VectorXd residuals(n);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(n,
                                                                              p);
-  result->standard_errors =
-      Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
   // Evaluated on the model directly: bookkeeping, not search, so not counted.
   if (!model.Residuals(x, residuals.data(), jac.data())) {
     result->termination = Termination::kFailure;

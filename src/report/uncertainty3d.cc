@@ -103,7 +103,9 @@ bool SliceFactor(std::string_view model_name,
                  std::size_t i0,
                  std::size_t i1,
                  Eigen::MatrixXd* r) {
-  auto piece = std::make_shared<const ProblemData>(SelectSamples(data, i0, i1));
+  StatusOr<ProblemData> slice = SelectSamples(data, i0, i1);
+  if (!slice.ok()) return false;
+  auto piece = std::make_shared<const ProblemData>(std::move(slice).value());
   StatusOr<std::unique_ptr<Model>> model = CreateModel(model_name, piece);
   if (!model.ok()) return false;
   const LinearStructure* structure = (*model)->linear_structure();
@@ -177,6 +179,9 @@ std::vector<std::vector<unsigned char>> LeaveBlockOutMasks(
     const ProblemData& data, int blocks) {
   const Motion3d& m = data.motion;
   const std::size_t n = data.size();
+  std::vector<std::vector<unsigned char>> none;
+  // A mask that does not cover the samples marks none of them.
+  if (!m.fitted.empty() && m.fitted.size() != n) return none;
   std::vector<std::size_t> fitted;
   for (std::size_t k = 0; k < n; ++k) {
     if (m.fitted.empty() || m.fitted[k] != 0) fitted.push_back(k);

@@ -237,10 +237,12 @@ std::string Truth3dJson(const Simulator3dOptions& o,
   return j.dump(2) + "\n";
 }
 
-std::string FormatSimulated3dCsv(const FlightLog& log) {
+StatusOr<std::string> FormatSimulated3dCsv(const FlightLog& log) {
   CsvWriteOptions options;
   options.frame = Frame::kFrd;
-  const std::string text = FormatCsvLog(log, options);
+  StatusOr<std::string> formatted = FormatCsvLog(log, options);
+  if (!formatted.ok()) return formatted.status();
+  const std::string& text = *formatted;
   // The writer spells NaN "nan" (or "-nan"), which no reader takes for a
   // missing value; a cell that is absent is written empty instead. Only the
   // estimator columns can hold NaN, and no other cell can start with 'n' or

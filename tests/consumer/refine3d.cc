@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 int main() {
   imusysid::StatusOr<imusysid::Simulator3dOptions> options =
@@ -25,10 +26,11 @@ int main() {
 
   imusysid::IdentifyOptions identify;
   identify.model = imusysid::kRigid3dModelName;
+  imusysid::StatusOr<std::string> csv =
+      imusysid::FormatSimulated3dCsv(flight->logs.front());
+  if (!csv.ok()) return 1;
   const auto first = imusysid::Identify(
-      imusysid::IdentifyInput::LogBytes(
-          imusysid::FormatSimulated3dCsv(flight->logs.front()), "figure8_3d"),
-      identify);
+      imusysid::IdentifyInput::LogBytes(*csv, "figure8_3d"), identify);
   if (!first.ok() || first->imus.size() != 1 || first->data == nullptr) {
     std::fprintf(stderr,
                  "identify: %s\n",
