@@ -5,8 +5,8 @@
 #include <sstream>
 #include <thread>
 
-#include "imusysid/model.h"
-#include "imusysid/registry.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/registry.h"
 
 namespace imusysid {
 namespace bench {

@@ -11,10 +11,10 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/estimator.h"
+#include "imusysid/estimator_options.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/identify.h"
 #include "imusysid/log.h"
-#include "imusysid/model.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/status.h"
 

@@ -5,7 +5,7 @@
 #include <thread>
 #include <vector>
 
-#include "imusysid/format.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace bench {

@@ -12,10 +12,10 @@
 
 #include "Eigen/Core"
 #include "benchmark/benchmark.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "src/models/consistent_batch.h"
 #include "src/models/consistent_model.h"
 

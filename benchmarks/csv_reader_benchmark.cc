@@ -21,6 +21,8 @@
 #include "benchmark/benchmark.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
+#include "imusysid/parameters.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/problem_io.h"
 
 namespace imusysid {

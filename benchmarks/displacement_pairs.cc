@@ -1,6 +1,5 @@
 #include "benchmarks/displacement_pairs.h"
 
-#include "imusysid/estimator.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
 

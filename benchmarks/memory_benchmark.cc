@@ -22,14 +22,14 @@
 #include <vector>
 
 #include "benchmark/benchmark.h"
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
-#include "imusysid/model.h"
 #include "imusysid/preprocess.h"
-#include "imusysid/problem.h"
 #include "imusysid/problem_io.h"
-#include "imusysid/registry.h"
 #include "imusysid/simulate.h"
 
 namespace imusysid {

@@ -15,9 +15,9 @@
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
 #include "benchmarks/bench_internal.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "imusysid/report.h"
 
 namespace imusysid {

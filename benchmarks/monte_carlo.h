@@ -14,8 +14,8 @@
 #include "benchmarks/bench_config.h"
 #include "benchmarks/prepared_log.h"
 #include "benchmarks/truth_sidecar.h"
-#include "imusysid/estimator.h"
-#include "imusysid/model.h"
+#include "imusysid/estimator_options.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/simulate.h"
 #include "imusysid/status.h"
 

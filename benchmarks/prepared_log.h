@@ -13,7 +13,6 @@
 #include "benchmarks/truth_sidecar.h"
 #include "imusysid/log.h"
 #include "imusysid/preprocess.h"
-#include "imusysid/problem.h"
 #include "imusysid/simulate.h"
 #include "imusysid/status.h"
 

@@ -8,11 +8,11 @@
 #include <system_error>
 
 #include "benchmarks/bench_internal.h"
-#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/report.h"
 #include "nlohmann/json.hpp"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace bench {

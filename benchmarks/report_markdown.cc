@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "benchmarks/bench_internal.h"
-#include "imusysid/format.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace bench {

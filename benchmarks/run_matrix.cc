@@ -14,8 +14,6 @@
 #include "imusysid/identify.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "imusysid/report.h"
 
 namespace imusysid {

@@ -6,9 +6,9 @@
 #include <utility>
 
 #include "benchmarks/bench_internal.h"
-#include "imusysid/model.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 
 namespace imusysid {
 namespace bench {

@@ -11,9 +11,8 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/estimator.h"
-#include "imusysid/model.h"
-#include "imusysid/problem.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

@@ -1,4 +1,4 @@
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 
 #include <algorithm>
 #include <chrono>

@@ -90,8 +90,8 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/estimator.h"
-#include "imusysid/problem.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "estimators/internal/budget.h"
-#include "imusysid/estimator.h"
-#include "imusysid/problem.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

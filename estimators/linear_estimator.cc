@@ -8,9 +8,9 @@
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
-#include "imusysid/format.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

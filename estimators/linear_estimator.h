@@ -13,7 +13,7 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 
 namespace imusysid {
 

@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/parameter_info.h"
-#include "imusysid/problem.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

@@ -9,8 +9,8 @@
 #include <sstream>
 #include <utility>
 
-#include "imusysid/estimator.h"
-#include "imusysid/format.h"
+#include "imusysid/extend/estimator.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -1,4 +1,4 @@
-#include "imusysid/registry.h"
+#include "imusysid/extend/registry.h"
 
 #include <sstream>
 

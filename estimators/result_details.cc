@@ -1,7 +1,7 @@
 // ResultDetails: the typed details of a result and their one formatter.
 
-#include "imusysid/format.h"
 #include "imusysid/result.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 
 namespace imusysid {
 

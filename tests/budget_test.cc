@@ -12,9 +12,8 @@
 
 #include "Eigen/Core"
 #include "gtest/gtest.h"
-#include "imusysid/estimator.h"
-#include "imusysid/model.h"
-#include "imusysid/problem.h"
+#include "imusysid/estimator_options.h"
+#include "imusysid/extend/problem.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

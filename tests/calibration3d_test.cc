@@ -12,8 +12,6 @@
 
 #include "gtest/gtest.h"
 #include "imusysid/preprocess3d.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "imusysid/simulate3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
 

@@ -8,11 +8,11 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/format.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/paper_reference.h"
-#include "imusysid/registry.h"
 #include "nlohmann/json.hpp"
+#include "src/tools/format.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

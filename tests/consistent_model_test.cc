@@ -9,9 +9,9 @@
 #include "Eigen/Core"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
 #include "src/models/consistent_batch.h"
 #include "src/models/consistent_model.h"
 #include "tests/test_util.h"

@@ -14,7 +14,7 @@
 
 #include "Eigen/Dense"
 #include "gtest/gtest.h"
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 #include "imusysid/parameters.h"
 #include "tests/test_util.h"
 

@@ -9,8 +9,8 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/estimator.h"
-#include "imusysid/registry.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/registry.h"
 
 namespace imusysid {
 namespace {

@@ -21,7 +21,7 @@ check() {
     bad=1
   fi
 }
-public=(include/imusysid/*.h)
+public=(include/imusysid/*.h include/imusysid/extend/*.h)
 library=$(find src estimators -name '*.cc' -o -name '*.h' | grep -v '^src/cli/')
 bench_lib=$(ls benchmarks/*.cc benchmarks/*.h | grep -v '_benchmark\.cc$')
 bench_bin=$(ls benchmarks/*_benchmark.cc)
@@ -30,11 +30,37 @@ check "public headers include only public headers, Eigen and nlohmann_json" \
   'src/|estimators/|benchmarks/|tests/|ceres/|glog/|gflags/' "${public[@]}"
 check "the library does not reach up into the apps or the benchmarks" \
   'src/cli/|benchmarks/|tests/|gflags/' $library
-allowed='src/report/(figures|gnuplot)\.h' check \
-  "the benchmark library uses the public headers and the report figures only" \
+allowed='src/tools/[a-z0-9_]+\.h|src/report/(figures|gnuplot)\.h' check \
+  "the benchmark library uses the public headers and the tool helpers only" \
   'src/|estimators/|tests/|gflags/' $bench_lib
 check "benchmark binaries include nothing from the CLI or the tests" \
   'src/cli/|tests/' $bench_bin
 check "tests include nothing from the CLI" 'src/cli/' $tests
+# Every header under include/ is installed (imusysid/ and imusysid/extend/,
+# CMakeLists.txt), and an installed header includes only installed headers,
+# Eigen, nlohmann_json and the standard library: never an internal one
+# (src/tools, ...), which a consumer of the package does not have.
+while read -r h; do
+  case $h in
+    include/imusysid/extend/*/*) ;;
+    include/imusysid/extend/*.h) continue ;;
+    include/imusysid/*/*) ;;
+    include/imusysid/*.h) continue ;;
+  esac
+  echo "layering: $h is under include/ but not installed"
+  bad=1
+done < <(find include -name '*.h' | sort)
+while IFS=: read -r file line inc; do
+  path=$(sed -E 's/^#include [<"]([^">]+)[">].*/\1/' <<<"$inc")
+  case $path in
+    imusysid/*) [ -f "include/$path" ] && continue ;;
+    Eigen/* | nlohmann/*) continue ;;
+    */*) ;;
+    *) continue ;;  # the standard library
+  esac
+  echo "layering: installed headers include only installed headers:"
+  echo "  $file:$line:$inc"
+  bad=1
+done < <(grep -HnE '^#include [<"]' "${public[@]}" || true)
 if [ "$bad" = 0 ]; then echo "layering: ok"; fi
 exit $bad

@@ -13,11 +13,11 @@
 #include "Eigen/Dense"
 #include "estimators/linear_estimator.h"
 #include "gtest/gtest.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
 #include "imusysid/rigid3d.h"
 #include "tests/test_util.h"
 

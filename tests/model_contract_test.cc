@@ -17,7 +17,7 @@
 #include "Eigen/Dense"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "src/sim/synthetic_flight.h"

@@ -17,12 +17,12 @@
 #include "Eigen/Dense"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/estimator.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

@@ -15,9 +15,9 @@
 
 #include "Eigen/Core"
 #include "gtest/gtest.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

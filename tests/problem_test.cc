@@ -1,4 +1,4 @@
-#include "imusysid/problem.h"
+#include "imusysid/extend/problem.h"
 
 #include <cmath>
 #include <limits>
@@ -9,7 +9,7 @@
 #include "Eigen/Dense"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/parameters.h"
 #include "src/sim/synthetic_flight.h"
 #include "tests/test_util.h"

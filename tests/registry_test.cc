@@ -4,7 +4,7 @@
 // model follows from the model's capabilities, also for a model the library
 // has never heard of.
 
-#include "imusysid/registry.h"
+#include "imusysid/extend/registry.h"
 
 #include <memory>
 #include <string>
@@ -14,9 +14,9 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
 #include "src/sim/synthetic_flight.h"
 #include "tests/test_util.h"
 

@@ -14,10 +14,10 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/preprocess3d.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 

@@ -1,7 +1,7 @@
 // LongestOrderedCsvPiece: a CSV log holding several recordings keeps the
 // longest one whose time increases, with a note; a clean file is untouched.
 
-#include "imusysid/sessions.h"
+#include "src/tools/sessions.h"
 
 #include <string>
 

@@ -13,11 +13,11 @@
 
 #include "gtest/gtest.h"
 #include "imusysid/displacement.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/log.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/preprocess.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "imusysid/simulate.h"
 #include "tests/test_util.h"
 

@@ -9,9 +9,9 @@
 #include <string>
 
 #include "Eigen/Core"
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/paper_reference.h"
-#include "imusysid/problem.h"
 #include "nlohmann/json.hpp"
 #include "src/sim/synthetic_flight.h"
 

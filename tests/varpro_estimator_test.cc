@@ -10,10 +10,10 @@
 #include "Eigen/Dense"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
 #include "src/models/consistent_model.h"
 #include "tests/test_util.h"
 

@@ -8,8 +8,8 @@
 #include <chrono>
 #include <cstdint>
 
-#include "imusysid/estimator.h"
-#include "imusysid/problem.h"
+#include "imusysid/estimator_options.h"
+#include "imusysid/extend/problem.h"
 
 namespace imusysid {
 namespace internal {

@@ -10,7 +10,7 @@
 
 #include "Eigen/Core"
 #include "estimators/internal/thread_pool.h"
-#include "imusysid/problem.h"
+#include "imusysid/extend/problem.h"
 
 namespace imusysid {
 namespace internal {

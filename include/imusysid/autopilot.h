@@ -12,8 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/estimator.h"
-#include "imusysid/problem.h"
+#include "imusysid/result.h"
 #include "imusysid/status.h"
 #include "nlohmann/json.hpp"
 

@@ -7,7 +7,6 @@
 #define IMUSYSID_IDENTIFIABILITY_H_
 
 #include "imusysid/covariance.h"
-#include "imusysid/problem.h"
 #include "imusysid/result.h"
 
 namespace imusysid {
@@ -27,21 +26,6 @@ inline constexpr double kIllConditioned = 1e6;
 inline constexpr double kMaxRelativeStderrR = 0.5;
 inline constexpr double kMinAbsoluteStderrR = 0.02;  // m
 inline constexpr double kMaxStderrBetaDeg = 20.0;
-
-// Computes final_cost, rmse, standard_errors (of the given covariance type),
-// condition_number and the common warnings for result->parameters; the
-// not_identifiable rule only for a model with a planar lever arm (its
-// parameters' roles; HasPlanarLeverArm), whatever its name. Called by
-// Estimator::Estimate with EstimatorOptions::covariance; exposed for tests and
-// for callers that build results by hand. Does not count evaluations. When
-// result->parameters has the wrong size or the residuals are not finite
-// there, sets termination to kFailure with a message saying why (and the
-// standard errors to NaN) instead.
-void FinalizeResult(const Problem& problem,
-                    CovarianceType covariance,
-                    EstimateResult* result);
-// The same with the default covariance type (kHac).
-void FinalizeResult(const Problem& problem, EstimateResult* result);
 
 // True when the IMU's placement can be reported: FinalizeResult found no
 // not_identifiable warning (always, for a model without a planar lever arm).

@@ -17,18 +17,20 @@
 #include <vector>
 
 #include "imusysid/autopilot.h"
-#include "imusysid/estimator.h"
+#include "imusysid/estimator_options.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/log.h"
-#include "imusysid/model.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/report.h"
 #include "imusysid/result.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/status.h"
 
 namespace imusysid {
+
+class Problem;  // imusysid/extend/problem.h: what configure_problem edits
 
 // What Identify reads: a flight log (a file, or its bytes), a problem file,
 // or samples a caller preprocessed itself (the refinement-stage use).

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "imusysid/log.h"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

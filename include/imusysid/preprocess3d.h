@@ -16,7 +16,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/log.h"
-#include "imusysid/model.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

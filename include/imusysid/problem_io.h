@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

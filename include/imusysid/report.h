@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "imusysid/estimator.h"
-#include "imusysid/format.h"
 #include "imusysid/identifiability.h"
 #include "nlohmann/json.hpp"
 

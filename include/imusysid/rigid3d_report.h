@@ -13,10 +13,10 @@
 
 #include "Eigen/Core"
 #include "imusysid/autopilot.h"
-#include "imusysid/estimator.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/preprocess3d.h"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/result.h"
 #include "imusysid/rigid3d.h"
 #include "imusysid/status.h"

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/problem.h"
-#include "imusysid/registry.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/rigid3d.h"
 
 namespace imusysid {

@@ -14,9 +14,9 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/estimator.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/preprocess3d.h"
+#include "imusysid/result.h"
 #include "imusysid/status.h"
 #include "src/preprocess/preprocess3d_internal.h"
 

@@ -15,7 +15,6 @@
 
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
-#include "imusysid/model.h"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"

@@ -15,7 +15,7 @@
 #include <sstream>
 
 #include "imusysid/log.h"
-#include "imusysid/safe_text.h"
+#include "src/tools/safe_text.h"
 
 DEFINE_string(format,
               "table",

@@ -15,6 +15,7 @@
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace cli {

@@ -9,11 +9,11 @@
 #include <limits>
 #include <sstream>
 
-#include "imusysid/fit_json.h"
-#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
+#include "src/tools/fit_json.h"
+#include "src/tools/format.h"
 
 DEFINE_double(r0,
               std::numeric_limits<double>::quiet_NaN(),

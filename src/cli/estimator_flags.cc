@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "glog/logging.h"
-#include "imusysid/registry.h"
+#include "imusysid/extend/registry.h"
 
 namespace imusysid {
 namespace cli {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

@@ -6,12 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem_io.h"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace cli {

@@ -12,15 +12,14 @@
 #include <vector>
 
 #include "imusysid/autopilot.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
 #include "imusysid/preprocess.h"
-#include "imusysid/problem.h"
 #include "imusysid/problem_io.h"
-#include "imusysid/registry.h"
 #include "imusysid/report.h"
-#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
@@ -28,6 +27,8 @@
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
 #include "src/report/figures.h"
+#include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace cli {

@@ -11,12 +11,13 @@
 #include "imusysid/log_reader.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
-#include "imusysid/sessions.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/fit3d.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
+#include "src/tools/format.h"
+#include "src/tools/sessions.h"
 
 namespace imusysid {
 namespace cli {

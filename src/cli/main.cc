@@ -13,10 +13,10 @@
 
 #include "gflags/gflags.h"
 #include "glog/logging.h"
-#include "imusysid/safe_text.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace cli {

@@ -1,7 +1,7 @@
 #include "src/cli/model_names.h"
 
+#include "imusysid/extend/model.h"
 #include "imusysid/identify.h"
-#include "imusysid/model.h"
 
 namespace imusysid {
 namespace cli {

@@ -10,12 +10,12 @@
 #include <limits>
 #include <sstream>
 
-#include "imusysid/format.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/tools/format.h"
 
 DEFINE_string(scenario,
               "paper_test1",

@@ -16,10 +16,10 @@
 #include <system_error>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/log.h"
-#include "imusysid/safe_text.h"
 #include "src/io/csv_text.h"
+#include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace {

@@ -7,8 +7,8 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/log.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "imusysid/safe_text.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace internal {

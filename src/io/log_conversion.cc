@@ -4,7 +4,7 @@
 #include <cmath>
 #include <utility>
 
-#include "imusysid/format.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

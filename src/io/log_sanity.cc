@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "imusysid/format.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -9,9 +9,9 @@
 #include <string>
 #include <system_error>
 
-#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "src/io/csv_text.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

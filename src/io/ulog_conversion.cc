@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/log_reader.h"
 #include "src/io/log_conversion.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

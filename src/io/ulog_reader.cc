@@ -8,9 +8,9 @@
 #include <unordered_map>
 #include <utility>
 
-#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "imusysid/ulog.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

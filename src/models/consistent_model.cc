@@ -9,6 +9,9 @@
 #include <utility>
 
 #include "glog/logging.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/parameter_info.h"
+#include "imusysid/problem_data.h"
 #include "src/models/paper_model.h"
 
 namespace imusysid {

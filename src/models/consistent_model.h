@@ -12,8 +12,10 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "imusysid/extend/model.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
 #include "src/models/consistent_batch.h"
 

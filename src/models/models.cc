@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "glog/logging.h"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/rigid3d.h"
 #include "src/models/consistent_model.h"
 #include "src/models/paper_model.h"

@@ -9,7 +9,10 @@
 #include "Eigen/QR"
 #include "ceres/jet.h"
 #include "glog/logging.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
+#include "imusysid/problem_data.h"
 
 namespace imusysid {
 namespace {

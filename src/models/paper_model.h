@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "imusysid/extend/model.h"
+#include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

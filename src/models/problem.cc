@@ -1,4 +1,4 @@
-#include "imusysid/problem.h"
+#include "imusysid/extend/problem.h"
 
 #include <algorithm>
 #include <cmath>

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/status.h"
 
 namespace imusysid {

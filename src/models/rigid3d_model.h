@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/rigid3d.h"
 #include "imusysid/status.h"
 

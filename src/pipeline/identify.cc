@@ -4,8 +4,8 @@
 #include <utility>
 #include <vector>
 
+#include "imusysid/extend/registry.h"
 #include "imusysid/log_reader.h"
-#include "imusysid/registry.h"
 #include "imusysid/segments.h"
 #include "src/pipeline/identify_internal.h"
 

@@ -9,12 +9,13 @@
 #include <utility>
 #include <vector>
 
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
-#include "imusysid/registry.h"
-#include "imusysid/sessions.h"
 #include "src/pipeline/identify_internal.h"
+#include "src/tools/sessions.h"
 
 namespace imusysid {
 namespace internal {

@@ -8,15 +8,16 @@
 #include <vector>
 
 #include "imusysid/autopilot.h"
+#include "imusysid/extend/problem.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem_io.h"
-#include "imusysid/registry.h"
-#include "imusysid/safe_text.h"
 #include "imusysid/segments.h"
 #include "src/pipeline/identify_internal.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace internal {

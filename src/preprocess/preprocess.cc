@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "src/preprocess/preprocess_internal.h"
 #include "src/preprocess/signal.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

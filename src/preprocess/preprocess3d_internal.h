@@ -13,12 +13,12 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/format.h"
 #include "imusysid/log.h"
-#include "imusysid/model.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

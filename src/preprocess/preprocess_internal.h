@@ -13,11 +13,10 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/log.h"
 #include "imusysid/preprocess.h"
-#include "imusysid/problem.h"
 #include "imusysid/status.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

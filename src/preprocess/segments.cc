@@ -6,8 +6,8 @@
 #include <fstream>
 #include <string_view>
 
-#include "imusysid/format.h"
 #include "imusysid/log_reader.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 

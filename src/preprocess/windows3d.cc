@@ -9,12 +9,12 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
 #include "src/preprocess/signal.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "Eigen/Dense"
-#include "imusysid/format.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
 #include "src/report/parameter_file.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

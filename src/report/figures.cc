@@ -9,9 +9,12 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/format.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/parameters.h"
+#include "imusysid/problem_data.h"
+#include "imusysid/result.h"
 #include "src/report/gnuplot.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace report {

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "imusysid/estimator.h"
 #include "imusysid/log.h"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
+#include "imusysid/result.h"
 #include "imusysid/simulate.h"
 #include "imusysid/status.h"
 

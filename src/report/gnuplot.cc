@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "imusysid/format.h"
 #include "imusysid/log.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace report {

@@ -7,7 +7,7 @@
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 #include "imusysid/parameter_info.h"
 
 namespace imusysid {

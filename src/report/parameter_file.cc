@@ -2,7 +2,7 @@
 
 #include <sstream>
 
-#include "imusysid/format.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

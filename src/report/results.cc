@@ -9,6 +9,7 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "Eigen/QR"
-#include "imusysid/format.h"
-#include "imusysid/model.h"
 #include "imusysid/parameters.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/rigid3d.h"
 #include "src/report/parameter_file.h"
 #include "src/report/uncertainty3d.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "Eigen/QR"
-#include "imusysid/estimator.h"
-#include "imusysid/problem.h"
+#include "imusysid/extend/estimator.h"
+#include "imusysid/extend/problem.h"
 #include "imusysid/rigid3d_report.h"
 
 namespace imusysid {

@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "Eigen/Core"
-#include "imusysid/model.h"
+#include "imusysid/problem_data.h"
 
 namespace imusysid {
 namespace internal {

@@ -7,9 +7,9 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

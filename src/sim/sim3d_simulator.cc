@@ -12,11 +12,11 @@
 #include <string>
 #include <utility>
 
-#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
 #include "src/sim/sim3d_internal.h"
 #include "src/sim/simulator_internal.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -11,10 +11,10 @@
 #include <string>
 #include <utility>
 
-#include "imusysid/format.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate.h"
 #include "src/sim/simulator_internal.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

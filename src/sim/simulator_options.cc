@@ -8,10 +8,10 @@
 #include <string_view>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {

@@ -11,8 +11,8 @@
 #include <variant>
 #include <vector>
 
-#include "imusysid/format.h"
 #include "src/sim/simulator_internal.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace internal {

@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "Eigen/Core"
-#include "imusysid/problem.h"
+#include "imusysid/problem_data.h"
 
 namespace imusysid {
 namespace testing {

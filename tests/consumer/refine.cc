@@ -3,12 +3,12 @@
 // estimators through the public headers alone. Exits 0 when the derivative-
 // free nelder-mead reaches the closed form's OF (linear) within 1e-6
 // relative, the acceptance the estimators are held to.
-#include <imusysid/estimator.h>
+#include <imusysid/estimator_options.h>
+#include <imusysid/extend/model.h>
+#include <imusysid/extend/problem.h>
+#include <imusysid/extend/registry.h>
 #include <imusysid/log_reader.h>
-#include <imusysid/model.h>
 #include <imusysid/preprocess.h>
-#include <imusysid/problem.h>
-#include <imusysid/registry.h>
 
 #include <cmath>
 #include <cstdio>

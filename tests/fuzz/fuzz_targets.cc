@@ -3,11 +3,11 @@
 #include <string>
 #include <string_view>
 
-#include "imusysid/fit_json.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
 #include "imusysid/problem_io.h"
+#include "src/tools/fit_json.h"
 
 namespace imusysid {
 namespace fuzz {

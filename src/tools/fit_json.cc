@@ -1,10 +1,10 @@
-#include "imusysid/fit_json.h"
+#include "src/tools/fit_json.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "imusysid/format.h"
-#include "imusysid/safe_text.h"
+#include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace {

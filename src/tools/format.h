@@ -2,8 +2,8 @@
 // double into the digits people read (tables, reports, messages) or into
 // text that must read back exactly (settings, problem metadata).
 
-#ifndef IMUSYSID_FORMAT_H_
-#define IMUSYSID_FORMAT_H_
+#ifndef IMUSYSID_SRC_TOOLS_FORMAT_H_
+#define IMUSYSID_SRC_TOOLS_FORMAT_H_
 
 #include <string>
 
@@ -45,4 +45,4 @@ void AppendNumber(std::string* out, double value, int digits);
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_FORMAT_H_
+#endif  // IMUSYSID_SRC_TOOLS_FORMAT_H_

@@ -1,10 +1,10 @@
-// The measurement-model side: the preprocessed samples a fit consumes
-// (ProblemData), the Model interface that turns a parameter vector into
-// residuals, the capabilities a model may declare (LinearStructure,
-// compressed residuals) and the registry that builds a model by name.
+// For model authors: the Model interface that turns a parameter vector into
+// residuals over ProblemData (imusysid/problem_data.h), the capabilities a
+// model may declare (LinearStructure, compressed residuals) and the registry
+// that builds a model by name.
 
-#ifndef IMUSYSID_MODEL_H_
-#define IMUSYSID_MODEL_H_
+#ifndef IMUSYSID_EXTEND_MODEL_H_
+#define IMUSYSID_EXTEND_MODEL_H_
 
 #include <array>
 #include <cstdint>
@@ -18,68 +18,10 @@
 #include "Eigen/Core"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
+#include "imusysid/problem_data.h"
 #include "imusysid/status.h"
 
 namespace imusysid {
-
-// The 3-D motion a 3-D model (rigid3d) reads, one entry per sample, body frame
-// FRD (x forward, y right, z down; the autopilots' frame and the frame of the
-// IMU position they want), SI units. Empty for planar data.
-struct Motion3d {
-  using Axes = std::array<std::vector<double>, 3>;
-  Axes f;          // specific force (filtered), m/s²
-  Axes omega;      // angular rate, bias removed, filtered, rad/s
-  Axes omega_dot;  // its time derivative, rad/s²
-  Axes velocity;   // ground velocity in body axes, Rᵀ v_NED, m/s
-  Axes north;      // the NED north unit vector in body axes (row 0 of R)
-  Axes east;       // the NED east unit vector in body axes (row 1 of R)
-  // The wind (NED north, east; m/s) at which the quadratic drag's air
-  // velocity u = velocity − wind_n·north − wind_e·east is taken. Quadratic
-  // drag is not linear in the wind, so preprocessing iterates it to the
-  // fitted wind (Preprocess3d) and the model stays linear in the rest.
-  double quadratic_wind_n = 0.0;
-  double quadratic_wind_e = 0.0;
-  // Which samples give residuals (1) and which only carry an integration
-  // through (0): the IMU-only model integrates velocity over the whole span
-  // from rest but fits the flight windows alone. Empty: every sample.
-  std::vector<unsigned char> fitted;
-
-  bool empty() const { return f[0].empty(); }
-};
-
-// The samples of the fit segment after preprocessing, FLU body frame, SI units.
-// Every vector has size() entries. Sample 0 is the reference instant t_a (in
-// hover, just before the maneuver) where θ and v start at zero. Data for a
-// 3-D model may join several flight windows (t still increases); θ then
-// restarts at each window and `motion` carries what the model reads.
-struct ProblemData {
-  std::string source;             // log path or description, for messages
-  double gravity = kGravity;      // m/s²
-  std::vector<double> t_s;        // time, s, strictly increasing
-  std::vector<double> f_x;        // x specific force (filtered), m/s²
-  std::vector<double> f_z;        // z specific force (filtered), m/s²; may be
-                                  // empty when the source has none
-  std::vector<double> omega;      // y rate, bias removed, filtered, rad/s
-  std::vector<double> omega_dot;  // time derivative of omega, rad/s²
-  std::vector<double> theta;      // ∫ω dt from sample 0 (θ0 = 0), rad
-  std::vector<double> v;          // horizontal velocity used by the paper's
-                                  // model (equation 7 by default), m/s
-  Motion3d motion;                // 3-D models only; empty otherwise
-
-  std::size_t size() const { return t_s.size(); }
-  // Checks sizes agree, values are finite and t strictly increases.
-  Status Validate() const;
-};
-
-// Samples begin, begin + step, ... (< end) of `data`, every column (and the
-// 3-D motion, its wind and fitted mask) alike: a block for a jackknife or a
-// window, or a thinned copy for a search. InvalidArgument, naming the rule,
-// unless begin ≤ end ≤ size and step ≥ 1, or when a column's size differs
-// from t's (values are copied as they are, not validated).
-StatusOr<ProblemData> SelectSamples(const ProblemData& data,
-                                    std::size_t begin,
-                                    std::size_t end,
-                                    std::size_t step = 1);
 
 // A capability a model may declare (Model::linear_structure()): once its few
 // nonlinear parameters p are fixed, the prediction is linear in m
@@ -313,4 +255,4 @@ StatusOr<std::unique_ptr<Model>> CreateModel(
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_MODEL_H_
+#endif  // IMUSYSID_EXTEND_MODEL_H_

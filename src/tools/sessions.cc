@@ -1,4 +1,4 @@
-#include "imusysid/sessions.h"
+#include "src/tools/sessions.h"
 
 #include <cstdlib>
 #include <string>

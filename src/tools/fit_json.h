@@ -4,8 +4,8 @@
 // error naming the file and field instead of an exception from the JSON
 // library or a number outside what the flags accept (docs/failure-modes.md).
 
-#ifndef IMUSYSID_FIT_JSON_H_
-#define IMUSYSID_FIT_JSON_H_
+#ifndef IMUSYSID_SRC_TOOLS_FIT_JSON_H_
+#define IMUSYSID_SRC_TOOLS_FIT_JSON_H_
 
 #include <string>
 #include <string_view>
@@ -56,4 +56,4 @@ StatusOr<FitPosition> ParseFitJson(std::string_view text,
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_FIT_JSON_H_
+#endif  // IMUSYSID_SRC_TOOLS_FIT_JSON_H_

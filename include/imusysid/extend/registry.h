@@ -2,8 +2,8 @@
 // registered explicitly in RegisterBuiltinEstimators (no static-initialiser
 // self-registration: it is order-fragile and dropped from static libraries).
 
-#ifndef IMUSYSID_REGISTRY_H_
-#define IMUSYSID_REGISTRY_H_
+#ifndef IMUSYSID_EXTEND_REGISTRY_H_
+#define IMUSYSID_EXTEND_REGISTRY_H_
 
 #include <functional>
 #include <memory>
@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "imusysid/estimator.h"
+#include "imusysid/extend/estimator.h"
 #include "imusysid/status.h"
 
 namespace imusysid {
@@ -43,4 +43,4 @@ const EstimatorRegistry& BuiltinEstimators();
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_REGISTRY_H_
+#endif  // IMUSYSID_EXTEND_REGISTRY_H_

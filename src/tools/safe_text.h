@@ -3,8 +3,8 @@
 // bytes and invalid UTF-8 are escaped before they are printed
 // (docs/failure-modes.md).
 
-#ifndef IMUSYSID_SAFE_TEXT_H_
-#define IMUSYSID_SAFE_TEXT_H_
+#ifndef IMUSYSID_SRC_TOOLS_SAFE_TEXT_H_
+#define IMUSYSID_SRC_TOOLS_SAFE_TEXT_H_
 
 #include <cstddef>
 #include <string>
@@ -28,4 +28,4 @@ std::string HexPrefix(std::string_view bytes, std::size_t count = 16);
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SAFE_TEXT_H_
+#endif  // IMUSYSID_SRC_TOOLS_SAFE_TEXT_H_

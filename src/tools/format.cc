@@ -1,4 +1,4 @@
-#include "imusysid/format.h"
+#include "src/tools/format.h"
 
 #include <charconv>
 #include <cmath>

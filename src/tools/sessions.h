@@ -3,8 +3,8 @@
 // increases, so a fit can use it instead of rejecting the file, and a note
 // saying what was left out.
 
-#ifndef IMUSYSID_SESSIONS_H_
-#define IMUSYSID_SESSIONS_H_
+#ifndef IMUSYSID_SRC_TOOLS_SESSIONS_H_
+#define IMUSYSID_SRC_TOOLS_SESSIONS_H_
 
 #include <string>
 #include <string_view>
@@ -28,4 +28,4 @@ OrderedPiece LongestOrderedCsvPiece(std::string_view text,
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SESSIONS_H_
+#endif  // IMUSYSID_SRC_TOOLS_SESSIONS_H_

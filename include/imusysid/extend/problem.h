@@ -2,8 +2,8 @@
 // to its samples, with bounds, an initial guess and the evaluation counters
 // that make estimators comparable.
 
-#ifndef IMUSYSID_PROBLEM_H_
-#define IMUSYSID_PROBLEM_H_
+#ifndef IMUSYSID_EXTEND_PROBLEM_H_
+#define IMUSYSID_EXTEND_PROBLEM_H_
 
 #include <atomic>
 #include <cstdint>
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "imusysid/model.h"
+#include "imusysid/extend/model.h"
 #include "imusysid/parameters.h"
 #include "imusysid/status.h"
 
@@ -141,4 +141,4 @@ class Problem {
 
 }  // namespace imusysid
 
-#endif  // IMUSYSID_PROBLEM_H_
+#endif  // IMUSYSID_EXTEND_PROBLEM_H_

@@ -1,4 +1,4 @@
-#include "imusysid/safe_text.h"
+#include "src/tools/safe_text.h"
 
 #include <cstdio>
 
