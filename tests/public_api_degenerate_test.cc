@@ -601,6 +601,9 @@ TEST(DegenerateReports, AutopilotDisplacementAndJson) {
   fit.termination = Termination::kConverged;
   fit.parameters = Eigen::Vector4d(0.1, 30.0, 1.0, 0.2);
   fit.standard_errors = Eigen::Vector4d::Constant(0.01);
+  // The roles of a planar fit's parameters, as an estimator records them.
+  fit.parameter_info =
+      CreateModel("paper", SmallData(50)).value()->parameter_info();
   ExpectError(
       ToAutopilotParameters(fit, EmitFormat::kNone, "pitch", 0, "s"), kPre, "");
   EXPECT_FALSE(

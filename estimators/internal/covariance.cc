@@ -222,6 +222,8 @@ const char* CovarianceTypeToString(CovarianceType type) {
       return "hac";
     case CovarianceType::kWhite:
       return "white";
+    case CovarianceType::kNone:
+      return "none";
   }
   return "unknown";
 }

@@ -23,6 +23,12 @@ enum class CovarianceType {
   // σ̂²(JᵀJ)⁻¹ with σ̂² = Σr²/(n − p): valid only for white, homoskedastic
   // residuals; on filtered data it understates the uncertainty.
   kWhite,
+  // None: the fit's RMSE alone, without the Jacobian, the condition number
+  // or standard errors (and so without the identifiability judgement that
+  // reads them): for a caller that needs only the optimum, such as the 3-D
+  // calibration's profile fits (about 70 per log). Not offered by
+  // CovarianceTypeFromString: a user's fit always gets its error bars.
+  kNone,
 };
 const char* CovarianceTypeToString(CovarianceType type);  // "hac", "white"
 StatusOr<CovarianceType> CovarianceTypeFromString(std::string_view text);

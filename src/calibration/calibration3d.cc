@@ -25,9 +25,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // wind's 1σ below, and no HAC pass over the residuals per candidate), no
 // trace, and the free least squares (μ unconstrained: the profile over the
 // delay and the wind is that of the unconstrained fit, as it always was).
-EstimatorOptions LinearFitOptions() {
+EstimatorOptions LinearFitOptions(CovarianceType covariance) {
   EstimatorOptions options;
-  options.covariance = CovarianceType::kWhite;
+  options.covariance = covariance;
   options.record_trace = false;
   options.linear.enforce_nonnegative_mu = false;
   return options;
@@ -36,7 +36,8 @@ EstimatorOptions LinearFitOptions() {
 // The registered `linear` fit of rigid3d on `data`, with the model it
 // fitted (which holds `data`).
 StatusOr<EstimateResult> LinearRigid3d(std::shared_ptr<const ProblemData> data,
-                                       std::shared_ptr<const Model>* model) {
+                                       std::shared_ptr<const Model>* model,
+                                       CovarianceType covariance) {
   StatusOr<std::unique_ptr<Model>> created =
       CreateModel(kRigid3dModelName, std::move(data));
   if (!created.ok()) return created.status();
@@ -44,7 +45,7 @@ StatusOr<EstimateResult> LinearRigid3d(std::shared_ptr<const ProblemData> data,
   StatusOr<std::unique_ptr<Estimator>> linear =
       BuiltinEstimators().Create("linear");
   if (!linear.ok()) return linear.status();
-  return (*linear)->Estimate(Problem(*model), LinearFitOptions());
+  return (*linear)->Estimate(Problem(*model), LinearFitOptions(covariance));
 }
 
 // The wind that makes the quadratic drag's air velocity that of the fit
@@ -94,7 +95,7 @@ Status SearchQuadraticWind(ProblemData* data) {
                         data->motion.quadratic_wind_e);
   IMUSYSID_RETURN_IF_ERROR(problem.SetInitialGuess(start));
   EstimatorOptions options;
-  options.covariance = CovarianceType::kWhite;
+  options.covariance = CovarianceType::kNone;  // the wind alone is used
   options.record_trace = false;
   options.max_evaluations = kMaxEvaluations;
   options.named["nm_initial_step"] = kStepMps / kWidthMps;
@@ -146,7 +147,7 @@ Status FindDelay(const Conditioned3d& thin,
     }
     StatusOr<ProblemData> data = DataAt(thin, d, wind_n, wind_e);
     if (!data.ok()) return data.status();
-    StatusOr<LinearFit3d> fit = FitRigid3dLinear(*data);
+    StatusOr<LinearFit3d> fit = FitRigid3dLinear(*data, /*find_wind=*/false);
     if (!fit.ok()) return fit.status();
     delays.push_back(d);
     rmse.push_back(fit->rmse);
@@ -209,13 +210,15 @@ Status FindDelay(const Conditioned3d& thin,
 
 }  // namespace
 
-StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data) {
+StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
+                                       bool find_wind) {
   // The model reads `data` without owning it: the fit is done before `data`
   // goes.
   std::shared_ptr<const Model> model;
   StatusOr<EstimateResult> result = LinearRigid3d(
       std::shared_ptr<const ProblemData>(&data, [](const ProblemData*) {}),
-      &model);
+      &model,
+      find_wind ? CovarianceType::kWhite : CovarianceType::kNone);
   if (!result.ok()) return result.status();
   if (!result->IsUsable()) {
     return FailedPreconditionError(data.source + ": " + result->message);
@@ -227,7 +230,7 @@ StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data) {
   fit.rmse = result->rmse;
   const Eigen::VectorXd& x = result->parameters;
   const Eigen::VectorXd& se = result->standard_errors;
-  if (x[kRotorDrag] > 1e-3 && se[kWindNorth] < kMaxWindStderrMps &&
+  if (find_wind && x[kRotorDrag] > 1e-3 && se[kWindNorth] < kMaxWindStderrMps &&
       se[kWindEast] < kMaxWindStderrMps) {
     fit.wind_n = x[kWindNorth];
     fit.wind_e = x[kWindEast];
@@ -253,7 +256,8 @@ bool QuadraticWindModel::FitAt(const double* x,
   auto at = std::make_shared<ProblemData>(data());
   at->motion.quadratic_wind_n = x[0];
   at->motion.quadratic_wind_e = x[1];
-  StatusOr<EstimateResult> result = LinearRigid3d(std::move(at), model);
+  StatusOr<EstimateResult> result =
+      LinearRigid3d(std::move(at), model, CovarianceType::kNone);
   if (!result.ok() || !result->IsUsable()) return false;
   *fit = std::move(*result);
   return true;

@@ -32,9 +32,13 @@ struct LinearFit3d {
   double wind_e = std::numeric_limits<double>::quiet_NaN();
 };
 
-// The fit on `data` at its Motion3d::quadratic_wind_*. FailedPrecondition,
-// with the estimator's message, when the fit fails (regressors not finite).
-StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data);
+// The fit on `data` at its Motion3d::quadratic_wind_*; with `find_wind`,
+// also the wind where the flight determines it (from the white standard
+// errors; without, only the RMSE, at a fraction of the cost).
+// FailedPrecondition, with the estimator's message, when the fit fails
+// (regressors not finite).
+StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
+                                       bool find_wind = true);
 
 // The calibration's own problem: two parameters, the quadratic drag's wind
 // (w_N, w_E), m/s, NED, in ±kMaxWindMps; its residuals at w are rigid3d's at

@@ -29,7 +29,8 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                                &out));
   if (out.delay_estimated) {
     // How much the delay matters: the full data's fit at it.
-    StatusOr<internal::LinearFit3d> fit = internal::FitRigid3dLinear(out.data);
+    StatusOr<internal::LinearFit3d> fit =
+        internal::FitRigid3dLinear(out.data, /*find_wind=*/false);
     if (!fit.ok()) return fit.status();
     out.rmse_at_delay = fit->rmse;
   }

@@ -170,6 +170,12 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     } else {
       pre.data = *input.data();
       IMUSYSID_RETURN_IF_ERROR(pre.data.Validate());
+      if (pre.data.motion.empty()) {
+        return InvalidArgumentError(
+            input.source() + ": model " + model_name +
+            " needs ProblemData::motion (the 3-D motion), and the data have "
+            "none");
+      }
     }
     if (estimator_name.empty()) {
       StatusOr<ModelDescription> d = BuiltinModels().Describe(model_name);

@@ -180,6 +180,7 @@ StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
   std::shared_ptr<const ProblemData> data = loaded->data;
   if (input.kind() == IdentifyInput::Kind::kProblemData) {
     IMUSYSID_RETURN_IF_ERROR(data->Validate());
+    IMUSYSID_RETURN_IF_ERROR(CheckFitSegmentSize(*data, input.source()));
     context.plane = "unknown";
     context.velocity = "unknown";
   }

@@ -41,6 +41,21 @@ void FinalizeResult(const Problem& problem,
   }
   const double* x = result->parameters.data();
 
+  if (covariance == CovarianceType::kNone) {
+    // The optimum's fit alone: no n × p Jacobian.
+    Eigen::VectorXd residuals(n);
+    result->standard_errors =
+        Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
+    if (!model.Residuals(x, residuals.data(), nullptr)) {
+      result->termination = Termination::kFailure;
+      result->message = "residuals are not finite at the returned parameters";
+      return;
+    }
+    result->final_cost = 0.5 * residuals.squaredNorm();
+    result->rmse = problem.CostToRmse(result->final_cost);
+    result->details.Set("covariance", CovarianceTypeToString(covariance));
+    return;
+  }
   Eigen::VectorXd residuals(n);
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(n,
                                                                              p);
