@@ -28,3 +28,13 @@ function(imusysid_set_sanitizers target)
     target_link_options(${target} PRIVATE -fsanitize=${_list})
   endif()
 endfunction()
+
+# For a target that uses a precompiled header: CMake adds -Winvalid-pch, which
+# says when GCC or Clang cannot use the header (different flags) and parses
+# everything again. Reported, not an error: the build is still correct, only
+# slower.
+function(imusysid_set_pch_warnings target)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    target_compile_options(${target} PRIVATE -Wno-error=invalid-pch)
+  endif()
+endfunction()

@@ -22,21 +22,41 @@ done
 bash scripts/setup.sh
 jobs=$(nproc)
 
+# phase NAME: prints how long the phase since the last call took, in wall
+# and CPU (user + system of the commands run) seconds.
+phase_start=$SECONDS
+phase_cpu=0
+children_cpu() {  # user + system seconds of the finished commands, so far
+  awk -v hz="$(getconf CLK_TCK)" '{ printf "%.0f", ($16 + $17) / hz }' "/proc/$$/stat"
+}
+phase() {
+  local cpu
+  cpu=$(children_cpu)
+  echo "== $1 took $((SECONDS - phase_start)) s wall, $((cpu - phase_cpu)) s CPU"
+  phase_start=$SECONDS
+  phase_cpu=$cpu
+}
+
 echo "== Release build and all tests"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON >/dev/null
 cmake --build build -j"$jobs"
+phase "Release build"
 (cd build && ctest -j"$jobs" -LE peers --output-on-failure --timeout 600)
-echo "== release build and tests took ${SECONDS} s"
+phase "Release tests"
 
 if [ "$sanitizers" = 1 ]; then
   echo "== Unit tests under address;undefined sanitizers"
   # -O1: sanitizer reports stay readable and the build stays cheap on 2 cores.
   # Warnings are enforced by the Release build above; at -O1 with
   # instrumentation GCC 12 reports false maybe-uninitialized in std::regex.
+  # Only what label unit runs is built: no benchmarks, no accuracy tests.
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
     -DIMUSYSID_SANITIZERS="address;undefined" -DIMUSYSID_BUILD_BENCHMARKS=OFF \
-    -DIMUSYSID_WERROR=OFF >/dev/null
+    -DIMUSYSID_BUILD_ACCURACY_TESTS=OFF -DIMUSYSID_WERROR=OFF >/dev/null
   cmake --build build-asan -j"$jobs"
+  phase "sanitizer build"
   (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest -j"$jobs" -L unit --output-on-failure --timeout 600)
+  phase "sanitizer tests"
 fi
+echo "== all tests passed in ${SECONDS} s"
