@@ -99,12 +99,17 @@ StatusOr<std::string> InputBytes(const IdentifyInput& input) {
   return ReadFileToString(input.source());
 }
 
-std::string EstimatorsThatCan(const Problem& problem) {
+StatusOr<EstimateResult> EstimateOrName(const Estimator& estimator,
+                                        const Problem& problem,
+                                        const EstimatorOptions& options) {
+  StatusOr<EstimateResult> result = estimator.Estimate(problem, options);
+  if (result.ok() || estimator.Supports(problem.model())) return result;
   std::string can;
   for (const auto& n : BuiltinEstimators().NamesSupporting(problem.model())) {
     can += " " + n;
   }
-  return can;
+  return Status(result.status().code(),
+                result.status().message() + "; estimators that can:" + can);
 }
 
 }  // namespace internal

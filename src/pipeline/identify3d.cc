@@ -51,15 +51,8 @@ StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
                std::to_string(instance) + ", " + std::to_string(data->size()) +
                " samples)...");
   StatusOr<EstimateResult> result =
-      estimator.Estimate(problem, options.estimator);
-  if (!result.ok()) {
-    if (!estimator.Supports(problem.model())) {
-      return Status(result.status().code(),
-                    result.status().message() +
-                        "; estimators that can:" + EstimatorsThatCan(problem));
-    }
-    return result.status();
-  }
+      EstimateOrName(estimator, problem, options.estimator);
+  if (!result.ok()) return result.status();
   Rigid3dReportOptions report_options = options.report3d;
   if (result->IsUsable()) {
     StatusOr<Eigen::Vector3d> jackknife =

@@ -32,9 +32,11 @@ inline void Progress(const IdentifyOptions& options, const std::string& text) {
   if (options.on_progress) options.on_progress(text);
 }
 
-// The names of the estimators that support the problem's model, for an
-// error: " a b c".
-std::string EstimatorsThatCan(const Problem& problem);
+// estimator.Estimate(problem, options); when it fails on a model the
+// estimator does not support, the error names the estimators that do.
+StatusOr<EstimateResult> EstimateOrName(const Estimator& estimator,
+                                        const Problem& problem,
+                                        const EstimatorOptions& options);
 
 StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
                                          const IdentifyOptions& options,

@@ -234,12 +234,7 @@ StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
              "fitting " + model + " with " + name + " (" +
                  std::to_string(data->size()) + " samples)...");
     StatusOr<EstimateResult> r =
-        (*estimator)->Estimate(problem, options.estimator);
-    if (!r.ok() && !(*estimator)->Supports(problem.model())) {
-      return Status(r.status().code(),
-                    r.status().message() +
-                        "; estimators that can:" + EstimatorsThatCan(problem));
-    }
+        EstimateOrName(**estimator, problem, options.estimator);
     if (!r.ok()) return r.status();
     summary.fits.push_back(std::move(*r));
   }
