@@ -28,6 +28,59 @@ std::shared_ptr<const ProblemData> SmallData() {
       Eigen::Vector4d(0.19, 56.3, -2.8, 0.07), 0.05, 5, options));
 }
 
+// Three samples of 3-D motion (a slow turn), no planar column.
+ProblemData SmallMotionData() {
+  ProblemData d;
+  d.source = "motion";
+  for (int k = 0; k < 3; ++k) {
+    d.t_s.push_back(0.01 * k);
+    for (std::size_t a = 0; a < 3; ++a) {
+      d.motion.f[a].push_back(a == 2 ? -kGravity : 0.1 * k);
+      d.motion.omega[a].push_back(0.2);
+      d.motion.omega_dot[a].push_back(0.0);
+      d.motion.velocity[a].push_back(1.0);
+      d.motion.north[a].push_back(a == 0 ? 1.0 : 0.0);
+      d.motion.east[a].push_back(a == 1 ? 1.0 : 0.0);
+    }
+  }
+  return d;
+}
+
+// 3-D data validate without the planar columns (3-D preprocessing makes
+// none up); a planar column given beside them must still be whole; a planar
+// model refuses them, naming why, and a 3-D model refuses planar data.
+TEST(ProblemData, ThreeDimensionalDataNeedNoPlanarColumns) {
+  ProblemData motion = SmallMotionData();
+  EXPECT_TRUE(motion.Validate().ok()) << motion.Validate().ToString();
+  ProblemData ragged = motion;
+  ragged.theta = {0.0, 0.0};
+  const Status s = ragged.Validate();
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(s.message(), HasSubstr("'theta' has 2 samples, t has 3"));
+  ProblemData planar_half = SmallMotionData();
+  planar_half.motion = Motion3d();
+  EXPECT_THAT(planar_half.Validate().message(), HasSubstr("'f' has 0"));
+
+  auto shared = std::make_shared<const ProblemData>(motion);
+  StatusOr<std::unique_ptr<Model>> planar = CreateModel("paper", shared);
+  ASSERT_FALSE(planar.ok());
+  EXPECT_EQ(planar.status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_THAT(planar.status().message(), HasSubstr("'paper' is planar"));
+  EXPECT_TRUE(CreateModel("rigid3d", shared).ok());
+  auto planar_only = std::make_shared<ProblemData>(*SmallData());
+  planar_only->motion = Motion3d();
+  StatusOr<std::unique_ptr<Model>> on_planar =
+      CreateModel("rigid3d", planar_only);
+  EXPECT_EQ(on_planar.status().code(), StatusCode::kFailedPrecondition);
+
+  // A block of 3-D data stays 3-D, with no planar column made up.
+  StatusOr<ProblemData> block = SelectSamples(motion, 1, 3);
+  ASSERT_TRUE(block.ok());
+  EXPECT_TRUE(block->f_x.empty());
+  EXPECT_EQ(block->motion.f[0].size(), 2u);
+  EXPECT_TRUE(block->Validate().ok());
+}
+
 Problem MakeProblem(const std::string& model) {
   StatusOr<std::unique_ptr<Model>> m = CreateModel(model, SmallData());
   EXPECT_TRUE(m.ok()) << m.status().ToString();

@@ -314,6 +314,84 @@ TEST(Rigid3d, GyroInDegreesPerSecondIsRefused) {
   EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("deg/s"));
 }
 
+// The gyro-against-attitude check judges an axis only where the flight
+// measures the gyro's scale on it to ±0.1. A pitch-only flight turns little
+// about x and z, where a noisy attitude (1° per axis) against almost no
+// gyro rotation once gave "turns 0.36 times as far" and a refusal.
+TEST(Rigid3d, NoisyPitchOnlyFlightPassesTheGyroCheck) {
+  Simulator3dOptions o = Scenario("pitch_laps_3d");
+  o.imus.resize(1);
+  o.estimator_attitude_noise_deg = 1.0;
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok()) << flight.status().ToString();
+  StatusOr<Preprocess3dResult> pre =
+      Preprocess3d(flight->logs[0], Preprocess3dOptions());
+  EXPECT_TRUE(pre.ok()) << pre.status().ToString();
+}
+
+// Either side of the accepted band [0.7, 1.4] of the attitude's rotation
+// over the gyro's, on the axis the flight turns about (y, pitch): a gyro
+// reading 0.8 times the truth (a scale of 1.25) passes; 0.6 times (1.67) is
+// refused and named.
+TEST(Rigid3d, GyroScaleIsJudgedOnTheAxisThatTurns) {
+  for (const double gain : {0.8, 0.6}) {
+    FlightLog log = OneImuLog("pitch_laps_3d");
+    for (double& v : log.gy) v *= gain;
+    StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
+    if (gain == 0.8) {
+      EXPECT_TRUE(pre.ok()) << pre.status().ToString();
+    } else {
+      ASSERT_FALSE(pre.ok());
+      EXPECT_THAT(pre.status().message(),
+                  ::testing::HasSubstr("gyro's y axis does not match"));
+    }
+  }
+}
+
+TEST(Rigid3d, ReversedGyroAxisIsRefused) {
+  FlightLog log = OneImuLog("figure8_3d");
+  for (double& v : log.gx) v = -v;
+  StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
+  ASSERT_FALSE(pre.ok());
+  EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("x axis"));
+  EXPECT_THAT(pre.status().message(), ::testing::HasSubstr("reversed"));
+}
+
+// The slowest IMU the 3-D preprocessing takes is four times the low-pass
+// cutoff (20 Hz at the default 5 Hz): a log just under it is refused,
+// naming its rate and what is needed, one just over it is not refused for
+// its rate.
+TEST(Rigid3d, ImuRateIsCheckedAgainstTheCutoff) {
+  Preprocess3dOptions o;
+  EXPECT_DOUBLE_EQ(MinimumImuRate3dHz(o), 20.0);
+  for (const double rate : {19.9, 20.1}) {
+    FlightLog log;
+    log.source = "slow.ulg";
+    log.metadata = {{"imu_source", "sensor_accel+sensor_gyro"},
+                    {"imu_instance", "1"}};
+    for (int k = 0; k < 100; ++k) {
+      log.t_s.push_back(k / rate);
+      log.ax.push_back(0.0);
+      log.ay.push_back(0.0);
+      log.az.push_back(kGravity);
+      log.gx.push_back(0.0);
+      log.gy.push_back(0.0);
+      log.gz.push_back(0.0);
+    }
+    const Status s = CheckImuRate3d(log, o);
+    if (rate < 20) {
+      EXPECT_EQ(s.code(), StatusCode::kFailedPrecondition);
+      EXPECT_THAT(
+          s.message(),
+          ::testing::HasSubstr("(sensor_accel+sensor_gyro), instance 1"));
+      EXPECT_THAT(s.message(), ::testing::HasSubstr("19.9 Hz"));
+      EXPECT_THAT(s.message(), ::testing::HasSubstr("at least 20 Hz"));
+    } else {
+      EXPECT_TRUE(s.ok()) << s.ToString();
+    }
+  }
+}
+
 TEST(Rigid3d, LogWithoutEstimatorChannelsIsRefused) {
   FlightLog log = OneImuLog("figure8_3d");
   log.extra.clear();

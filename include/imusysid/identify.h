@@ -158,6 +158,14 @@ struct IdentifySummary {
   // 3-D models: one report per IMU instance fitted, compared with each
   // other (ImuPosition3d::baselines).
   std::vector<ImuPosition3d> imus;
+  // 3-D models, a log with several IMU instances: those not fitted (logged
+  // too slowly for the preprocessing, or a failure of their own), each with
+  // why. Identify fails only when no instance is fitted.
+  struct SkippedImu {
+    int instance = 0;
+    std::string reason;
+  };
+  std::vector<SkippedImu> skipped_imus;
   // The estimator's delay (s) and the quadratic drag's wind (NED north,
   // east; m/s) found on the first instance and used for every other: one
   // flight's, to pass on to another log of the same flight

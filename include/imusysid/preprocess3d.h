@@ -109,6 +109,19 @@ struct Preprocess3dResult {
 // vel_n..vel_d). Without it, Preprocess3dImuOnly.
 bool HasEstimatorChannels(const FlightLog& log);
 
+// The slowest IMU sample rate the 3-D preprocessing accepts, Hz: four times
+// the low-pass cutoff (its Nyquist frequency then lies at twice the cutoff,
+// where the zero-phase filter and the rate derivative still see the motion
+// the fit reads), and 20 Hz when there is no low-pass.
+double MinimumImuRate3dHz(const Preprocess3dOptions& options);
+
+// OK when the log's median sample rate is at least MinimumImuRate3dHz;
+// otherwise FailedPrecondition naming the log, the IMU's source (its topic
+// or message, from the log's metadata), its rate and the rate needed.
+// Preprocess3d, Condition3d, SelectWindows3d and Preprocess3dImuOnly check it
+// first; Identify skips such an instance of a log with several.
+Status CheckImuRate3d(const FlightLog& log, const Preprocess3dOptions& options);
+
 // The windows Preprocess3d would fit and the dropped stretches, without
 // building the data (`inspect`). Same errors as Preprocess3d's window step.
 StatusOr<Preprocess3dResult> SelectWindows3d(

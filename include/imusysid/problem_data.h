@@ -41,11 +41,15 @@ struct Motion3d {
   bool empty() const { return f[0].empty(); }
 };
 
-// The samples of the fit segment after preprocessing, FLU body frame, SI units.
-// Every vector has size() entries. Sample 0 is the reference instant t_a (in
-// hover, just before the maneuver) where θ and v start at zero. Data for a
-// 3-D model may join several flight windows (t still increases); θ then
-// restarts at each window and `motion` carries what the model reads.
+// The samples of the fit segment after preprocessing, SI units. Planar data
+// (Preprocess, problem files) fill the FLU columns f_x ... v, every one with
+// size() entries; sample 0 is the reference instant t_a (in hover, just
+// before the maneuver) where θ and v start at zero. 3-D data (Preprocess3d)
+// fill t_s and `motion` only, and may join several flight windows (t still
+// increases). A caller may give both accounts of the same samples (a test
+// that makes every model on one flight). A planar model refuses data
+// without the planar columns, a 3-D model data without the motion
+// (ModelRegistry::Create).
 struct ProblemData {
   std::string source;             // log path or description, for messages
   double gravity = kGravity;      // m/s²
@@ -58,10 +62,11 @@ struct ProblemData {
   std::vector<double> theta;      // ∫ω dt from sample 0 (θ0 = 0), rad
   std::vector<double> v;          // horizontal velocity used by the paper's
                                   // model (equation 7 by default), m/s
-  Motion3d motion;                // 3-D models only; empty otherwise
+  Motion3d motion;                // 3-D data only; empty for planar data
 
   std::size_t size() const { return t_s.size(); }
-  // Checks sizes agree, values are finite and t strictly increases.
+  // Checks sizes agree, values are finite and t strictly increases; the
+  // planar columns are required unless the 3-D motion is given.
   Status Validate() const;
 };
 

@@ -47,9 +47,21 @@ int WriteFit3d(const IdentifySummary& summary,
       if (emitted != nullptr) one["emit"] = AutopilotParametersToJson(*emitted);
       j.push_back(std::move(one));
     }
-    text = DumpJson(summary.imus.size() == 1 ? j[0] : j) + "\n";
+    for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
+      nlohmann::ordered_json one;
+      one["instance"] = skipped.instance;
+      one["log"] = summary.source;
+      one["fitted"] = false;
+      one["reason"] = skipped.reason;
+      j.push_back(std::move(one));
+    }
+    text = DumpJson(j.size() == 1 ? j[0] : j) + "\n";
   } else {
     for (const ImuPosition3d& r : summary.imus) text += Rigid3dToText(r);
+    for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
+      text += "IMU " + std::to_string(skipped.instance) +
+              ": not fitted: " + skipped.reason + "\n";
+    }
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }
   Status s = EmitOutput(text, FLAGS_out);

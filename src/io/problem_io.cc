@@ -205,6 +205,12 @@ std::vector<std::string> ProblemOptionalColumns() {
 StatusOr<std::string> FormatProblemCsv(const ProblemData& data,
                                        const ProblemMetadata& metadata) {
   IMUSYSID_RETURN_IF_ERROR(data.Validate());
+  if (!data.motion.empty()) {
+    return InvalidArgumentError(
+        data.source +
+        ": these data carry the 3-D motion; a problem file holds planar "
+        "data only (docs/problem-files.md)");
+  }
   if (!std::isfinite(data.gravity)) {
     std::ostringstream msg;
     msg << data.source << ": gravity = " << data.gravity << "; required finite";

@@ -62,6 +62,15 @@ StatusOr<std::unique_ptr<Model>> ModelRegistry::Create(
   }
   for (const Entry& entry : entries_) {
     if (entry.name != name) continue;
+    // A planar model reads the planar columns, which 3-D preprocessing
+    // does not fill.
+    if (!entry.description.needs_motion3d && data->f_x.empty()) {
+      return FailedPreconditionError(
+          data->source + ": model '" + entry.name +
+          "' is planar and reads the planar columns (f, omega, omega_dot, "
+          "v); these data carry the 3-D motion only: fit them with a 3-D "
+          "model");
+    }
     StatusOr<std::unique_ptr<Model>> model =
         entry.factory(std::move(data), options);
     if (model.ok()) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "Eigen/QR"
@@ -25,17 +26,21 @@ Status CheckColumnSizes(const ProblemData& data) {
         << " samples, t has " << n;
     return InvalidArgumentError(msg.str());
   };
-  IMUSYSID_RETURN_IF_ERROR(check(data.f_x.size(), "f"));
-  if (!data.f_z.empty()) {
-    IMUSYSID_RETURN_IF_ERROR(check(data.f_z.size(), "f_z"));
-  }
-  IMUSYSID_RETURN_IF_ERROR(check(data.omega.size(), "omega"));
-  IMUSYSID_RETURN_IF_ERROR(check(data.omega_dot.size(), "omega_dot"));
-  if (!data.theta.empty()) {
-    IMUSYSID_RETURN_IF_ERROR(check(data.theta.size(), "theta"));
-  }
-  IMUSYSID_RETURN_IF_ERROR(check(data.v.size(), "v"));
   const Motion3d& m = data.motion;
+  // 3-D data carry no planar columns (Validate refuses them there); any that
+  // are present must still match t before they are copied.
+  const bool planar = m.empty();
+  for (const auto& [column, name, required] :
+       {std::tuple{&data.f_x, "f", planar},
+        std::tuple{&data.f_z, "f_z", false},
+        std::tuple{&data.omega, "omega", planar},
+        std::tuple{&data.omega_dot, "omega_dot", planar},
+        std::tuple{&data.theta, "theta", false},
+        std::tuple{&data.v, "v", planar}}) {
+    if (required || !column->empty()) {
+      IMUSYSID_RETURN_IF_ERROR(check(column->size(), name));
+    }
+  }
   if (!m.fitted.empty()) {
     IMUSYSID_RETURN_IF_ERROR(check(m.fitted.size(), "fitted"));
   }
@@ -96,12 +101,14 @@ Status ProblemData::Validate() const {
     return Status::Ok();
   };
   IMUSYSID_RETURN_IF_ERROR(check_size(t_s, "t", false));
-  IMUSYSID_RETURN_IF_ERROR(check_size(f_x, "f", false));
+  // 3-D data need no planar column; any given must still be whole.
+  const bool planar = motion.empty();
+  IMUSYSID_RETURN_IF_ERROR(check_size(f_x, "f", !planar));
   IMUSYSID_RETURN_IF_ERROR(check_size(f_z, "f_z", true));
-  IMUSYSID_RETURN_IF_ERROR(check_size(omega, "omega", false));
-  IMUSYSID_RETURN_IF_ERROR(check_size(omega_dot, "omega_dot", false));
+  IMUSYSID_RETURN_IF_ERROR(check_size(omega, "omega", !planar));
+  IMUSYSID_RETURN_IF_ERROR(check_size(omega_dot, "omega_dot", !planar));
   IMUSYSID_RETURN_IF_ERROR(check_size(theta, "theta", true));
-  IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", false));
+  IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", !planar));
   if (!motion.fitted.empty() && motion.fitted.size() != n) {
     return InvalidArgumentError(source + ": problem column 'fitted' has " +
                                 std::to_string(motion.fitted.size()) +

@@ -112,8 +112,14 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
 
   const std::vector<int> instances =
       input.is_log() ? Instances(bytes, options.imu) : std::vector<int>{0};
+  // With several instances, one that cannot be fitted (logged too slowly,
+  // or its own failure) is recorded and the others go on; asked for one, its
+  // failure is the answer.
+  const bool several = instances.size() > 1;
   bool delay_at_limit = false;
-  for (int instance : instances) {
+  bool log_ended = false;
+  Status first_failure = Status::Ok();
+  auto fit_instance = [&](int instance) -> Status {
     Preprocess3dResult pre;
     std::string damage;
     if (input.is_log()) {
@@ -122,8 +128,9 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       StatusOr<FlightLog> log = ParseFlightLog(bytes, input.source(), *read);
       if (!log.ok()) {
         // A further instance the log does not hold ends the list.
-        if (instance > 0 && instances.size() > 1 && !summary.imus.empty()) {
-          break;
+        if (instance > 0 && several && !summary.imus.empty()) {
+          log_ended = true;
+          return Status::Ok();
         }
         return log.status();
       }
@@ -132,8 +139,9 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         if (!windows.ok()) return windows.status();
         summary.model = model_name;
         summary.windows = std::move(windows).value();
-        return summary;
+        return Status::Ok();
       }
+      IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(*log, po));
       IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
       if (!options.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
       damage = DamageSummary(*log);
@@ -200,7 +208,25 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     if (!report.ok()) return report.status();
     if (!damage.empty()) report->warnings.push_back("damaged_log: " + damage);
     summary.imus.push_back(std::move(report).value());
+    return Status::Ok();
+  };
+  for (int instance : instances) {
+    Status status = fit_instance(instance);
+    if (summary.windows.has_value()) return summary;
+    if (log_ended) break;
+    if (status.ok()) continue;
+    // Options and names are wrong for every instance alike.
+    if (!several || status.code() == StatusCode::kInvalidArgument ||
+        status.code() == StatusCode::kNotFound) {
+      return status;
+    }
+    if (first_failure.ok()) first_failure = status;
+    Note(
+        options,
+        "IMU " + std::to_string(instance) + " not fitted: " + status.message());
+    summary.skipped_imus.push_back({instance, status.message()});
   }
+  if (summary.imus.empty()) return first_failure;
   CompareInstances(&summary.imus);
   summary.model = model_name;
 

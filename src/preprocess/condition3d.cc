@@ -28,25 +28,46 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
                                 const Preprocess3dOptions& o,
                                 double rate_hz) {
   const auto& ts = log.t_s;
+  const std::size_t n = ts.size();
   const auto i0 = static_cast<std::size_t>(
       std::lower_bound(ts.begin(), ts.end(), w.t0) - ts.begin());
   const std::size_t i1 = i0 + w.samples;
+  // Filtered and differentiated on the window with up to `margin` of the
+  // gap-free log either side, then cut: a filter run on the window alone
+  // starts from a padding reflected about one vibrating sample, and its
+  // transient (tens of milliseconds at each edge) was most of a real
+  // flight's residual. The margin covers the low-pass's and the
+  // derivative's reach.
+  const double reach_s = std::max(o.cutoff_hz > 0 ? 5.0 / o.cutoff_hz : 0.0,
+                                  4.0 * o.derivative_half_width_s);
+  const double gap = o.max_gap_factor / rate_hz;
+  std::size_t c0 = i0;
+  while (c0 > 0 && ts[c0 - 1] >= w.t0 - reach_s && ts[c0] - ts[c0 - 1] <= gap)
+    --c0;
+  std::size_t c1 = i1;
+  while (c1 < n && ts[c1] <= w.t1 + reach_s && ts[c1] - ts[c1 - 1] <= gap) ++c1;
+  const std::vector<double> t(ts.begin() + static_cast<std::ptrdiff_t>(c0),
+                              ts.begin() + static_cast<std::ptrdiff_t>(c1));
+  auto cut = [&](const std::vector<double>& x) {
+    return std::vector<double>(
+        x.begin() + static_cast<std::ptrdiff_t>(i0 - c0),
+        x.begin() + static_cast<std::ptrdiff_t>(i1 - c0));
+  };
   WindowImu out;
-  out.t.assign(ts.begin() + static_cast<std::ptrdiff_t>(i0),
-               ts.begin() + static_cast<std::ptrdiff_t>(i1));
+  out.t = cut(t);
   for (int a = 0; a < 3; ++a) {
     std::vector<double> f, g;
-    for (std::size_t k = i0; k < i1; ++k) {
+    for (std::size_t k = c0; k < c1; ++k) {
       f.push_back(AccelFrd(log, k)[a]);
       g.push_back(GyroFrd(log, k)[a] - bias[a]);
     }
     if (o.cutoff_hz > 0) {
       StatusOr<std::vector<double>> ff =
-          ZeroPhaseLowPassOnTimes(out.t, f, o.cutoff_hz, o.filter_order);
-      if (!ff.ok()) return ff.status().WithPrefix("--cutoff_hz");
+          ZeroPhaseLowPassOnTimes(t, f, o.cutoff_hz, o.filter_order);
+      if (!ff.ok()) return ff.status().WithPrefix("low-pass cutoff_hz");
       StatusOr<std::vector<double>> gf =
-          ZeroPhaseLowPassOnTimes(out.t, g, o.cutoff_hz, o.filter_order);
-      if (!gf.ok()) return gf.status().WithPrefix("--cutoff_hz");
+          ZeroPhaseLowPassOnTimes(t, g, o.cutoff_hz, o.filter_order);
+      if (!gf.ok()) return gf.status().WithPrefix("low-pass cutoff_hz");
       f = std::move(*ff);
       g = std::move(*gf);
     }
@@ -54,11 +75,11 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
         o.derivative_degree,
         static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
     StatusOr<std::vector<double>> d =
-        SavitzkyGolayDerivative(out.t, g, half, o.derivative_degree);
+        SavitzkyGolayDerivative(t, g, half, o.derivative_degree);
     if (!d.ok()) return d.status();
-    out.f[static_cast<std::size_t>(a)] = std::move(f);
-    out.omega[static_cast<std::size_t>(a)] = std::move(g);
-    out.omega_dot[static_cast<std::size_t>(a)] = std::move(*d);
+    out.f[static_cast<std::size_t>(a)] = cut(f);
+    out.omega[static_cast<std::size_t>(a)] = cut(g);
+    out.omega_dot[static_cast<std::size_t>(a)] = cut(*d);
   }
   return out;
 }
@@ -110,22 +131,7 @@ StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
       append(&m.north[a], north[a]);
       append(&m.east[a], east[a]);
     }
-    // The planar view (FLU x–z plane) of the same samples; θ restarts at
-    // each window.
-    double theta = 0.0;
-    for (std::size_t k = 0; k < w.t.size(); ++k) {
-      const double omega_flu = -w.omega[1][k];
-      if (k > 0) {
-        theta += 0.5 * (w.t[k] - w.t[k - 1]) * (omega_flu - w.omega[1][k - 1]);
-      }
-      d.t_s.push_back(w.t[k]);
-      d.f_x.push_back(w.f[0][k]);
-      d.f_z.push_back(-w.f[2][k]);
-      d.omega.push_back(omega_flu);
-      d.omega_dot.push_back(-w.omega_dot[1][k]);
-      d.theta.push_back(theta);
-      d.v.push_back(velocity[0][k]);
-    }
+    d.t_s.insert(d.t_s.end(), w.t.begin(), w.t.end());
   }
   m.quadratic_wind_n = wind_n;
   m.quadratic_wind_e = wind_e;

@@ -157,11 +157,16 @@ Status CheckGyroAgainstAttitude(const FlightLog& log,
                                 const std::vector<Stretch3d>& windows,
                                 const Eigen::Vector3d& bias) {
   constexpr double kStepS = 0.2;
-  // Below this much rotation (rad², summed) the check has nothing to judge.
-  constexpr double kMinRotation = 1.0;
+  // An axis is judged only when the data measure its scale to ±0.1 (one
+  // standard error): an axis that barely turns (a pitch-only flight's x)
+  // shows the attitude's noise against almost no gyro rotation, and its
+  // ratio means nothing. Scales within [0.7, 1.4] pass: the estimator's
+  // attitude lags and smooths, a wrong unit or axis is far outside.
+  constexpr double kMaxScaleStderr = 0.1;
   Eigen::Vector3d cross = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_sq = Eigen::Vector3d::Zero();
   Eigen::Vector3d att_sq = Eigen::Vector3d::Zero();
+  std::size_t steps = 0;
   const std::vector<double>& t = log.t_s;
   for (const Stretch3d& w : windows) {
     auto k = static_cast<std::size_t>(
@@ -186,18 +191,27 @@ Status CheckGyroAgainstAttitude(const FlightLog& log,
         cross += rotation.cwiseProduct(integrated);
         gyro_sq += integrated.cwiseAbs2();
         att_sq += rotation.cwiseAbs2();
+        ++steps;
       }
       k = e;
     }
   }
+  if (steps < 3) return Status::Ok();
   for (int a = 0; a < 3; ++a) {
-    if (att_sq[a] < kMinRotation * 0.01 || gyro_sq[a] <= 0) continue;
+    if (!(gyro_sq[a] > 0)) continue;
     const double scale = cross[a] / gyro_sq[a];  // attitude ≈ scale · gyro
+    // Least squares through the origin: the residual's variance over the
+    // gyro's sum of squares.
+    const double rss = std::max(0.0, att_sq[a] - scale * cross[a]);
+    const double stderr_scale =
+        std::sqrt(rss / static_cast<double>(steps - 1) / gyro_sq[a]);
+    if (!(stderr_scale <= kMaxScaleStderr)) continue;
     if (scale < 0.7 || scale > 1.4) {
       return FailedPreconditionError(
           log.source + ": the gyro's " + "xyz"[a] +
           " axis does not match the estimator's attitude (it turns " +
-          Num3d(scale) + " times as far as the gyro integrates): " +
+          Num3d(scale) + " ± " + Num3d(stderr_scale) +
+          " times as far as the gyro integrates): " +
           (scale < 0 ? "the axis is reversed (is the log's frame right? FLU "
                        "data labelled frd turn y and z around)"
                      : (scale < 0.1 ? "the gyro looks like deg/s, not rad/s"

@@ -28,6 +28,7 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
   const std::size_t n = log.size();
   if (n < 10) return FailedPreconditionError(log.source + ": too few samples");
+  IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(log, options));
   const std::vector<double>& t = log.t_s;
   // The still stretch: the level the attitude starts from, and the gyro
   // bias.
@@ -122,7 +123,6 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
   ProblemData& d = out.data;
   d.source = log.source;
   Motion3d& m = d.motion;
-  double theta = 0.0;
   for (std::size_t i = 0; i < span.samples; ++i) {
     const std::size_t k = first + i;
     const Eigen::Vector4d& qk = track.q[k];
@@ -141,17 +141,7 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
       m.north[a].push_back(r(0, static_cast<Eigen::Index>(a)));
       m.east[a].push_back(r(1, static_cast<Eigen::Index>(a)));
     }
-    const double omega_flu = -imu->omega[1][i];
-    if (i > 0) {
-      theta += 0.5 * (t[k] - t[k - 1]) * (omega_flu - imu->omega[1][i - 1]);
-    }
     d.t_s.push_back(t[k]);
-    d.f_x.push_back(imu->f[0][i]);
-    d.f_z.push_back(-imu->f[2][i]);
-    d.omega.push_back(omega_flu);
-    d.omega_dot.push_back(-imu->omega_dot[1][i]);
-    d.theta.push_back(theta);
-    d.v.push_back(0.0);
   }
   IMUSYSID_RETURN_IF_ERROR(d.Validate());
   std::ostringstream windows;

@@ -102,7 +102,9 @@ struct WindowImu {
 };
 
 // The window's IMU channels: gyro bias removed, the zero-phase low-pass of
-// options.cutoff_hz, the Savitzky–Golay derivative of the rates.
+// options.cutoff_hz, the Savitzky–Golay derivative of the rates; both run
+// over the window and the gap-free log around it, so that neither has an
+// edge transient inside the window.
 StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
                                 const Stretch3d& window,
                                 const Eigen::Vector3d& bias,

@@ -298,6 +298,7 @@ Status EstimatorTrackAndWindows(const FlightLog& log,
   if (log.size() < 10) {
     return FailedPreconditionError(log.source + ": too few samples");
   }
+  IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(log, options));
   StatusOr<EstimatorTrack> read = ReadEstimator(log);
   if (!read.ok()) return read.status();
   *track = std::move(read).value();
@@ -307,6 +308,35 @@ Status EstimatorTrackAndWindows(const FlightLog& log,
 }
 
 }  // namespace internal
+
+double MinimumImuRate3dHz(const Preprocess3dOptions& options) {
+  constexpr double kWithoutLowPassHz = 20.0;
+  return options.cutoff_hz > 0 ? 4.0 * options.cutoff_hz : kWithoutLowPassHz;
+}
+
+Status CheckImuRate3d(const FlightLog& log,
+                      const Preprocess3dOptions& options) {
+  if (log.size() < 2) return Status::Ok();  // the callers' own size checks
+  const double rate_hz = 1.0 / log.MedianDt();
+  const double needed_hz = MinimumImuRate3dHz(options);
+  if (rate_hz >= needed_hz) return Status::Ok();
+  std::string imu = "the IMU";
+  for (const auto& [key, value] : log.metadata) {
+    if (key == "imu_source") imu += " (" + value + ")";
+  }
+  for (const auto& [key, value] : log.metadata) {
+    if (key == "imu_instance") imu += ", instance " + value + ",";
+  }
+  return FailedPreconditionError(
+      log.source + ": " + imu + " is logged at " + internal::Num3d(rate_hz) +
+      " Hz; the 3-D fit needs at least " + internal::Num3d(needed_hz) +
+      " Hz (" +
+      (options.cutoff_hz > 0 ? "four times the low-pass cutoff_hz = " +
+                                   internal::Num3d(options.cutoff_hz) + " Hz"
+                             : std::string("for the rate derivative")) +
+      "): log the IMU faster (PX4 logs its per-sensor topics that fast only "
+      "with the high-rate logging profile)");
+}
 
 Status Preprocess3dOptions::Validate() const {
   auto positive = [](double v, const char* name) -> Status {
