@@ -2,8 +2,9 @@
 // a rigid body with thrust, rotor drag, quadratic drag and wind, flown in
 // closed loop through named 3-D scenarios, read by several IMUs at known 3-D
 // positions and by a simulated autopilot estimator (attitude and NED velocity
-// at 50 Hz, noisy and late). Equations, frames and defaults:
-// docs/simulator-3d.md.
+// at 50 Hz, noisy and late), with gentle or realistic sensor effects, and
+// writes its flights as CSV, PX4 ULog or ArduPilot DataFlash logs. Equations,
+// frames and defaults: docs/simulator-3d.md.
 
 #ifndef IMUSYSID_SIMULATE3D_H_
 #define IMUSYSID_SIMULATE3D_H_

@@ -3,8 +3,8 @@
 // integer-µs stamps with jitter, the IMU in FRD and the estimator's samples
 // thinned to a topic's rate. Internal.
 
-#ifndef IMUSYSID_SRC_IO_SIM_LOG_WRITER_H_
-#define IMUSYSID_SRC_IO_SIM_LOG_WRITER_H_
+#ifndef IMUSYSID_SRC_SIM_SIM3D_LOG_WRITER_H_
+#define IMUSYSID_SRC_SIM_SIM3D_LOG_WRITER_H_
 
 #include <cstdint>
 #include <cstring>
@@ -91,4 +91,4 @@ Eigen::Vector3d EulerZyx(const Eigen::Quaterniond& q);
 }  // namespace sim_log_internal
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_IO_SIM_LOG_WRITER_H_
+#endif  // IMUSYSID_SRC_SIM_SIM3D_LOG_WRITER_H_

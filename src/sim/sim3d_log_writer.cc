@@ -1,7 +1,7 @@
-// The binary writers' shared part (src/io/sim_log_writer.h) and
+// The binary writers' shared part (src/sim/sim3d_log_writer.h) and
 // Sim3dLogOptions::Validate.
 
-#include "src/io/sim_log_writer.h"
+#include "src/sim/sim3d_log_writer.h"
 
 #include <algorithm>
 #include <cmath>

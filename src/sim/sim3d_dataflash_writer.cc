@@ -11,8 +11,8 @@
 
 #include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
-#include "src/io/sim_log_writer.h"
 #include "src/sim/sim3d_internal.h"
+#include "src/sim/sim3d_log_writer.h"
 
 namespace imusysid {
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "imusysid/simulate3d.h"
-#include "src/io/sim_log_writer.h"
+#include "src/sim/sim3d_log_writer.h"
 
 namespace imusysid {
 namespace {
