@@ -31,7 +31,9 @@ Simulator3dOptions ShortRealistic() {
   o.maneuver_s = 10.0;
   o.rate_hz = 1000.0;
   o.sensor_profile = "realistic";
-  o.seed = 3;
+  // Seed 1 once touched the ground again at lift-off, pushed by the slow
+  // force, before that force faded towards the ground.
+  o.seed = 1;
   return o;
 }
 
@@ -172,7 +174,7 @@ TEST_F(Sim3dUlog, SensorCombinedIsTheMeanOfFourRawSamplesAt250Hz) {
   }
   EXPECT_EQ(mismatches, 0);
   // Jitter: σ = 20 µs cut at 3σ (a cut normal's σ is 0.987 of the uncut
-  // one; 4000 draws give its σ to about 1.1 %, and the stamps are rounded to
+  // one; 6500 draws give its σ to about 0.9 %, and the stamps are rounded to
   // the µs, which adds 0.3 µs).
   double mean = 0.0, sq = 0.0, worst = 0.0;
   for (double x : jitter_us) {
@@ -290,8 +292,12 @@ TEST(Sim3dUlogHighRate, RawSensorsAtEveryRawSampleReadBackPerInstance) {
   read.imu_instance = 2;
   StatusOr<FlightLog> log = ParseFlightLog(bytes, "high.ulg", read);
   ASSERT_TRUE(log.ok()) << log.status().ToString();
-  // Every raw sample from the first estimate on (20 ms in).
-  const std::size_t first = 20;
+  // Every raw sample from the first estimate on: 20 ms in, sample 20 or,
+  // when the jitter stamps it before the estimate's jittered stamp, 21.
+  ASSERT_GT(log->size(), 0u);
+  const std::size_t first =
+      static_cast<std::size_t>(std::llround(log->t_s[0] * 1000.0));
+  EXPECT_TRUE(first == 20 || first == 21) << first;
   ASSERT_EQ(log->size(), flight.t_s.size() - first);
   const FlightLog& truth = flight.logs[2];
   int mismatches = 0;
@@ -511,6 +517,7 @@ TEST(Sim3dRealistic, SlowForceIsSlowOfTheDocumentedSizeAndMovesTheVehicle) {
   Simulator3dOptions calm = o;
   calm.slow_force_rms_mps2 = 0.0;
   const Simulated3dFlight calm_flight = Fly(calm);
+  double hover_offset = 0.0;
   double max_offset = 0.0;
   std::vector<double> north;
   for (std::size_t i = 0; i < flight.t_s.size(); ++i) {
@@ -519,19 +526,25 @@ TEST(Sim3dRealistic, SlowForceIsSlowOfTheDocumentedSizeAndMovesTheVehicle) {
       continue;
     }
     north.push_back(flight.slow_force_ned[i].x());
-    max_offset =
-        std::max(max_offset,
-                 (flight.position_ned[i] - calm_flight.position_ned[i]).norm());
+    const double offset =
+        (flight.position_ned[i] - calm_flight.position_ned[i]).norm();
+    max_offset = std::max(max_offset, offset);
+    if (flight.t_s[i] >= 5.0 && flight.t_s[i] < 8.0) {
+      hover_offset = std::max(hover_offset, offset);
+    }
   }
-  // 22 s airborne hold about one period of the slowest term: its RMS is
-  // that of the setting within ~40 %, inside the documented 0.02-0.05 band
-  // for this seed.
+  // 22 s airborne hold about one period of the slowest term: the RMS of a
+  // stretch is the setting's within ~30 % (0.026-0.032 m/s² over seeds
+  // 1-8), so 0.015-0.05 bounds it.
   EXPECT_GT(Rms(north), 0.015);
   EXPECT_LT(Rms(north), 0.05);
-  // 0.03 m/s² against a 1.5 1/s position loop with a velocity integrator:
-  // millimetres to a centimetre of wander.
-  EXPECT_GT(max_offset, 1e-3);
-  EXPECT_LT(max_offset, 0.1);
+  // In hover, 0.03 m/s² against the 1.5 1/s position and 4 1/s velocity
+  // loops (with an integrator) moves the vehicle by millimetres (~7 mm
+  // here); the rate doublets leave the position open-loop for 0.6 s per
+  // axis, where it wanders by centimetres (~15 cm at most here).
+  EXPECT_GT(hover_offset, 1e-3);
+  EXPECT_LT(hover_offset, 0.02);
+  EXPECT_LT(max_offset, 0.5);
 }
 
 TEST(Sim3dLogs, BadOptionsAreRefused) {

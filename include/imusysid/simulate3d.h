@@ -114,8 +114,8 @@ struct Simulator3dOptions {
   // blade-pass of two-blade propellers) and 4P of the rotor frequency
   // vibration_hover_hz · sqrt(T / T_hover), shared by all IMUs (peaks per
   // axis at hover thrust). Each body axis is scaled by vibration_axis_scale
-  // (the vertical axis shakes most). About 1.9, 1.9, 2.4 m/s² and
-  // 0.15 rad/s RMS per axis at hover with these defaults.
+  // (the vertical axis shakes most). About 1.8, 1.8, 2.4 m/s² and 0.15,
+  // 0.15, 0.2 rad/s RMS per axis at hover with these defaults.
   double vibration_band_low_hz = 30.0;
   double vibration_band_high_hz = 150.0;
   double vibration_broadband_accel_mps2 = 1.4;  // RMS per axis at hover
@@ -132,7 +132,8 @@ struct Simulator3dOptions {
   // Slow unmodelled forces (gusts, prop-wash), an acceleration added to v̇ in
   // the dynamics while airborne: per NED axis a sum of six sinusoids with
   // random phases and log-spaced frequencies in [0.05, slow_force_max_hz],
-  // of RMS slow_force_rms_mps2. The fitted models know nothing of it.
+  // of RMS slow_force_rms_mps2, faded in linearly over the first 0.5 m
+  // above the ground. The fitted models know nothing of it.
   double slow_force_rms_mps2 = 0.03;
   double slow_force_max_hz = 1.0;
   // Timestamp jitter, s (σ, Gaussian, cut at 3σ): added to the stamps of the

@@ -107,6 +107,10 @@ class SlowForce {
   double phase_[3][kTerms] = {};
 };
 
+// The slow force grows linearly from nothing on the ground to its full size
+// at this height, m.
+inline constexpr double kSlowForceFullHeightM = 0.5;
+
 // Gaussian timestamp jitter of σ `sigma_s`, cut at ±3σ.
 class Jitter {
  public:

@@ -498,8 +498,14 @@ StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& o) {
       const double t = static_cast<double>(step) / plan.internal_rate;
       const bool motors_on = t >= timeline.motors_on && t < timeline.motors_off;
       ApplyMotorsAndLiftOff(t, motors_on, weight, &f);
-      // Held over the step, as the controller's commands are.
-      if (realistic) plant.slow_force = slow_force.At(t);
+      // Held over the step, as the controller's commands are. Gusts fade
+      // towards the ground (and a vehicle just lifting off, thrust barely
+      // above its weight, must not be pushed back into it).
+      if (realistic) {
+        const double height = std::clamp(
+            -f.body.p.z() / internal::kSlowForceFullHeightM, 0.0, 1.0);
+        plant.slow_force = height * slow_force.At(t);
+      }
       if (j == 0) {
         recorder.RecordSample(static_cast<double>(i) / o.rate_hz, motors_on, f);
       }
