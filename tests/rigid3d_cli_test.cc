@@ -22,8 +22,9 @@ using testing::RunCli;
 const std::string& FigureEight() {
   static const std::string* const path = [] {
     const std::string dir = testing::MakeTempDir();
-    const auto r =
-        RunCli("simulate --scenario=figure8_3d --out=" + dir + "/F.csv");
+    const auto r = RunCli(
+        "simulate --scenario=figure8_3d --sensor_profile=gentle --out=" + dir +
+        "/F.csv");
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return new std::string(dir + "/F.csv");
   }();
@@ -53,7 +54,9 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
 
 TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
   const std::string dir = testing::MakeTempDir();
-  ASSERT_EQ(RunCli("simulate --scenario=pitch_laps_3d --out=" + dir + "/P.csv")
+  ASSERT_EQ(RunCli("simulate --scenario=pitch_laps_3d --sensor_profile=gentle "
+                   "--out=" +
+                   dir + "/P.csv")
                 .exit_code,
             0);
   const auto r = RunCli("fit --log=" + dir +
@@ -72,7 +75,9 @@ TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
 TEST(Rigid3dCli, HoverIsRefusedWithExitTwo) {
   const std::string dir = testing::MakeTempDir();
   ASSERT_EQ(
-      RunCli("simulate --scenario=hover_3d --out=" + dir + "/H.csv").exit_code,
+      RunCli("simulate --scenario=hover_3d --sensor_profile=gentle --out=" +
+             dir + "/H.csv")
+          .exit_code,
       0);
   const auto r = RunCli("fit --log=" + dir + "/H.csv --model=rigid3d");
   EXPECT_EQ(r.exit_code, 2);

@@ -40,7 +40,7 @@ TEST(Simulate3dCli, HelpNamesTheThreeDimensionalScenarios) {
 TEST(Simulate3dCli, WritesOneFrdCsvPerImuThatReadsBack) {
   const std::string dir = testing::MakeTempDir();
   const auto r = RunCli(
-      "simulate --scenario=figure8_3d --rate_hz=200 "
+      "simulate --scenario=figure8_3d --sensor_profile=gentle --rate_hz=200 "
       "--seed=7 --out=" +
       dir + "/F.csv");
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -2,8 +2,9 @@
 // a rigid body with thrust, rotor drag, quadratic drag and wind, flown in
 // closed loop through named 3-D scenarios, read by several IMUs at known 3-D
 // positions and by a simulated autopilot estimator (attitude and NED velocity
-// at 50 Hz, noisy and late). Equations, frames and defaults:
-// docs/simulator-3d.md.
+// at 50 Hz, noisy and late), with gentle or realistic sensor effects, and
+// writes its flights as CSV, PX4 ULog or ArduPilot DataFlash logs. Equations,
+// frames and defaults: docs/simulator-3d.md.
 
 #ifndef IMUSYSID_SIMULATE3D_H_
 #define IMUSYSID_SIMULATE3D_H_
@@ -92,11 +93,52 @@ struct Simulator3dOptions {
 
   // The autopilot's estimator: attitude (body FRD → NED) and NED velocity of
   // the true state at estimator_rate_hz, with white noise, time-stamped
-  // estimator_delay_s late, then interpolated linearly to the IMU samples.
+  // estimator_delay_s late (real estimators: 0 to 60 ms), then interpolated
+  // linearly to the IMU samples.
   double estimator_rate_hz = 50.0;             // in [10, 200]
   double estimator_delay_s = 0.02;             // in [0, 0.2]
   double estimator_attitude_noise_deg = 0.2;   // σ per axis, deg
   double estimator_velocity_noise_mps = 0.05;  // σ per axis, m/s
+
+  // Which sensor effects are simulated. "gentle": the single vibration tone
+  // above and nothing below (the logs of earlier versions, bit for bit).
+  // "realistic": every effect below at its setting, the single tone
+  // replaced by the broadband-plus-harmonics vibration. The settings below
+  // hold realistic values and are ignored by "gentle".
+  std::string sensor_profile = "gentle";
+
+  // Realistic motor vibration, added to every IMU sample while the motors
+  // run, scaled by T / T_hover: band-limited noise (white noise through a
+  // 2nd-order Butterworth band-pass [low, high] Hz, its own stream per IMU,
+  // RMS per axis at hover thrust) plus the rotor harmonics 1P, 2P (the
+  // blade-pass of two-blade propellers) and 4P of the rotor frequency
+  // vibration_hover_hz · sqrt(T / T_hover), shared by all IMUs (peaks per
+  // axis at hover thrust). Each body axis is scaled by vibration_axis_scale
+  // (the vertical axis shakes most). About 1.8, 1.8, 2.4 m/s² and 0.15,
+  // 0.15, 0.2 rad/s RMS per axis at hover with these defaults.
+  double vibration_band_low_hz = 30.0;
+  double vibration_band_high_hz = 150.0;
+  double vibration_broadband_accel_mps2 = 1.4;  // RMS per axis at hover
+  double vibration_broadband_gyro_radps = 0.12;
+  Eigen::Vector3d vibration_harmonics_accel_mps2 =
+      Eigen::Vector3d(1.0, 1.2, 0.5);  // peaks of 1P, 2P, 4P
+  Eigen::Vector3d vibration_harmonics_gyro_radps =
+      Eigen::Vector3d(0.08, 0.1, 0.04);
+  Eigen::Vector3d vibration_axis_scale = Eigen::Vector3d(1.0, 1.0, 1.3);
+  // Sensor range: each axis saturates at ± this (±16 g; ±2000 °/s), after
+  // vibration, bias and noise.
+  double accel_clip_mps2 = 16.0 * 9.80665;
+  double gyro_clip_radps = 2000.0 * 3.14159265358979323846 / 180.0;
+  // Slow unmodelled forces (gusts, prop-wash), an acceleration added to v̇ in
+  // the dynamics while airborne: per NED axis a sum of six sinusoids with
+  // random phases and log-spaced frequencies in [0.05, slow_force_max_hz],
+  // of RMS slow_force_rms_mps2, faded in linearly over the first 0.5 m
+  // above the ground. The fitted models know nothing of it.
+  double slow_force_rms_mps2 = 0.03;
+  double slow_force_max_hz = 1.0;
+  // Timestamp jitter, s (σ, Gaussian, cut at 3σ): added to the stamps of the
+  // binary logs' IMU samples and to the estimator's publication times.
+  double timestamp_jitter_s = 20e-6;
 
   // The profile's total length, s.
   double duration_s() const;
@@ -117,6 +159,16 @@ struct Simulator3dOptions {
 inline constexpr const char* kSim3dChannels[7] = {
     "qw", "qx", "qy", "qz", "vn", "ve", "vd"};
 
+// One output of the autopilot's estimator, at the estimator's own rate.
+struct Estimator3dSample {
+  double t_s = 0.0;        // when it was published (state_t_s + delay + jitter)
+  double state_t_s = 0.0;  // the instant it describes
+  // Attitude body FRD → NED with its error; signs kept continuous.
+  Eigen::Quaterniond attitude = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d velocity_ned = Eigen::Vector3d::Zero();  // with its error
+  Eigen::Vector3d position_ned = Eigen::Vector3d::Zero();  // true, no error
+};
+
 // A simulated 3-D flight: one log per IMU and the truth at the same instants.
 struct Simulated3dFlight {
   // One per Simulator3dOptions::imus entry. FLU data (FlightLog's convention),
@@ -135,6 +187,18 @@ struct Simulated3dFlight {
   // flight, −g along body z at rest.
   std::vector<Eigen::Vector3d> specific_force_cm_frd;
   std::vector<bool> on_ground;
+  // The slow unmodelled force per unit mass acting at each sample, NED,
+  // m/s² (zero on the ground and in the "gentle" profile).
+  std::vector<Eigen::Vector3d> slow_force_ned;
+  // Thrust at each sample over the hover thrust m g (the vibration's scale).
+  std::vector<double> thrust_ratio;
+  // Samples (over all IMUs and axes) that reached the sensor's range.
+  std::size_t clipped_accel_samples = 0;
+  std::size_t clipped_gyro_samples = 0;
+
+  // The estimator's outputs at its own rate, in publication order (the
+  // logs' estimator channels interpolate them onto the IMU samples).
+  std::vector<Estimator3dSample> estimates;
 
   // Key instants, s.
   double motors_on_t_s = 0.0;
@@ -176,6 +240,63 @@ std::string Truth3dJson(const Simulator3dOptions& options,
 // those cells are left empty: the only cells a simulated CSV leaves empty.
 // InvalidArgument as FormatCsvLog.
 StatusOr<std::string> FormatSimulated3dCsv(const FlightLog& log);
+
+// How the binary writers log a simulated flight: which topics/messages at
+// which rates. Times in the files are integer µs on the flight's clock plus
+// boot_offset_us; the IMU stamps carry Simulator3dOptions::timestamp_jitter_s
+// (realistic profile). Every IMU goes into the one file as an instance.
+// Tables of what carries what: docs/simulator-3d.md, "Binary logs".
+struct Sim3dLogOptions {
+  // --- PX4 ULog ---
+  // sensor_combined (IMU 1, as PX4's primary): the mean of n = round(rate_hz
+  // / ulog_imu_rate_hz) raw samples, as PX4 integrates them, stamped at the
+  // last one; the logged rate is rate_hz / n (250 Hz from 1 kHz raw, 200 Hz
+  // from 400 Hz). In [50, rate_hz].
+  double ulog_imu_rate_hz = 250.0;
+  double ulog_attitude_rate_hz = 50.0;        // vehicle_attitude, [1, 200]
+  double ulog_local_position_rate_hz = 10.0;  // vehicle_local_position
+  double ulog_status_rate_hz = 2.0;           // actuator_armed, vehicle_status
+  // sensor_accel / sensor_gyro, one instance per IMU: PX4's default logging
+  // profile logs them about once a second; with ulog_high_rate_raw_imu
+  // (PX4's high-rate / raw-IMU profiles) every raw sample is logged.
+  double ulog_raw_imu_rate_hz = 1.0;  // in [0.1, 10]
+  bool ulog_high_rate_raw_imu = false;
+
+  // --- ArduPilot DataFlash ---
+  // IMU records (one per instance, field I) at the main-loop rate: the
+  // latest raw sample through ArduPilot's 2nd-order low-pass
+  // (INS_GYRO_FILTER, INS_ACCEL_FILTER; 0: no filter). Rate in
+  // [10, rate_hz].
+  double dataflash_imu_rate_hz = 400.0;
+  double dataflash_imu_filter_hz = 20.0;
+  double dataflash_att_rate_hz = 25.0;  // ATT, [1, 50]
+  double dataflash_ekf_rate_hz = 10.0;  // XKF1 (core 0), [1, 50]
+
+  // Added to every time stamp (a log's clock is time since boot), µs.
+  std::uint64_t boot_offset_us = 0;
+
+  // OK, or InvalidArgument "Sim3dLogOptions::field = value; required ...".
+  Status Validate(const Simulator3dOptions& sim) const;
+};
+
+// The flight as a PX4 ULog file image (version 1): info, parameters
+// (EKF2_IMU_POS_* = 0, SENS_BOARD_*_OFF = 0, ...), sensor_combined,
+// sensor_accel/sensor_gyro per IMU, vehicle_attitude and
+// vehicle_local_position at the estimator's own times, actuator_armed and
+// vehicle_status. InvalidArgument when the options do not validate or the
+// flight does not match them.
+StatusOr<std::string> FormatSimulated3dUlog(
+    const Simulator3dOptions& options,
+    const Simulated3dFlight& flight,
+    const Sim3dLogOptions& log_options = Sim3dLogOptions());
+
+// The flight as an ArduPilot DataFlash (.bin) file image: FMT, MSG, PARM
+// (INS_POSn_* = 0, ...), IMU per instance, ATT and XKF1 at the estimator's
+// own times, EV arm/disarm, MODE. Errors as FormatSimulated3dUlog.
+StatusOr<std::string> FormatSimulated3dDataFlash(
+    const Simulator3dOptions& options,
+    const Simulated3dFlight& flight,
+    const Sim3dLogOptions& log_options = Sim3dLogOptions());
 
 }  // namespace imusysid
 

@@ -5,6 +5,7 @@
 #include "imusysid/simulate.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -41,6 +42,20 @@ DEFINE_string(set,
               "",
               "Override any simulator setting: name=value[,name=value...]. "
               "See --list_settings.");
+DEFINE_string(sensor_profile,
+              "",
+              "3-D scenarios: gentle (one vibration tone, nothing else: the "
+              "logs of earlier versions) or realistic (broadband vibration "
+              "and rotor harmonics, clipping, slow unmodelled forces, "
+              "timestamp jitter); default realistic.");
+DEFINE_string(log_format,
+              "",
+              "3-D scenarios: csv, ulog or dataflash; default from --out's "
+              "extension (.ulg ULog, .bin DataFlash, anything else CSV).");
+DEFINE_bool(high_rate_raw_imu,
+            false,
+            "3-D scenarios, ULog: log sensor_accel/sensor_gyro at every raw "
+            "sample (PX4's high-rate profile) instead of about 1 Hz.");
 DEFINE_bool(list_settings,
             false,
             "Print every simulator setting of the scenario with its value, "
@@ -50,12 +65,18 @@ namespace imusysid {
 namespace cli {
 namespace {
 
-// NAME.csv → NAME.truth.json; other names get ".truth.json" appended.
+bool EndsWith(const std::string& text, const std::string& ext) {
+  return text.size() > ext.size() &&
+         text.compare(text.size() - ext.size(), ext.size(), ext) == 0;
+}
+
+// NAME.csv (or NAME.ulg, NAME.bin) → NAME.truth.json; other names get
+// ".truth.json" appended.
 std::string TruthPath(const std::string& out) {
-  const std::string ext = ".csv";
-  if (out.size() > ext.size() &&
-      out.compare(out.size() - ext.size(), ext.size(), ext) == 0) {
-    return out.substr(0, out.size() - ext.size()) + ".truth.json";
+  for (const std::string ext : {".csv", ".ulg", ".bin"}) {
+    if (EndsWith(out, ext)) {
+      return out.substr(0, out.size() - ext.size()) + ".truth.json";
+    }
   }
   return out + ".truth.json";
 }
@@ -109,8 +130,96 @@ bool Is3dScenario(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-// The 6-DOF scenarios: one FRD CSV per IMU, one truth sidecar. The planar
-// scenarios' settings do not apply to them.
+enum class LogKind { kCsv, kUlog, kDataFlash };
+
+// --log_format, else --out's extension.
+StatusOr<LogKind> ChosenLogKind() {
+  if (FLAGS_log_format.empty()) {
+    if (EndsWith(FLAGS_out, ".ulg")) return LogKind::kUlog;
+    if (EndsWith(FLAGS_out, ".bin")) return LogKind::kDataFlash;
+    return LogKind::kCsv;
+  }
+  if (FLAGS_log_format == "csv") return LogKind::kCsv;
+  if (FLAGS_log_format == "ulog") return LogKind::kUlog;
+  if (FLAGS_log_format == "dataflash") return LogKind::kDataFlash;
+  return InvalidArgumentError("--log_format=" + FLAGS_log_format +
+                              ": required csv, ulog or dataflash");
+}
+
+// A 3-D flight in one binary log (every IMU an instance) beside its truth.
+int Write3dBinary(LogKind kind,
+                  const Simulator3dOptions& options,
+                  const Sim3dLogOptions& log_options,
+                  const Simulated3dFlight& f) {
+  const std::string cmd = "simulate";
+  StatusOr<std::string> bytes =
+      kind == LogKind::kUlog
+          ? FormatSimulated3dUlog(options, f, log_options)
+          : FormatSimulated3dDataFlash(options, f, log_options);
+  if (!bytes.ok()) return ReportError(cmd, bytes.status());
+  const std::string truth_path = TruthPath(FLAGS_out);
+  Status s = WriteFilesTogether(
+      {{truth_path, Truth3dJson(options, f)}, {FLAGS_out, *bytes}});
+  if (!s.ok()) return ReportError(cmd, s);
+  const std::size_t n = static_cast<std::size_t>(std::max(
+      1.0, std::round(options.rate_hz / log_options.ulog_imu_rate_hz)));
+  const std::string format = kind == LogKind::kUlog ? "ulog" : "dataflash";
+  if (JsonOutput()) {
+    nlohmann::ordered_json j;
+    j["scenario"] = FLAGS_scenario;
+    j["log"] = FLAGS_out;
+    j["log_format"] = format;
+    j["bytes"] = bytes->size();
+    j["truth"] = truth_path;
+    j["imus"] = options.imus.size();
+    j["raw_rate_hz"] = options.rate_hz;
+    j["sensor_profile"] = options.sensor_profile;
+    j["seed"] = options.seed;
+    j["duration_s"] = options.duration_s();
+    j["maneuver_s"] = {f.maneuver_start_t_s, f.maneuver_end_t_s};
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::cout << "wrote " << FLAGS_out << " (";
+  if (kind == LogKind::kUlog) {
+    std::cout << "PX4 ULog: sensor_combined "
+              << FormatNumber(options.rate_hz / static_cast<double>(n), 4)
+              << " Hz from IMU 1, sensor_accel/sensor_gyro instances 0-"
+              << options.imus.size() - 1 << " at "
+              << (log_options.ulog_high_rate_raw_imu
+                      ? FormatNumber(options.rate_hz, 4) + " Hz"
+                      : FormatNumber(log_options.ulog_raw_imu_rate_hz, 3) +
+                            " Hz")
+              << ", vehicle_attitude "
+              << FormatNumber(log_options.ulog_attitude_rate_hz, 3)
+              << " Hz, vehicle_local_position "
+              << FormatNumber(log_options.ulog_local_position_rate_hz, 3)
+              << " Hz";
+  } else {
+    std::cout << "ArduPilot DataFlash: IMU instances 0-"
+              << options.imus.size() - 1 << " at "
+              << FormatNumber(log_options.dataflash_imu_rate_hz, 4)
+              << " Hz, ATT "
+              << FormatNumber(log_options.dataflash_att_rate_hz, 3)
+              << " Hz, XKF1 "
+              << FormatNumber(log_options.dataflash_ekf_rate_hz, 3) << " Hz";
+  }
+  std::cout << "; raw IMU " << FormatNumber(options.rate_hz, 4)
+            << " Hz, sensors " << options.sensor_profile << ", "
+            << bytes->size() << " bytes) and " << truth_path << "\n";
+  for (std::size_t k = 0; k < options.imus.size(); ++k) {
+    const Imu3dMount& m = options.imus[k];
+    std::cout << "truth: IMU " << k + 1 << " (instance " << k << ") at ("
+              << FormatNumber(m.p_frd_m.x(), 4) << ", "
+              << FormatNumber(m.p_frd_m.y(), 4) << ", "
+              << FormatNumber(m.p_frd_m.z(), 4) << ") m FRD\n";
+  }
+  return kExitOk;
+}
+
+// The 6-DOF scenarios: one FRD CSV per IMU, or one binary log with every IMU
+// as an instance, and one truth sidecar. The planar scenarios' settings do
+// not apply to them.
 int Run3d() {
   const std::string cmd = "simulate";
   for (const char* flag :
@@ -127,14 +236,48 @@ int Run3d() {
         cmd,
         "the 3-D scenarios write FRD logs only (--frame=" + FLAGS_frame + ")");
   }
+  StatusOr<LogKind> kind = ChosenLogKind();
+  if (!kind.ok()) return UsageError(cmd, kind.status().message());
+  if (*kind != LogKind::kUlog && FlagWasSet("high_rate_raw_imu")) {
+    return UsageError(cmd, "--high_rate_raw_imu applies to ULog output only");
+  }
+  if (!FLAGS_sensor_profile.empty() && FLAGS_sensor_profile != "gentle" &&
+      FLAGS_sensor_profile != "realistic") {
+    return UsageError(cmd,
+                      "--sensor_profile=" + FLAGS_sensor_profile +
+                          ": required gentle or realistic");
+  }
   StatusOr<Simulator3dOptions> options = Scenario3dOptions(FLAGS_scenario);
   if (!options.ok()) return ReportError(cmd, options.status());
+  // The CLI flies the realistic sensors unless asked for the gentle ones;
+  // the binary logs sample the raw IMU at 1 kHz, as real IMUs are read, so
+  // PX4's 250 Hz sensor_combined averages four samples.
+  options->sensor_profile =
+      FLAGS_sensor_profile.empty() ? "realistic" : FLAGS_sensor_profile;
+  if (*kind != LogKind::kCsv) options->rate_hz = 1000.0;
   if (FlagWasSet("rate_hz")) options->rate_hz = FLAGS_rate_hz;
   if (FlagWasSet("seed")) options->seed = FLAGS_seed;
   Status s = options->Validate();
   if (!s.ok()) return ReportError(cmd, s);
+  Sim3dLogOptions log_options;
+  log_options.ulog_high_rate_raw_imu = FLAGS_high_rate_raw_imu;
+  // Below 250 Hz raw the IMU topics follow the raw rate.
+  log_options.ulog_imu_rate_hz =
+      std::min(log_options.ulog_imu_rate_hz, options->rate_hz);
+  log_options.dataflash_imu_rate_hz =
+      std::min(log_options.dataflash_imu_rate_hz, options->rate_hz);
+  if (*kind != LogKind::kCsv) {
+    s = log_options.Validate(*options);
+    if (!s.ok()) return ReportError(cmd, s);
+  }
   if (FLAGS_out.empty()) {
-    return UsageError(cmd, "--out=FILE.csv is required");
+    return UsageError(cmd,
+                      "--out=FILE.csv (or FILE.ulg, FILE.bin) is required");
+  }
+  if (FLAGS_out == "-" && *kind != LogKind::kCsv) {
+    return UsageError(cmd,
+                      "--out must name a file: simulate writes the log and "
+                      "its truth sidecar beside it");
   }
   std::cerr << "simulating " << FLAGS_scenario << " (" << options->duration_s()
             << " s at " << options->rate_hz << " Hz, " << options->imus.size()
@@ -142,6 +285,9 @@ int Run3d() {
   StatusOr<Simulated3dFlight> flight = Simulate3d(*options);
   if (!flight.ok()) return ReportError(cmd, flight.status());
   const Simulated3dFlight& f = *flight;
+  if (*kind != LogKind::kCsv) {
+    return Write3dBinary(*kind, *options, log_options, f);
+  }
 
   // No half-written set of files: on any failure the ones already written
   // are removed.
@@ -223,6 +369,15 @@ int Run(const std::vector<std::string>& positional) {
     return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
   }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
+  for (const char* flag :
+       {"sensor_profile", "log_format", "high_rate_raw_imu"}) {
+    if (FlagWasSet(flag)) {
+      return UsageError(cmd,
+                        std::string("--") + flag +
+                            " applies to the 3-D scenarios only, not to " +
+                            FLAGS_scenario);
+    }
+  }
   StatusOr<SimulatorOptions> options = ScenarioOptions(FLAGS_scenario);
   if (!options.ok()) return ReportError(cmd, options.status());
   Status s = ApplyOverrides(&*options);
@@ -311,7 +466,8 @@ const Command& SimulateCommand() {
       "simulate",
       "Simulate a flight (the paper's planar profile or a 3-D scenario); "
       "write the IMU log and its truth.",
-      "imusysid simulate --scenario=NAME --out=FILE.csv [overrides]",
+      "imusysid simulate --scenario=NAME --out=FILE.csv|FILE.ulg|FILE.bin "
+      "[overrides]",
       std::string(
           "Writes FILE.csv (docs/log-format.md) and FILE.truth.json (true r, "
           "beta, alpha, mu,\nthe geometry, every simulator setting and the "
@@ -335,8 +491,21 @@ const Command& SimulateCommand() {
           "1),\nFILE.imu2.csv and FILE.imu3.csv, in FRD with the autopilot's "
           "attitude and velocity\n(qw,qx,qy,qz,vn,ve,vd; empty before its "
           "first estimate), and FILE.truth.json (every\nIMU's position, "
-          "drag, wind, estimator delay). Only --seed, --rate_hz (100-1000) "
-          "and\n--format apply to them.",
+          "drag, wind, estimator delay).\n"
+          "  --out=FILE.ulg (or --log_format=ulog): one PX4 ULog, every IMU an "
+          "instance:\n    sensor_combined 250 Hz (IMU 1), sensor_accel/"
+          "sensor_gyro ~1 Hz (--high_rate_raw_imu:\n    every raw sample), "
+          "vehicle_attitude 50 Hz, vehicle_local_position 10 Hz, arming.\n"
+          "  --out=FILE.bin (or --log_format=dataflash): one ArduPilot "
+          "DataFlash log: IMU\n    instances at 400 Hz (20 Hz low-pass), ATT "
+          "25 Hz, XKF1 10 Hz, PARM, EV.\n"
+          "  Binary logs sample the raw IMU at 1000 Hz unless --rate_hz says "
+          "otherwise.\n"
+          "  --sensor_profile=realistic (default: broadband vibration and "
+          "rotor harmonics,\n    clipping, slow unmodelled forces, timestamp "
+          "jitter) or gentle (one vibration\n    tone, as earlier versions). "
+          "Only --seed, --rate_hz (100-1000), --format and\n    these apply "
+          "to them.",
       {"scenario",
        "out",
        "seed",
@@ -348,7 +517,10 @@ const Command& SimulateCommand() {
        "set",
        "list_settings",
        "frame",
-       "format"},
+       "format",
+       "sensor_profile",
+       "log_format",
+       "high_rate_raw_imu"},
       &Run};
   return c;
 }

@@ -5,11 +5,13 @@
 #ifndef IMUSYSID_SRC_SIM_SIM3D_INTERNAL_H_
 #define IMUSYSID_SRC_SIM_SIM3D_INTERNAL_H_
 
+#include <cstdint>
 #include <limits>
 
 #include "Eigen/Core"
 #include "Eigen/Geometry"
 #include "imusysid/simulate3d.h"
+#include "src/sim/simulator_internal.h"
 
 namespace imusysid {
 namespace internal {
@@ -37,6 +39,9 @@ struct Plant3d {
   Eigen::Vector3d wind = Eigen::Vector3d::Zero();     // NED, m/s
   double thrust_lag = 0.03;
   double torque_lag = 0.03;
+  // The slow unmodelled force per unit mass (gusts, prop-wash), NED, m/s²,
+  // held over a step; acts only in flight.
+  Eigen::Vector3d slow_force = Eigen::Vector3d::Zero();
 };
 
 struct Commands3d {
@@ -62,6 +67,60 @@ State3d Rk4Step3d(const State3d& s,
                   bool grounded,
                   const Plant3d& p,
                   double h);
+
+// --- noise streams and sensor effects (sim3d_sensors.cc) ---------------------
+
+// Independent seeds for the generator streams (one per IMU, one for the
+// estimator, ...) from the user's seed: SplitMix64 of seed + stream · golden
+// ratio, so neighbouring seeds and streams do not give related sequences.
+std::uint64_t Sim3dStreamSeed(std::uint64_t seed, std::uint64_t stream);
+
+// Stream numbers beyond the IMUs' (1..8) and the estimator's (0).
+inline constexpr std::uint64_t kSlowForceStream = 16;
+inline constexpr std::uint64_t kVibrationStream = 32;  // + IMU index
+inline constexpr std::uint64_t kJitterStream = 64;     // + topic index
+
+// A 2nd-order section y = (b0 x + b1 x₁ + b2 x₂ − a1 y₁ − a2 y₂).
+struct SecondOrderSection {
+  double b0 = 1.0, b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0;
+  double x1 = 0.0, x2 = 0.0, y1 = 0.0, y2 = 0.0;
+  double Step(double x);
+};
+
+// 2nd-order Butterworth low-pass / high-pass at `cutoff_hz` for samples at
+// `rate_hz` (bilinear transform, pre-warped; cutoff < rate / 2).
+SecondOrderSection ButterworthLowPass(double cutoff_hz, double rate_hz);
+SecondOrderSection ButterworthHighPass(double cutoff_hz, double rate_hz);
+
+// The slow unmodelled force of the "realistic" profile: per NED axis a sum
+// of six sinusoids of equal amplitude, random phases and log-spaced
+// frequencies in [0.05, max_hz], RMS `rms` per axis.
+class SlowForce {
+ public:
+  SlowForce(std::uint64_t seed, double rms, double max_hz);
+  Eigen::Vector3d At(double t) const;
+
+ private:
+  static constexpr int kTerms = 6;
+  double amplitude_ = 0.0;
+  double freq_[3][kTerms] = {};
+  double phase_[3][kTerms] = {};
+};
+
+// The slow force grows linearly from nothing on the ground to its full size
+// at this height, m.
+inline constexpr double kSlowForceFullHeightM = 0.5;
+
+// Gaussian timestamp jitter of σ `sigma_s`, cut at ±3σ.
+class Jitter {
+ public:
+  Jitter(std::uint64_t seed, double sigma_s) : normal_(seed), sigma_(sigma_s) {}
+  double Next();
+
+ private:
+  NormalGenerator normal_;
+  double sigma_;
+};
 
 // --- the profile (sim3d_controller.cc) ---------------------------------------
 

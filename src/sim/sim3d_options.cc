@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
 #include "src/tools/format.h"
@@ -142,6 +143,47 @@ Status Simulator3dOptions::Validate() const {
       "estimator_attitude_noise_deg", estimator_attitude_noise_deg, 0.0, 10.0));
   IMUSYSID_RETURN_IF_ERROR(InRange(
       "estimator_velocity_noise_mps", estimator_velocity_noise_mps, 0.0, 5.0));
+  if (sensor_profile != "gentle" && sensor_profile != "realistic") {
+    return InvalidArgumentError("Simulator3dOptions::sensor_profile = '" +
+                                sensor_profile +
+                                "'; required gentle or realistic");
+  }
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("vibration_band_low_hz", vibration_band_low_hz, 1.0, 500.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      Require(vibration_band_high_hz > vibration_band_low_hz &&
+                  vibration_band_high_hz <= 1000.0,
+              "vibration_band_high_hz",
+              vibration_band_high_hz,
+              "> vibration_band_low_hz and <= 1000"));
+  IMUSYSID_RETURN_IF_ERROR(InRange("vibration_broadband_accel_mps2",
+                                   vibration_broadband_accel_mps2,
+                                   0.0,
+                                   50.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange("vibration_broadband_gyro_radps",
+                                   vibration_broadband_gyro_radps,
+                                   0.0,
+                                   5.0));
+  IMUSYSID_RETURN_IF_ERROR(VectorInRange("vibration_harmonics_accel_mps2",
+                                         vibration_harmonics_accel_mps2,
+                                         0.0,
+                                         50.0));
+  IMUSYSID_RETURN_IF_ERROR(VectorInRange("vibration_harmonics_gyro_radps",
+                                         vibration_harmonics_gyro_radps,
+                                         0.0,
+                                         5.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      VectorInRange("vibration_axis_scale", vibration_axis_scale, 0.0, 5.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("accel_clip_mps2", accel_clip_mps2, 2.0 * kGravity, 1000.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("gyro_clip_radps", gyro_clip_radps, 1.0, 100.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("slow_force_rms_mps2", slow_force_rms_mps2, 0.0, 2.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("slow_force_max_hz", slow_force_max_hz, 0.1, 5.0));
+  IMUSYSID_RETURN_IF_ERROR(
+      InRange("timestamp_jitter_s", timestamp_jitter_s, 0.0, 1e-3));
   return Status::Ok();
 }
 
@@ -212,6 +254,30 @@ std::string Truth3dJson(const Simulator3dOptions& o,
                       {"vibration_hover_hz", o.vibration_hover_hz},
                       {"vibration_accel_mps2", o.vibration_accel_mps2},
                       {"vibration_gyro_radps", o.vibration_gyro_radps}};
+  // Only the realistic profile uses these; a gentle flight's truth is as it
+  // always was.
+  if (o.sensor_profile == "realistic") {
+    j["sensors"]["sensor_profile"] = o.sensor_profile;
+    j["sensors"]["vibration_band_hz"] =
+        Json::array({o.vibration_band_low_hz, o.vibration_band_high_hz});
+    j["sensors"]["vibration_broadband_accel_mps2"] =
+        o.vibration_broadband_accel_mps2;
+    j["sensors"]["vibration_broadband_gyro_radps"] =
+        o.vibration_broadband_gyro_radps;
+    j["sensors"]["vibration_harmonics_accel_mps2"] =
+        Vec(o.vibration_harmonics_accel_mps2);
+    j["sensors"]["vibration_harmonics_gyro_radps"] =
+        Vec(o.vibration_harmonics_gyro_radps);
+    j["sensors"]["vibration_axis_scale"] = Vec(o.vibration_axis_scale);
+    j["sensors"]["accel_clip_mps2"] = o.accel_clip_mps2;
+    j["sensors"]["gyro_clip_radps"] = o.gyro_clip_radps;
+    j["sensors"]["slow_force_rms_mps2"] = o.slow_force_rms_mps2;
+    j["sensors"]["slow_force_max_hz"] = o.slow_force_max_hz;
+    j["sensors"]["timestamp_jitter_s"] = o.timestamp_jitter_s;
+    j["sensors"]["clipped_samples"] =
+        Json{{"accel", flight.clipped_accel_samples},
+             {"gyro", flight.clipped_gyro_samples}};
+  }
   j["profile_s"] = Json{{"motors_off_start", o.motors_off_start_s},
                         {"idle", o.idle_s},
                         {"hover", o.hover_s},

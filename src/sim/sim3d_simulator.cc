@@ -26,6 +26,7 @@ using internal::Controller3d;
 using internal::Derivative3d;
 using internal::NormalGenerator;
 using internal::Plant3d;
+using internal::SecondOrderSection;
 using internal::State3d;
 using internal::Timeline3d;
 
@@ -36,14 +37,8 @@ constexpr double kMinInternalRateHz = 1000.0;
 // gyro, so the axes are not copies of one another.
 constexpr double kVibrationPhase[6] = {0.0, 2.1, 4.2, 0.7, 2.8, 4.9};
 
-// Independent seeds for the generator streams (one per IMU, one for the
-// estimator) from the user's seed: SplitMix64 of seed + stream · golden ratio,
-// so neighbouring seeds and streams do not give related sequences.
 std::uint64_t StreamSeed(std::uint64_t seed, std::uint64_t stream) {
-  std::uint64_t z = seed + (stream + 1) * 0x9E3779B97F4A7C15ULL;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
+  return internal::Sim3dStreamSeed(seed, stream);
 }
 
 // Sensor axes → body axes for a misalignment given as ZYX Euler angles.
@@ -78,8 +73,38 @@ struct ImuUnit {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   Eigen::Matrix3d body_to_sensor = Eigen::Matrix3d::Identity();
   NormalGenerator normal;
-  explicit ImuUnit(std::uint64_t seed) : normal(seed) {}
+  // The realistic profile's broadband vibration: its own stream (so the
+  // white noise above draws the same numbers in every profile) and a
+  // high-pass then low-pass section per axis (accelerometer, then gyro).
+  NormalGenerator vibration_normal;
+  SecondOrderSection high_pass[6];
+  SecondOrderSection low_pass[6];
+  ImuUnit(std::uint64_t seed, std::uint64_t vibration_seed)
+      : normal(seed), vibration_normal(vibration_seed) {}
 };
+
+// RMS of the band-pass output for unit white input: the root of the sum of
+// the squared impulse response (long enough for the 30 Hz poles to decay).
+double BandPassNoiseGain(const SecondOrderSection& high_pass,
+                         const SecondOrderSection& low_pass,
+                         double rate_hz) {
+  SecondOrderSection hp = high_pass;
+  SecondOrderSection lp = low_pass;
+  double sum = 0.0;
+  const int n = static_cast<int>(std::ceil(rate_hz * 4.0));
+  for (int i = 0; i < n; ++i) {
+    const double y = lp.Step(hp.Step(i == 0 ? 1.0 : 0.0));
+    sum += y * y;
+  }
+  return std::sqrt(sum);
+}
+
+// Per-axis phases of the rotor harmonics 1P, 2P, 4P (rad), accelerometer
+// then gyro, so the axes and harmonics are not copies of one another.
+constexpr double kHarmonicOrder[3] = {1.0, 2.0, 4.0};
+double HarmonicPhase(int axis, int harmonic) {
+  return 0.9 * axis + 2.3 * harmonic + 0.4 * axis * harmonic;
+}
 
 // One estimate of the autopilot: the state at `t_state` with its errors,
 // published at `t_published`.
@@ -105,15 +130,35 @@ struct FlightState {
 class Recorder {
  public:
   Recorder(const Simulator3dOptions& o, const Plant3d& plant, std::size_t n)
-      : o_(o), plant_(plant), estimator_normal_(StreamSeed(o.seed, 0)) {
+      : o_(o),
+        plant_(plant),
+        realistic_(o.sensor_profile == "realistic"),
+        estimator_normal_(StreamSeed(o.seed, 0)),
+        jitter_(StreamSeed(o.seed, internal::kJitterStream),
+                realistic_ ? o.timestamp_jitter_s : 0.0) {
     const double sqrt_half_rate = std::sqrt(0.5 * o.rate_hz);
     accel_sigma_ = o.accel_noise_density_ug * 1e-6 * kGravity * sqrt_half_rate;
     gyro_sigma_ = o.gyro_noise_density_dps * kDegToRad * sqrt_half_rate;
     hover_thrust_ = o.mass_kg * kGravity;
+    // The band stops short of the Nyquist frequency at low sample rates.
+    const double high_hz = std::min(o.vibration_band_high_hz, 0.45 * o.rate_hz);
+    const double low_hz = std::min(o.vibration_band_low_hz, 0.5 * high_hz);
+    const SecondOrderSection high_pass =
+        internal::ButterworthHighPass(low_hz, o.rate_hz);
+    const SecondOrderSection low_pass =
+        internal::ButterworthLowPass(high_hz, o.rate_hz);
+    const double gain = BandPassNoiseGain(high_pass, low_pass, o.rate_hz);
+    broadband_scale_[0] = o.vibration_broadband_accel_mps2 / gain;
+    broadband_scale_[1] = o.vibration_broadband_gyro_radps / gain;
     for (std::size_t k = 0; k < o.imus.size(); ++k) {
-      ImuUnit unit(StreamSeed(o.seed, k + 1));
+      ImuUnit unit(StreamSeed(o.seed, k + 1),
+                   StreamSeed(o.seed, internal::kVibrationStream + k));
       unit.p = o.imus[k].p_frd_m;
       unit.body_to_sensor = SensorToBody(o.imus[k]).transpose();
+      for (int axis = 0; axis < 6; ++axis) {
+        unit.high_pass[axis] = high_pass;
+        unit.low_pass[axis] = low_pass;
+      }
       units_.push_back(std::move(unit));
       FlightLog log;
       log.source = "simulator:" + o.scenario + ":imu" + std::to_string(k + 1);
@@ -124,6 +169,7 @@ class Recorder {
                       {"rate_hz", FormatShortest(o.rate_hz)},
                       {"imu", std::to_string(k + 1)},
                       {"generator", "imusysid 3-D simulator"}};
+      if (realistic_) log.metadata.push_back({"sensor_profile", "realistic"});
       for (auto* v :
            {&log.t_s, &log.ax, &log.ay, &log.az, &log.gx, &log.gy, &log.gz}) {
         v->reserve(n);
@@ -145,9 +191,24 @@ class Recorder {
     const Eigen::Vector3d& w = s.w;
     const Eigen::Vector3d& w_dot = d.w;
 
+    const double level = std::max(s.thrust, 0.0) / hover_thrust_;
     double vib[6] = {0, 0, 0, 0, 0, 0};
-    if (o_.vibration && motors_on) {
-      const double level = std::max(s.thrust, 0.0) / hover_thrust_;
+    if (realistic_) {
+      // The rotor harmonics are the frame's and the same at every IMU; the
+      // broadband part is added per IMU below.
+      for (int axis = 0; axis < 6; ++axis) {
+        const Eigen::Vector3d& peaks = axis < 3
+                                           ? o_.vibration_harmonics_accel_mps2
+                                           : o_.vibration_harmonics_gyro_radps;
+        double sum = 0.0;
+        for (int h = 0; h < 3; ++h) {
+          sum += peaks(h) * std::sin(kHarmonicOrder[h] * f.vibration_phase +
+                                     HarmonicPhase(axis, h));
+        }
+        vib[axis] =
+            motors_on ? level * o_.vibration_axis_scale(axis % 3) * sum : 0.0;
+      }
+    } else if (o_.vibration && motors_on) {
       for (int axis = 0; axis < 6; ++axis) {
         const double amplitude =
             axis < 3 ? o_.vibration_accel_mps2 : o_.vibration_gyro_radps;
@@ -170,6 +231,7 @@ class Recorder {
         gyr(axis) += vib[3 + axis] + o_.gyro_bias_radps(axis) +
                      gyro_sigma_ * unit.normal.Next();
       }
+      if (realistic_) AddBroadbandAndClip(motors_on, level, &unit, &acc, &gyr);
       // The log holds FLU (FlightLog's convention); FRD → FLU flips y, z.
       FlightLog& log = flight_.logs[k];
       log.t_s.push_back(t);
@@ -188,6 +250,41 @@ class Recorder {
     flight_.position_ned.push_back(s.p);
     flight_.specific_force_cm_frd.push_back(f_cm);
     flight_.on_ground.push_back(f.grounded);
+    flight_.slow_force_ned.push_back(f.grounded ? Eigen::Vector3d::Zero()
+                                                : plant_.slow_force);
+    flight_.thrust_ratio.push_back(level);
+  }
+
+  // The realistic profile's broadband vibration (the filters run whether or
+  // not the motors do, so they are settled when the motors start) and the
+  // sensors' range.
+  void AddBroadbandAndClip(bool motors_on,
+                           double level,
+                           ImuUnit* unit,
+                           Eigen::Vector3d* acc,
+                           Eigen::Vector3d* gyr) {
+    for (int axis = 0; axis < 6; ++axis) {
+      const double band = unit->low_pass[axis].Step(
+          unit->high_pass[axis].Step(unit->vibration_normal.Next()));
+      if (!motors_on) continue;
+      const double v = level * o_.vibration_axis_scale(axis % 3) *
+                       broadband_scale_[axis < 3 ? 0 : 1] * band;
+      if (axis < 3) {
+        (*acc)(axis) += v;
+      } else {
+        (*gyr)(axis - 3) += v;
+      }
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+      if (std::abs((*acc)(axis)) >= o_.accel_clip_mps2) {
+        (*acc)(axis) = std::copysign(o_.accel_clip_mps2, (*acc)(axis));
+        ++flight_.clipped_accel_samples;
+      }
+      if (std::abs((*gyr)(axis)) >= o_.gyro_clip_radps) {
+        (*gyr)(axis) = std::copysign(o_.gyro_clip_radps, (*gyr)(axis));
+        ++flight_.clipped_gyro_samples;
+      }
+    }
   }
 
   // The estimator's view of the state `s` at time t: attitude perturbed by a
@@ -208,7 +305,12 @@ class Recorder {
                   Eigen::AngleAxisd(angle.norm(), angle.normalized()));
     }
     Estimate e;
-    e.t_published = t + o_.estimator_delay_s;
+    e.t_published = t + o_.estimator_delay_s + jitter_.Next();
+    // Publications stay in order whatever the jitter.
+    if (!estimates_.empty()) {
+      e.t_published =
+          std::max(e.t_published, estimates_.back().t_published + 1e-6);
+    }
     e.q << q.w(), q.x(), q.y(), q.z();
     // q and −q are one attitude; keep the sequence continuous so that
     // interpolating the components between two estimates is meaningful.
@@ -219,6 +321,13 @@ class Recorder {
     }
     e.v = s.v + dv;
     estimates_.push_back(e);
+    Estimator3dSample sample;
+    sample.t_s = e.t_published;
+    sample.state_t_s = t;
+    sample.attitude = Eigen::Quaterniond(e.q(0), e.q(1), e.q(2), e.q(3));
+    sample.velocity_ned = e.v;
+    sample.position_ned = s.p;
+    flight_.estimates.push_back(sample);
   }
 
   // The estimator channels at every IMU sample: linear interpolation between
@@ -259,11 +368,14 @@ class Recorder {
  private:
   const Simulator3dOptions& o_;
   const Plant3d& plant_;
+  const bool realistic_;
+  double broadband_scale_[2] = {0.0, 0.0};  // accelerometer, gyro
   double accel_sigma_ = 0.0;
   double gyro_sigma_ = 0.0;
   double hover_thrust_ = 0.0;
   std::vector<ImuUnit> units_;
   NormalGenerator estimator_normal_;
+  internal::Jitter jitter_;
   std::vector<Estimate> estimates_;
   Simulated3dFlight flight_;
 };
@@ -366,6 +478,12 @@ StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& o) {
   plant.torque_lag = o.torque_lag_s;
   const double weight = o.mass_kg * kGravity;
 
+  const bool realistic = o.sensor_profile == "realistic";
+  const internal::SlowForce slow_force(
+      StreamSeed(o.seed, internal::kSlowForceStream),
+      realistic ? o.slow_force_rms_mps2 : 0.0,
+      o.slow_force_max_hz);
+
   Recorder recorder(o, plant, static_cast<std::size_t>(plan.num_samples));
   Controller3d controller(o, timeline);
   FlightState f;
@@ -380,6 +498,14 @@ StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& o) {
       const double t = static_cast<double>(step) / plan.internal_rate;
       const bool motors_on = t >= timeline.motors_on && t < timeline.motors_off;
       ApplyMotorsAndLiftOff(t, motors_on, weight, &f);
+      // Held over the step, as the controller's commands are. Gusts fade
+      // towards the ground (and a vehicle just lifting off, thrust barely
+      // above its weight, must not be pushed back into it).
+      if (realistic) {
+        const double height = std::clamp(
+            -f.body.p.z() / internal::kSlowForceFullHeightM, 0.0, 1.0);
+        plant.slow_force = height * slow_force.At(t);
+      }
       if (j == 0) {
         recorder.RecordSample(static_cast<double>(i) / o.rate_hz, motors_on, f);
       }
