@@ -19,6 +19,37 @@ using testing::RunCli;
 
 bool Exists(const std::string& path) { return std::ifstream(path).good(); }
 
+// As a user would: simulate a ULog, fit it with no other flag. PX4's 1 Hz
+// per-sensor topics do not stop the fit of sensor_combined: exit 0, one
+// JSON entry per instance, the skipped ones with their reason, and the
+// notes on stderr say which topics were skipped and why.
+TEST(Simulate3dLogsCli, UlogFitsWithNoFlagsAndSaysWhichInstancesWereSkipped) {
+  const std::string dir = testing::MakeTempDir();
+  ASSERT_EQ(RunCli("simulate --scenario=figure8_3d --out=" + dir + "/F.ulg")
+                .exit_code,
+            0);
+  const auto fit = RunCli("fit --log=" + dir + "/F.ulg --model=rigid3d");
+  EXPECT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_THAT(fit.err, HasSubstr("IMU 1 not fitted"));
+  EXPECT_THAT(fit.err,
+              HasSubstr("(sensor_accel+sensor_gyro), instance 2, "
+                        "is logged at 1 Hz"));
+  EXPECT_THAT(fit.err, ::testing::Not(HasSubstr("--cutoff_hz")));
+  const auto json =
+      RunCli("fit --log=" + dir + "/F.ulg --model=rigid3d --format=json");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const nlohmann::json j = nlohmann::json::parse(json.out, nullptr, false);
+  ASSERT_TRUE(j.is_array()) << json.out;
+  ASSERT_EQ(j.size(), 3u);
+  EXPECT_EQ(j[0]["instance"], 0);
+  EXPECT_TRUE(j[0]["imu_position_frd_m"].is_array());
+  for (int i : {1, 2}) {
+    EXPECT_EQ(j[i]["instance"], i);
+    EXPECT_EQ(j[i]["fitted"], false);
+    EXPECT_THAT(j[i]["reason"].get<std::string>(), HasSubstr("at least 20 Hz"));
+  }
+}
+
 TEST(Simulate3dLogsCli, UlogReadsBackThroughInspect) {
   const std::string dir = testing::MakeTempDir();
   const auto sim =

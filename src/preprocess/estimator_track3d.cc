@@ -157,12 +157,17 @@ Status CheckGyroAgainstAttitude(const FlightLog& log,
                                 const std::vector<Stretch3d>& windows,
                                 const Eigen::Vector3d& bias) {
   constexpr double kStepS = 0.2;
-  // An axis is judged only when the data measure its scale to ±0.1 (one
-  // standard error): an axis that barely turns (a pitch-only flight's x)
-  // shows the attitude's noise against almost no gyro rotation, and its
-  // ratio means nothing. Scales within [0.7, 1.4] pass: the estimator's
-  // attitude lags and smooths, a wrong unit or axis is far outside.
+  // An axis is judged only where the attitude turns about it by at least
+  // 0.02 rad per 0.2 s step (RMS, 0.1 rad/s) and the flight measures the
+  // gyro's scale on it to ±0.1 (one standard error). An axis that barely
+  // turns (a pitch-only flight's x) shows the attitude's noise against the
+  // gyro's own noise, vibration and residual bias: its ratio means nothing.
+  // Scales within [0.7, 1.4] pass: the estimator's attitude lags and
+  // smooths; a wrong unit or axis is far outside.
+  constexpr double kMinStepRotationRad = 0.02;
   constexpr double kMaxScaleStderr = 0.1;
+  Eigen::Vector3d gyro_sum = Eigen::Vector3d::Zero();
+  Eigen::Vector3d att_sum = Eigen::Vector3d::Zero();
   Eigen::Vector3d cross = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_sq = Eigen::Vector3d::Zero();
   Eigen::Vector3d att_sq = Eigen::Vector3d::Zero();
@@ -188,6 +193,8 @@ Status CheckGyroAgainstAttitude(const FlightLog& log,
         const Eigen::Quaterniond b(qb[0], qb[1], qb[2], qb[3]);
         const Eigen::AngleAxisd relative(a.conjugate() * b);
         const Eigen::Vector3d rotation = relative.angle() * relative.axis();
+        gyro_sum += integrated;
+        att_sum += rotation;
         cross += rotation.cwiseProduct(integrated);
         gyro_sq += integrated.cwiseAbs2();
         att_sq += rotation.cwiseAbs2();
@@ -197,14 +204,18 @@ Status CheckGyroAgainstAttitude(const FlightLog& log,
     }
   }
   if (steps < 3) return Status::Ok();
+  const double n = static_cast<double>(steps);
   for (int a = 0; a < 3; ++a) {
-    if (!(gyro_sq[a] > 0)) continue;
-    const double scale = cross[a] / gyro_sq[a];  // attitude ≈ scale · gyro
-    // Least squares through the origin: the residual's variance over the
-    // gyro's sum of squares.
-    const double rss = std::max(0.0, att_sq[a] - scale * cross[a]);
-    const double stderr_scale =
-        std::sqrt(rss / static_cast<double>(steps - 1) / gyro_sq[a]);
+    if (std::sqrt(att_sq[a] / n) < kMinStepRotationRad) continue;
+    // attitude ≈ scale · gyro + offset: the offset takes up a gyro bias no
+    // still stretch removed.
+    const double sgg = gyro_sq[a] - gyro_sum[a] * gyro_sum[a] / n;
+    const double sag = cross[a] - att_sum[a] * gyro_sum[a] / n;
+    const double saa = att_sq[a] - att_sum[a] * att_sum[a] / n;
+    if (!(sgg > 0)) continue;
+    const double scale = sag / sgg;
+    const double rss = std::max(0.0, saa - scale * sag);
+    const double stderr_scale = std::sqrt(rss / (n - 2) / sgg);
     if (!(stderr_scale <= kMaxScaleStderr)) continue;
     if (scale < 0.7 || scale > 1.4) {
       return FailedPreconditionError(
