@@ -128,7 +128,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       StatusOr<FlightLog> log = ParseFlightLog(bytes, input.source(), *read);
       if (!log.ok()) {
         // A further instance the log does not hold ends the list.
-        if (instance > 0 && several && !summary.imus.empty()) {
+        if (instance > 0 && several) {
           log_ended = true;
           return Status::Ok();
         }
@@ -221,12 +221,15 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       return status;
     }
     if (first_failure.ok()) first_failure = status;
-    Note(
-        options,
-        "IMU " + std::to_string(instance) + " not fitted: " + status.message());
     summary.skipped_imus.push_back({instance, status.message()});
   }
+  // None fitted: the first instance's reason is the answer.
   if (summary.imus.empty()) return first_failure;
+  for (const auto& skipped : summary.skipped_imus) {
+    Note(options,
+         "IMU " + std::to_string(skipped.instance) +
+             " not fitted: " + skipped.reason);
+  }
   CompareInstances(&summary.imus);
   summary.model = model_name;
 
