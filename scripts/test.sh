@@ -6,7 +6,8 @@
 #   2. the input-facing unit tests again under AddressSanitizer +
 #      UndefinedBehaviorSanitizer (IMUSYSID_SANITIZED_TESTS in tests/CMakeLists.txt).
 # Both builds compile the library as a few large sources (IMUSYSID_UNITY_BUILD):
-# on a clean build that takes about a third less CPU.
+# on a clean build that takes about a third less CPU. Each test binary runs
+# as four gtest shards (IMUSYSID_TEST_SHARDS), not one process per case.
 # The peer comparison (label "peers": GNU Octave, SciPy) is not part of it:
 #   ctest --test-dir build -L peers   after scripts/setup.sh --with-peers
 # Usage: scripts/test.sh [--no-sanitizers]
@@ -41,7 +42,8 @@ phase() {
 }
 
 echo "== Release build and all tests"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON -DIMUSYSID_UNITY_BUILD=ON >/dev/null
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON -DIMUSYSID_UNITY_BUILD=ON \
+  -DIMUSYSID_TEST_SHARDS=4 >/dev/null
 cmake --build build -j"$jobs"
 phase "Release build"
 (cd build && ctest -j"$jobs" -LE peers --output-on-failure --timeout 600)
@@ -54,7 +56,7 @@ if [ "$sanitizers" = 1 ]; then
   # instrumentation GCC 12 reports false maybe-uninitialized in std::regex.
   # Only the sanitized unit tests are built: no benchmarks, no accuracy tests.
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
-    -DIMUSYSID_UNITY_BUILD=ON \
+    -DIMUSYSID_UNITY_BUILD=ON -DIMUSYSID_TEST_SHARDS=4 \
     -DIMUSYSID_SANITIZERS="address;undefined" -DIMUSYSID_BUILD_BENCHMARKS=OFF \
     -DIMUSYSID_BUILD_ACCURACY_TESTS=OFF -DIMUSYSID_WERROR=OFF >/dev/null
   cmake --build build-asan -j"$jobs"
