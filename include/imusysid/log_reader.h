@@ -7,6 +7,7 @@
 #define IMUSYSID_LOG_READER_H_
 
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -49,6 +50,29 @@ StatusOr<FlightLog> ReadFlightLog(const std::string& path,
 StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
                                    const std::string& name,
                                    const LogReadOptions& options = {});
+
+// A log parsed once, from which each IMU instance is converted without
+// parsing the file again: what a fit of every instance of a binary log
+// reads. Copies share the parsed data.
+class ParsedFlightLog {
+ public:
+  // Detects the format and parses the file image (a CSV is kept as text and
+  // parsed per instance). Errors as ParseFlightLog's.
+  static StatusOr<ParsedFlightLog> Parse(std::string_view bytes,
+                                         std::string name);
+  // The instance and frame `options` ask for, as ParseFlightLog(bytes,
+  // name, options) returns it.
+  StatusOr<FlightLog> Instance(const LogReadOptions& options) const;
+  LogFormat format() const { return format_; }
+
+ private:
+  std::string name_;
+  std::size_t file_bytes_ = 0;
+  LogFormat format_ = LogFormat::kCsv;
+  std::shared_ptr<const UlogData> ulog_;
+  std::shared_ptr<const DataFlashLog> dataflash_;
+  std::shared_ptr<const std::string> csv_;
+};
 
 // The conversions themselves (FRD → FLU, µs/ms → s, velocity and attitude
 // interpolated onto the IMU times). See docs/binary-logs.md.

@@ -27,6 +27,11 @@ inline constexpr const char* kConvertedFromKey = "source_format";
 StatusOr<FlightLog> ReadLogForFit(const std::string& path,
                                   LogReadOptions options = {});
 
+// `options` with that gap policy applied for the log whose bytes are
+// `bytes`: what ReadLogForFit and Identify read a log with.
+LogReadOptions LogReadOptionsForFit(std::string_view bytes,
+                                    LogReadOptions options);
+
 // True when the metadata lines before a CSV's header hold
 // `# source_format: ulog` or `# source_format: dataflash`.
 bool IsConvertedBinaryLog(std::string_view csv_text);

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "imusysid/log_reader.h"
+#include "imusysid/segments.h"
 #include "src/cli/common.h"
 
 DEFINE_string(log,
@@ -99,7 +100,7 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
 namespace {
 
 // The reading options --imu (as `imu_instance`) and --frame ask for, with
-// ReadLogForFit's gap policy for `bytes`.
+// the fit's gap policy for `bytes` (LogReadOptionsForFit).
 StatusOr<LogReadOptions> LogReadOptionsFromFlags(std::string_view bytes,
                                                  int imu_instance) {
   LogReadOptions options;
@@ -114,13 +115,7 @@ StatusOr<LogReadOptions> LogReadOptionsFromFlags(std::string_view bytes,
     options.override_frame = true;
     options.frame = *frame;
   }
-  // ReadLogForFit's gap policy: real autopilot logs have holes, so only
-  // other CSVs keep the whole-log gap check.
-  if (DetectLogFormat(bytes) != LogFormat::kCsv ||
-      IsConvertedBinaryLog(bytes)) {
-    options.max_gap_factor = 0.0;
-  }
-  return options;
+  return LogReadOptionsForFit(bytes, options);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include "imusysid/log_reader.h"
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -62,10 +63,13 @@ LogFormat DetectLogFormat(std::string_view bytes) {
   return LogFormat::kCsv;
 }
 
-StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
-                                   const std::string& name,
-                                   const LogReadOptions& options) {
-  switch (DetectLogFormat(bytes)) {
+StatusOr<ParsedFlightLog> ParsedFlightLog::Parse(std::string_view bytes,
+                                                 std::string name) {
+  ParsedFlightLog parsed;
+  parsed.name_ = std::move(name);
+  parsed.file_bytes_ = bytes.size();
+  parsed.format_ = DetectLogFormat(bytes);
+  switch (parsed.format_) {
     case LogFormat::kUlog: {
       // Only the topics the conversion reads are decoded.
       UlogReadOptions ulog_options;
@@ -75,38 +79,67 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
                              "sensor_gyro",
                              "vehicle_local_position",
                              "vehicle_attitude"};
-      StatusOr<UlogData> ulog = ParseUlog(bytes, name, ulog_options);
+      StatusOr<UlogData> ulog = ParseUlog(bytes, parsed.name_, ulog_options);
       if (!ulog.ok()) return ulog.status();
-      StatusOr<FlightLog> log = UlogToFlightLog(*ulog, name, options);
-      if (log.ok()) {
-        RecordDamage(
-            ulog->warnings,
-            ulog->stats.skipped_bytes + ulog->stats.truncated_tail_bytes,
-            bytes.size(),
-            &*log);
-      }
-      return log;
+      parsed.ulog_ = std::make_shared<const UlogData>(std::move(*ulog));
+      break;
     }
     case LogFormat::kDataFlash: {
       // Only the messages the conversion reads are decoded.
       DataFlashReadOptions df_options;
       df_options.messages = {
           "IMU", "IMU2", "IMU3", "XKF1", "NKF1", "EKF1", "ATT", "MSG"};
-      StatusOr<DataFlashLog> df = ParseDataFlash(bytes, name, df_options);
+      StatusOr<DataFlashLog> df =
+          ParseDataFlash(bytes, parsed.name_, df_options);
       if (!df.ok()) return df.status();
-      StatusOr<FlightLog> log = DataFlashToFlightLog(*df, name, options);
-      if (log.ok()) {
-        RecordDamage(df->warnings,
-                     df->stats.skipped_bytes + df->stats.truncated_tail_bytes,
-                     bytes.size(),
-                     &*log);
-      }
-      return log;
+      parsed.dataflash_ = std::make_shared<const DataFlashLog>(std::move(*df));
+      break;
     }
     case LogFormat::kCsv:
+      parsed.csv_ = std::make_shared<const std::string>(bytes);
       break;
   }
-  return ParseCsvLog(bytes, name, CsvOptions(options));
+  return parsed;
+}
+
+StatusOr<FlightLog> ParsedFlightLog::Instance(
+    const LogReadOptions& options) const {
+  if (ulog_ != nullptr) {
+    StatusOr<FlightLog> log = UlogToFlightLog(*ulog_, name_, options);
+    if (log.ok()) {
+      RecordDamage(
+          ulog_->warnings,
+          ulog_->stats.skipped_bytes + ulog_->stats.truncated_tail_bytes,
+          file_bytes_,
+          &*log);
+    }
+    return log;
+  }
+  if (dataflash_ != nullptr) {
+    StatusOr<FlightLog> log = DataFlashToFlightLog(*dataflash_, name_, options);
+    if (log.ok()) {
+      RecordDamage(dataflash_->warnings,
+                   dataflash_->stats.skipped_bytes +
+                       dataflash_->stats.truncated_tail_bytes,
+                   file_bytes_,
+                   &*log);
+    }
+    return log;
+  }
+  return ParseCsvLog(
+      csv_ == nullptr ? std::string_view() : *csv_, name_, CsvOptions(options));
+}
+
+StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
+                                   const std::string& name,
+                                   const LogReadOptions& options) {
+  // A CSV is parsed straight from `bytes` (no copy of a large file).
+  if (DetectLogFormat(bytes) == LogFormat::kCsv) {
+    return ParseCsvLog(bytes, name, CsvOptions(options));
+  }
+  StatusOr<ParsedFlightLog> parsed = ParsedFlightLog::Parse(bytes, name);
+  if (!parsed.ok()) return parsed.status();
+  return parsed->Instance(options);
 }
 
 Status FinishCsvLog(std::string_view bytes,

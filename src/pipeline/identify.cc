@@ -87,11 +87,7 @@ StatusOr<LogReadOptions> FitReadOptions(std::string_view bytes,
     read.override_frame = true;
     read.frame = *options.frame;
   }
-  if (DetectLogFormat(bytes) != LogFormat::kCsv ||
-      IsConvertedBinaryLog(bytes)) {
-    read.max_gap_factor = 0.0;
-  }
-  return read;
+  return LogReadOptionsForFit(bytes, read);
 }
 
 StatusOr<std::string> InputBytes(const IdentifyInput& input) {

@@ -5,6 +5,7 @@
 // between instances.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -112,6 +113,13 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
 
   const std::vector<int> instances =
       input.is_log() ? Instances(bytes, options.imu) : std::vector<int>{0};
+  // A binary log is parsed once, whatever the number of instances.
+  std::optional<ParsedFlightLog> parsed;
+  if (input.is_log() && DetectLogFormat(bytes) != LogFormat::kCsv) {
+    StatusOr<ParsedFlightLog> p = ParsedFlightLog::Parse(bytes, input.source());
+    if (!p.ok()) return p.status();
+    parsed = std::move(p).value();
+  }
   // With several instances, one that cannot be fitted (logged too slowly,
   // or its own failure) is recorded and the others go on; asked for one, its
   // failure is the answer.
@@ -125,7 +133,9 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     if (input.is_log()) {
       StatusOr<LogReadOptions> read = FitReadOptions(bytes, instance, options);
       if (!read.ok()) return read.status();
-      StatusOr<FlightLog> log = ParseFlightLog(bytes, input.source(), *read);
+      StatusOr<FlightLog> log =
+          parsed.has_value() ? parsed->Instance(*read)
+                             : ParseFlightLog(bytes, input.source(), *read);
       if (!log.ok()) {
         // A further instance the log does not hold ends the list.
         if (instance > 0 && several) {

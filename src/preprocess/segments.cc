@@ -15,11 +15,16 @@ StatusOr<FlightLog> ReadLogForFit(const std::string& path,
                                   LogReadOptions options) {
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return bytes.status();
-  if (DetectLogFormat(*bytes) != LogFormat::kCsv ||
-      IsConvertedBinaryLog(*bytes)) {
+  return ParseFlightLog(*bytes, path, LogReadOptionsForFit(*bytes, options));
+}
+
+LogReadOptions LogReadOptionsForFit(std::string_view bytes,
+                                    LogReadOptions options) {
+  if (DetectLogFormat(bytes) != LogFormat::kCsv ||
+      IsConvertedBinaryLog(bytes)) {
     options.max_gap_factor = 0.0;
   }
-  return ParseFlightLog(*bytes, path, options);
+  return options;
 }
 
 bool IsConvertedBinaryLog(std::string_view csv_text) {
