@@ -138,7 +138,7 @@ Status CommitStagingFolder(const std::string& staging, const std::string& out) {
   return Status::Ok();
 }
 
-int Run(const std::vector<std::string>& positional) {
+int RunBench(const std::vector<std::string>& positional) {
   const std::string cmd = "bench";
   if (!FLAGS_out.empty()) {
     // Checked before the runs: a file in the way would fail only at the end.
@@ -312,7 +312,7 @@ const Command& BenchCommand() {
                     "scaling",
                     "out",
                     "format"}),
-      &Run,
+      &RunBench,
       /*estimator_flags=*/true};
   return c;
 }

@@ -90,7 +90,7 @@ FlightLog ForCsv(FlightLog log, const std::string& path, bool binary) {
   return log;
 }
 
-int Run(const std::vector<std::string>& positional) {
+int RunConvert(const std::vector<std::string>& positional) {
   const std::string cmd = "convert";
   std::string path = FLAGS_log;
   if (positional.size() == 1 && path.empty()) {
@@ -186,7 +186,7 @@ const Command& ConvertCommand() {
       "the binary log (gaps are checked in the fit segment only).\nThe file is "
       "written atomically, 9 significant digits (time: 12).",
       {"log", "out", "imu", "frame", "format"},
-      &Run};
+      &RunConvert};
   return c;
 }
 

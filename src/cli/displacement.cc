@@ -48,7 +48,7 @@ StatusOr<Polar> LoadFit(const std::string& path) {
   return Polar{p->r_m, p->beta_deg, p->r_stderr_m, p->beta_stderr_deg};
 }
 
-int Run(const std::vector<std::string>& positional) {
+int RunDisplacement(const std::vector<std::string>& positional) {
   const std::string cmd = "displacement";
   Polar before, after;
   if (positional.size() == 2) {
@@ -138,7 +138,7 @@ const Command& DisplacementCommand() {
       "delta = atan2(dz, dx) in [0, 360).\nWith fit files, standard errors "
       "are propagated to first order.",
       {"r0", "beta0_deg", "r1", "beta1_deg", "estimator_pick", "format"},
-      &Run};
+      &RunDisplacement};
   return c;
 }
 

@@ -17,7 +17,7 @@ namespace imusysid {
 namespace cli {
 namespace {
 
-int Run(const std::vector<std::string>& positional) {
+int RunExportProblem(const std::vector<std::string>& positional) {
   const std::string cmd = "export-problem";
   std::string path = FLAGS_log;
   if (path.empty() && positional.size() == 1) {
@@ -75,7 +75,7 @@ const Command& ExportProblemCommand() {
       "log and\ncannot be fitted from a problem file. Without --out the CSV "
       "goes to stdout.",
       WithLogFlags({"log", "out"}),
-      &Run};
+      &RunExportProblem};
   return c;
 }
 

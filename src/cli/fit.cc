@@ -287,7 +287,7 @@ int WritePlanar(IdentifySummary& summary, EmitFormat emit_format) {
   return summary.usable() ? kExitOk : kExitBadInput;
 }
 
-int Run(const std::vector<std::string>& positional) {
+int RunFit(const std::vector<std::string>& positional) {
   const std::string cmd = "fit";
   std::string path = FLAGS_log;
   const bool from_problem = !FLAGS_problem.empty();
@@ -425,7 +425,7 @@ const Command& FitCommand() {
                     "allow_damaged",
                     "estimator_delay_s",
                     "out"}),
-      &Run,
+      &RunFit,
       /*estimator_flags=*/true};
   return c;
 }

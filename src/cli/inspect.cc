@@ -39,7 +39,7 @@ std::string InstantText(const TimeInstant& i) {
   return i.found ? FormatNumber(i.t, 6) + " s" : "not found";
 }
 
-int Run(const std::vector<std::string>& positional) {
+int RunInspect(const std::vector<std::string>& positional) {
   const std::string cmd = "inspect";
   std::string path = FLAGS_log;
   if (positional.size() == 1 && path.empty()) {
@@ -318,7 +318,7 @@ const Command& InspectCommand() {
       "and its excitation are\nwhat `imusysid fit` would use with the same "
       "flags.",
       WithLogFlags({"log"}, {"format"}),
-      &Run};
+      &RunInspect};
   return c;
 }
 

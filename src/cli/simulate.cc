@@ -363,7 +363,7 @@ int Run3d() {
   return kExitOk;
 }
 
-int Run(const std::vector<std::string>& positional) {
+int RunSimulate(const std::vector<std::string>& positional) {
   const std::string cmd = "simulate";
   if (!positional.empty()) {
     return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
@@ -521,7 +521,7 @@ const Command& SimulateCommand() {
        "sensor_profile",
        "log_format",
        "high_rate_raw_imu"},
-      &Run};
+      &RunSimulate};
   return c;
 }
 
