@@ -90,5 +90,25 @@ std::size_t EstimateRows(std::string_view rest, std::size_t min_row_bytes) {
   return rest.size() / shortest + 1;
 }
 
+// The text of the field that starts at `start`: up to the next comma or the
+// end of the line, without surrounding blanks.
+std::string_view FieldText(const char* start, const char* line_end) {
+  const char* stop = start;
+  while (stop < line_end && *stop != ',') ++stop;
+  return TrimBlanks(std::string_view(start, static_cast<size_t>(stop - start)));
+}
+
+// Start (after leading blanks) of the `column`-th comma-separated field of
+// `line`, or the line's end when the line has fewer fields.
+const char* FieldStart(std::string_view line, std::size_t column) {
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  for (std::size_t c = 0; c < column && p < end; ++p) {
+    if (*p == ',') ++c;
+  }
+  while (p < end && IsBlank(*p)) ++p;
+  return p;
+}
+
 }  // namespace internal
 }  // namespace imusysid
