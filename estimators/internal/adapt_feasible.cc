@@ -15,9 +15,6 @@ double Sign(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
 
 }  // namespace
 
-// mutationadaptfeasible for a box: writes into `child` the first feasible
-// point x + step·d over the shuffled MADS basis and tangent directions, or x
-// itself when none is feasible.
 void AdaptFeasibleMutant(const Eigen::MatrixXd& population,
                          Eigen::Index parent,
                          double step_size,

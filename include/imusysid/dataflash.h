@@ -86,6 +86,11 @@ struct DataFlashReadOptions {
 // True when `bytes` starts with A3 95 80 (the FMT record describing FMT).
 bool LooksLikeDataFlash(std::string_view bytes);
 
+// Size in bytes of a FMT format letter (b B M: 1, h H c C g: 2, i I f e E L
+// n: 4, d q Q: 8, N: 16, Z a: 64), 0 for an unknown letter: what the reader
+// decodes a record by, and what a writer lays one out by.
+int DataFlashLetterSize(char letter);
+
 // Parses a whole DataFlash file image; `name` prefixes error messages.
 //
 // Records are `A3 95 id payload`, the layout given by the id's FMT record.

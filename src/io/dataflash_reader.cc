@@ -16,41 +16,6 @@ constexpr int kFmtId = 128;
 constexpr int kFmtLength = 89;
 constexpr std::size_t kRecordHeader = 3;
 
-// Size in bytes of a format letter, 0 for an unknown letter.
-int LetterSize(char letter) {
-  switch (letter) {
-    case 'b':
-    case 'B':
-    case 'M':
-      return 1;
-    case 'h':
-    case 'H':
-    case 'c':
-    case 'C':
-    case 'g':
-      return 2;
-    case 'i':
-    case 'I':
-    case 'f':
-    case 'e':
-    case 'E':
-    case 'L':
-    case 'n':
-      return 4;
-    case 'd':
-    case 'q':
-    case 'Q':
-      return 8;
-    case 'N':
-      return 16;
-    case 'Z':
-    case 'a':
-      return 64;
-    default:
-      return 0;
-  }
-}
-
 bool IsStringLetter(char letter) {
   return letter == 'n' || letter == 'N' || letter == 'Z';
 }
@@ -258,7 +223,7 @@ void Parser::HandleFmt(std::size_t pos) {
   }
   int total = static_cast<int>(kRecordHeader);
   for (char letter : message.format) {
-    const int size = LetterSize(letter);
+    const int size = DataFlashLetterSize(letter);
     if (size == 0) {
       ++out_.stats.rejected_fmts;
       Warn(pos,
@@ -313,7 +278,7 @@ void Parser::HandleFmt(std::size_t pos) {
       message.column_names.push_back(message.labels[i]);
     }
     layout.slots.push_back(slot);
-    offset += static_cast<std::uint32_t>(LetterSize(letter));
+    offset += static_cast<std::uint32_t>(DataFlashLetterSize(letter));
   }
   message.columns.resize(message.column_names.size());
   message.string_columns.resize(message.string_column_names.size());
@@ -366,8 +331,8 @@ void Parser::Decode(std::size_t pos, const Layout& layout) {
     const unsigned char* at = record + slot.offset;
     const auto index = static_cast<std::size_t>(slot.index);
     if (IsStringLetter(slot.letter)) {
-      message.string_columns[index].push_back(
-          TrimmedText(at, static_cast<std::size_t>(LetterSize(slot.letter))));
+      message.string_columns[index].push_back(TrimmedText(
+          at, static_cast<std::size_t>(DataFlashLetterSize(slot.letter))));
     } else {
       message.columns[index].push_back(DecodeNumber(slot.letter, at));
     }
@@ -460,6 +425,40 @@ StatusOr<DataFlashLog> Parser::Parse() {
 }
 
 }  // namespace
+
+int DataFlashLetterSize(char letter) {
+  switch (letter) {
+    case 'b':
+    case 'B':
+    case 'M':
+      return 1;
+    case 'h':
+    case 'H':
+    case 'c':
+    case 'C':
+    case 'g':
+      return 2;
+    case 'i':
+    case 'I':
+    case 'f':
+    case 'e':
+    case 'E':
+    case 'L':
+    case 'n':
+      return 4;
+    case 'd':
+    case 'q':
+    case 'Q':
+      return 8;
+    case 'N':
+      return 16;
+    case 'Z':
+    case 'a':
+      return 64;
+    default:
+      return 0;
+  }
+}
 
 const std::vector<double>* DataFlashMessage::FindColumn(
     std::string_view field) const {

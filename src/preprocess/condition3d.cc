@@ -32,7 +32,7 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   const auto i0 = static_cast<std::size_t>(
       std::lower_bound(ts.begin(), ts.end(), w.t0) - ts.begin());
   const std::size_t i1 = i0 + w.samples;
-  // Filtered and differentiated on the window with up to `margin` of the
+  // Filtered and differentiated on the window with up to `reach_s` of the
   // gap-free log either side, then cut: a filter run on the window alone
   // starts from a padding reflected about one vibrating sample, and its
   // transient (tens of milliseconds at each edge) was most of a real

@@ -135,8 +135,8 @@ Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step);
 
 // The data at estimator delay `delay_s` (the estimator's state read at
 // t + delay) and quadratic-drag wind (wind_n, wind_e): the IMU channels of
-// every window joined, with the planar view (FLU x–z plane) ProblemData
-// validates. FailedPrecondition where the track is missing inside a window.
+// every window joined into t_s and the 3-D motion (no planar column).
+// FailedPrecondition where the track is missing inside a window.
 StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
                              double delay_s,
                              double wind_n,

@@ -321,11 +321,11 @@ Status CheckImuRate3d(const FlightLog& log,
   const double needed_hz = MinimumImuRate3dHz(options);
   if (rate_hz >= needed_hz) return Status::Ok();
   std::string imu = "the IMU";
-  for (const auto& [key, value] : log.metadata) {
-    if (key == "imu_source") imu += " (" + value + ")";
+  if (const std::string* source = log.FindMetadata("imu_source")) {
+    imu += " (" + *source + ")";
   }
-  for (const auto& [key, value] : log.metadata) {
-    if (key == "imu_instance") imu += ", instance " + value + ",";
+  if (const std::string* instance = log.FindMetadata("imu_instance")) {
+    imu += ", instance " + *instance + ",";
   }
   return FailedPreconditionError(
       log.source + ": " + imu + " is logged at " + internal::Num3d(rate_hz) +

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "imusysid/dataflash.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
 #include "src/sim/sim3d_internal.h"
@@ -64,44 +65,10 @@ constexpr std::uint8_t kEventDisarmed = 11;
 constexpr std::uint8_t kModePosHold = 16;
 constexpr float kSensorTemperatureC = 45.0f;
 
-std::size_t LetterSize(char c) {
-  switch (c) {
-    case 'b':
-    case 'B':
-    case 'M':
-      return 1;
-    case 'h':
-    case 'H':
-    case 'c':
-    case 'C':
-    case 'g':
-      return 2;
-    case 'i':
-    case 'I':
-    case 'f':
-    case 'e':
-    case 'E':
-    case 'L':
-    case 'n':
-      return 4;
-    case 'd':
-    case 'q':
-    case 'Q':
-      return 8;
-    case 'N':
-      return 16;
-    case 'Z':
-      return 64;
-    case 'a':
-      return 64;
-    default:
-      return 0;
-  }
-}
-
 std::size_t RecordLength(const MessageType& type) {
   std::size_t n = 3;
-  for (const char* c = type.format; *c != '\0'; ++c) n += LetterSize(*c);
+  for (const char* c = type.format; *c != '\0'; ++c)
+    n += static_cast<std::size_t>(DataFlashLetterSize(*c));
   return n;
 }
 
