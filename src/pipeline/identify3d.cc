@@ -151,6 +151,9 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         summary.windows = std::move(windows).value();
         return Status::Ok();
       }
+      // Before the gates, which Preprocess3d's own rate check follows: an
+      // instance logged too slowly is refused for its rate, not for what a
+      // 1 Hz log looks like to the other checks.
       IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(*log, po));
       IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
       if (!options.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
@@ -222,7 +225,11 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   };
   for (int instance : instances) {
     Status status = fit_instance(instance);
-    if (summary.windows.has_value()) return summary;
+    // The windows stage reads the first instance alone, as before.
+    if (options.stop_after == IdentifyStage::kWindows) {
+      if (!status.ok()) return status;
+      if (summary.windows.has_value()) return summary;
+    }
     if (log_ended) break;
     if (status.ok()) continue;
     // Options and names are wrong for every instance alike.
