@@ -217,6 +217,9 @@ void CompareInstances(std::vector<ImuPosition3d>* reports) {
       ImuPosition3d::Baseline ab, ba;
       ab.to_instance = b.instance;
       ba.to_instance = a.instance;
+      // One warning per pair, naming every axis that disagrees: a log whose
+      // IMUs are mounted apart would otherwise repeat it three times.
+      std::string apart;
       for (int k = 0; k < 3; ++k) {
         const auto ku = static_cast<std::size_t>(k);
         const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -230,16 +233,19 @@ void CompareInstances(std::vector<ImuPosition3d>* reports) {
         ba.difference_m[k] = -d;
         ab.stderr_m[k] = ba.stderr_m[k] = s;
         if (std::abs(d) > 3 * s && std::abs(d) > kBoardSpanM) {
-          const std::string text =
-              "IMU " + std::to_string(a.instance) + " and IMU " +
-              std::to_string(b.instance) + " are " + Mm(d) + " +/- " + Mm(s) +
-              " mm apart on " + kAxisNames[k] +
-              ": more than their uncertainties and one flight controller's "
-              "size allow, unless they are mounted apart (check each "
-              "instance's orientation and the log's IMU mapping)";
-          a.warnings.push_back(text);
-          b.warnings.push_back(text);
+          apart += std::string(apart.empty() ? "" : ", ") + Mm(d) + " +/- " +
+                   Mm(s) + " mm on " + kAxisNames[k];
         }
+      }
+      if (!apart.empty()) {
+        const std::string text =
+            "IMU " + std::to_string(a.instance) + " and IMU " +
+            std::to_string(b.instance) + " are apart by " + apart +
+            ": more than their uncertainties and one flight controller's "
+            "size allow, unless they are mounted apart (check each "
+            "instance's orientation and the log's IMU mapping)";
+        a.warnings.push_back(text);
+        b.warnings.push_back(text);
       }
       a.baselines.push_back(ab);
       b.baselines.push_back(ba);
