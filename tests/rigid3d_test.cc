@@ -139,6 +139,36 @@ TEST(Rigid3d, FigureEightGivesEveryImuAtItsTruePosition) {
   }
 }
 
+// Two instances disagree when they are more than 3σ and more than a flight
+// controller's 20 mm apart; one warning per pair names every such axis.
+TEST(Rigid3d, InstancesApartAreWarnedOnceWithEveryAxis) {
+  auto pair = [](const Eigen::Vector3d& apart, double sigma) {
+    std::vector<ImuPosition3d> imus(2);
+    for (int i = 0; i < 2; ++i) {
+      imus[static_cast<std::size_t>(i)].instance = i;
+      imus[static_cast<std::size_t>(i)].determined = {true, true, true};
+      imus[static_cast<std::size_t>(i)].stderr_m.setConstant(sigma);
+    }
+    imus[0].position_m = Eigen::Vector3d(0.01, -0.02, 0.03);
+    imus[1].position_m = imus[0].position_m - apart;
+    CompareInstances(&imus);
+    return imus;
+  };
+  // 3σ of the difference: 3·√2·σ; at σ 4 mm it is 17 mm, below 20 mm.
+  std::vector<ImuPosition3d> far = pair({0.0205, 0.0195, -0.03}, 0.004);
+  ASSERT_EQ(far[0].warnings.size(), 1u);
+  EXPECT_EQ(far[0].warnings, far[1].warnings);
+  EXPECT_NE(far[0].warnings[0].find("apart by 20.5 +/- 5.7 mm on x, "
+                                    "-30.0 +/- 5.7 mm on z:"),
+            std::string::npos)
+      << far[0].warnings[0];
+  // Within 20 mm on every axis: one board.
+  EXPECT_TRUE(pair({0.0195, 0.0195, -0.0195}, 0.004)[0].warnings.empty());
+  // 30 mm apart but within 3σ (σ 8 mm: 3σ of the difference 34 mm).
+  EXPECT_TRUE(pair({0.03, 0.0, 0.0}, 0.008)[0].warnings.empty());
+  EXPECT_EQ(pair({0.035, 0.0, 0.0}, 0.008)[0].warnings.size(), 1u);
+}
+
 TEST(Rigid3d, RatesAndDelaysAcrossTheRange) {
   for (double rate : {200.0, 1000.0}) {
     for (double delay : {0.0, 0.03}) {
@@ -223,6 +253,9 @@ ProblemData WithoutBlock(const ProblemData& data,
     append(&m.velocity[a], tail.motion.velocity[a]);
     append(&m.north[a], tail.motion.north[a]);
     append(&m.east[a], tail.motion.east[a]);
+  }
+  for (std::size_t j = 0; j < m.omega_products.size(); ++j) {
+    append(&m.omega_products[j], tail.motion.omega_products[j]);
   }
   return out;
 }

@@ -31,6 +31,12 @@ struct Motion3d {
   // velocity u = velocity − wind_n·north − wind_e·east is taken. Quadratic
   // drag is not linear in the wind, so preprocessing iterates it to the
   // fitted wind (Preprocess3d) and the model stays linear in the rest.
+  // The rate products ω_iω_j in the order xx, yy, zz, xy, xz, yz, formed
+  // before the low-pass and then low-passed as f is: the accelerometer's
+  // ω×(ω×p) is filtered as a product, and the product of filtered rates
+  // differs from it wherever the rates change fast (a doublet). Empty: a
+  // model forms them from `omega`.
+  std::array<std::vector<double>, 6> omega_products;
   double quadratic_wind_n = 0.0;
   double quadratic_wind_e = 0.0;
   // Which samples give residuals (1) and which only carry an integration

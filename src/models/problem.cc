@@ -44,6 +44,11 @@ Status CheckColumnSizes(const ProblemData& data) {
   if (!m.fitted.empty()) {
     IMUSYSID_RETURN_IF_ERROR(check(m.fitted.size(), "fitted"));
   }
+  for (const auto& product : m.omega_products) {
+    if (!product.empty()) {
+      IMUSYSID_RETURN_IF_ERROR(check(product.size(), "omega_products"));
+    }
+  }
   if (!m.empty()) {
     const std::pair<const Motion3d::Axes*, const char*> axes[] = {
         {&m.f, "f"},
@@ -130,6 +135,9 @@ Status ProblemData::Validate() const {
             (*a)[static_cast<std::size_t>(i)], column.c_str(), false));
       }
     }
+    for (const auto& product : motion.omega_products) {
+      IMUSYSID_RETURN_IF_ERROR(check_size(product, "omega_products", true));
+    }
   }
   for (std::size_t i = 1; i < n; ++i) {
     if (!(t_s[i] > t_s[i - 1])) {
@@ -186,6 +194,9 @@ StatusOr<ProblemData> SelectSamples(const ProblemData& data,
     o.velocity[a] = pick(m.velocity[a]);
     o.north[a] = pick(m.north[a]);
     o.east[a] = pick(m.east[a]);
+  }
+  for (std::size_t j = 0; j < m.omega_products.size(); ++j) {
+    o.omega_products[j] = pick(m.omega_products[j]);
   }
   o.quadratic_wind_n = m.quadratic_wind_n;
   o.quadratic_wind_e = m.quadratic_wind_e;

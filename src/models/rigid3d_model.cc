@@ -116,11 +116,20 @@ void Rigid3dModel::Row(std::size_t k,
                     m.quadratic_wind_e * m.east[2][k];
   const double air_speed = std::sqrt(ux * ux + uy * uy + uz * uz);
   const double fz = m.f[2][k];
+  // ω_iω_j: low-passed as products where the preprocessing formed them.
+  const auto& pr = m.omega_products;
+  const bool formed = !pr[0].empty();
+  const double xx = formed ? pr[0][k] : wx * wx,
+               yy = formed ? pr[1][k] : wy * wy,
+               zz = formed ? pr[2][k] : wz * wz,
+               xy = formed ? pr[3][k] : wx * wy,
+               xz = formed ? pr[4][k] : wx * wz,
+               yz = formed ? pr[5][k] : wy * wz;
   // Rows of ω̇× + ω×ω× (the lever-arm acceleration a×p + ω×(ω×p) = M p).
   if (axis == 0) {
-    a[kPx] = -(wy * wy + wz * wz);
-    a[kPy] = wx * wy - az;
-    a[kPz] = wx * wz + ay;
+    a[kPx] = -(yy + zz);
+    a[kPy] = xy - az;
+    a[kPz] = xz + ay;
     a[kDrag3dMu] = -air_speed * ux;
     a[kRotorDrag] = -vx;
     a[kBiasX] = 1.0;
@@ -131,9 +140,9 @@ void Rigid3dModel::Row(std::size_t k,
     a[kWindEast] = m.east[0][k];
     *target = m.f[0][k];
   } else {
-    a[kPx] = wx * wy + az;
-    a[kPy] = -(wx * wx + wz * wz);
-    a[kPz] = wy * wz - ax;
+    a[kPx] = xy + az;
+    a[kPy] = -(xx + zz);
+    a[kPz] = yz - ax;
     a[kDrag3dMu] = -air_speed * uy;
     a[kRotorDrag] = -vy;
     a[kBiasX] = 0.0;

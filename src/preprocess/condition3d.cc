@@ -3,6 +3,7 @@
 // delay and quadratic-drag wind (Condition3d; the calibration finds them).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <sstream>
@@ -55,12 +56,14 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   };
   WindowImu out;
   out.t = cut(t);
+  std::array<std::vector<double>, 3> rates;
   for (int a = 0; a < 3; ++a) {
     std::vector<double> f, g;
     for (std::size_t k = c0; k < c1; ++k) {
       f.push_back(AccelFrd(log, k)[a]);
       g.push_back(GyroFrd(log, k)[a] - bias[a]);
     }
+    rates[static_cast<std::size_t>(a)] = g;
     if (o.cutoff_hz > 0) {
       StatusOr<std::vector<double>> ff =
           ZeroPhaseLowPassOnTimes(t, f, o.cutoff_hz, o.filter_order);
@@ -81,6 +84,34 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
     out.omega[static_cast<std::size_t>(a)] = cut(g);
     out.omega_dot[static_cast<std::size_t>(a)] = cut(*d);
   }
+  // The rate products, low-passed as f is. The rates are first cleared of
+  // the motor vibration (tens of Hz and up), whose square would add a
+  // centripetal term the accelerometer does not feel where the gyro's
+  // vibration is not the body's rotation; four times the cutoff keeps
+  // every manoeuvre the cutoff passes.
+  if (o.cutoff_hz > 0) {
+    const double pre_hz = std::min(4.0 * o.cutoff_hz, 0.4 * rate_hz);
+    for (auto& g : rates) {
+      StatusOr<std::vector<double>> gf =
+          ZeroPhaseLowPassOnTimes(t, g, pre_hz, o.filter_order);
+      if (!gf.ok()) return gf.status().WithPrefix("low-pass cutoff_hz");
+      g = std::move(*gf);
+    }
+  }
+  constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  for (std::size_t j = 0; j < 6; ++j) {
+    const auto& x = rates[static_cast<std::size_t>(kPairs[j][0])];
+    const auto& y = rates[static_cast<std::size_t>(kPairs[j][1])];
+    std::vector<double> product(x.size());
+    for (std::size_t k = 0; k < x.size(); ++k) product[k] = x[k] * y[k];
+    if (o.cutoff_hz > 0) {
+      StatusOr<std::vector<double>> pf =
+          ZeroPhaseLowPassOnTimes(t, product, o.cutoff_hz, o.filter_order);
+      if (!pf.ok()) return pf.status().WithPrefix("low-pass cutoff_hz");
+      product = std::move(*pf);
+    }
+    out.omega_products[j] = cut(product);
+  }
   return out;
 }
 
@@ -94,6 +125,9 @@ StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
   d.source = log.source;
   Motion3d& m = d.motion;
   std::size_t hint = 0;
+  auto append = [](std::vector<double>* to, const std::vector<double>& x) {
+    to->insert(to->end(), x.begin(), x.end());
+  };
   for (const WindowImu& w : conditioned.windows) {
     Axes velocity, north, east;
     for (auto& axis : velocity) axis.reserve(w.t.size());
@@ -115,21 +149,25 @@ StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
       }
     }
     for (std::size_t a = 0; a < 3; ++a) {
+      // The attitude's north and east too: the wind's drag k·Rᵀw turns with
+      // the body, and the accelerometer's share of it is low-passed.
       if (o.cutoff_hz > 0) {
-        StatusOr<std::vector<double>> vf = ZeroPhaseLowPassOnTimes(
-            w.t, velocity[a], o.cutoff_hz, o.filter_order);
-        if (!vf.ok()) return vf.status();
-        velocity[a] = std::move(*vf);
+        for (std::vector<double>* x : {&velocity[a], &north[a], &east[a]}) {
+          StatusOr<std::vector<double>> xf =
+              ZeroPhaseLowPassOnTimes(w.t, *x, o.cutoff_hz, o.filter_order);
+          if (!xf.ok()) return xf.status();
+          *x = std::move(*xf);
+        }
       }
-      auto append = [](std::vector<double>* to, const std::vector<double>& x) {
-        to->insert(to->end(), x.begin(), x.end());
-      };
       append(&m.f[a], w.f[a]);
       append(&m.omega[a], w.omega[a]);
       append(&m.omega_dot[a], w.omega_dot[a]);
       append(&m.velocity[a], velocity[a]);
       append(&m.north[a], north[a]);
       append(&m.east[a], east[a]);
+    }
+    for (std::size_t j = 0; j < 6; ++j) {
+      append(&m.omega_products[j], w.omega_products[j]);
     }
     d.t_s.insert(d.t_s.end(), w.t.begin(), w.t.end());
   }
@@ -172,6 +210,7 @@ Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step) {
       every_step(&w.omega[a]);
       every_step(&w.omega_dot[a]);
     }
+    for (auto& product : w.omega_products) every_step(&product);
   }
   thin.sample_rate_hz = conditioned.sample_rate_hz / static_cast<double>(step);
   return thin;

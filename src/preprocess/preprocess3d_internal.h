@@ -99,6 +99,7 @@ Status EstimatorTrackAndWindows(const FlightLog& log,
 struct WindowImu {
   std::vector<double> t;
   Motion3d::Axes f, omega, omega_dot;
+  std::array<std::vector<double>, 6> omega_products;  // as Motion3d's
 };
 
 // The window's IMU channels: gyro bias removed, the zero-phase low-pass of
