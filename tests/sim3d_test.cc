@@ -66,9 +66,12 @@ Eigen::Vector3d AccelFrd(const FlightLog& log, std::size_t i) {
 }
 
 TEST(Simulate3d, ScenariosAreNamedAndValidated) {
-  EXPECT_EQ(
-      Scenario3dNames(),
-      (std::vector<std::string>{"figure8_3d", "hover_3d", "pitch_laps_3d"}));
+  EXPECT_EQ(Scenario3dNames(),
+            (std::vector<std::string>{"figure8_3d",
+                                      "hover_3d",
+                                      "pitch_laps_3d",
+                                      "roll_laps_3d",
+                                      "yaw_sweeps_3d"}));
   const StatusOr<Simulator3dOptions> unknown = Scenario3dOptions("eight");
   ASSERT_FALSE(unknown.ok());
   EXPECT_THAT(unknown.status().message(), HasSubstr("figure8_3d"));
