@@ -31,7 +31,11 @@ std::string Slurp(const std::string& path) {
 TEST(Simulate3dCli, HelpNamesTheThreeDimensionalScenarios) {
   const auto r = RunCli("simulate --help");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* name : {"figure8_3d", "hover_3d", "pitch_laps_3d"}) {
+  for (const char* name : {"figure8_3d",
+                           "hover_3d",
+                           "pitch_laps_3d",
+                           "roll_laps_3d",
+                           "yaw_sweeps_3d"}) {
     EXPECT_THAT(r.out, HasSubstr(name));
   }
   EXPECT_THAT(r.out, HasSubstr("FILE.imu2.csv"));

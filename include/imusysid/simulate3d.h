@@ -37,8 +37,9 @@ struct Imu3dMount {
 // Every setting of one simulated 3-D flight. The defaults are the
 // "figure8_3d" scenario.
 struct Simulator3dOptions {
-  // Scenario: figure8_3d, hover_3d or pitch_laps_3d (what is flown during the
-  // maneuver segment). Written into the logs' metadata and the truth.
+  // Scenario: figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d or
+  // yaw_sweeps_3d (what is flown during the maneuver segment). Written into
+  // the logs' metadata and the truth.
   std::string scenario = "figure8_3d";
   // Seed of every noise generator (sensors and estimator). Same seed, options
   // and build give bit-identical logs.
@@ -222,7 +223,7 @@ struct Simulated3dFlight {
 // the ground before the landing segment.
 StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& options);
 
-// figure8_3d, hover_3d, pitch_laps_3d.
+// figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d, yaw_sweeps_3d.
 std::vector<std::string> Scenario3dNames();
 
 // The options of a named 3-D scenario; NotFound lists the valid names.

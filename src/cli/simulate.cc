@@ -21,8 +21,8 @@
 DEFINE_string(scenario,
               "paper_test1",
               "Scenario: paper_test1, paper_test2, model_exact, hover_only "
-              "(planar); figure8_3d, hover_3d, pitch_laps_3d (6-DOF, FRD, "
-              "one CSV per IMU).");
+              "(planar); figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d, "
+              "yaw_sweeps_3d (6-DOF, FRD, one CSV per IMU).");
 DEFINE_double(r_m,
               std::numeric_limits<double>::quiet_NaN(),
               "Override the true IMU distance from the CoM, m.");
@@ -487,7 +487,10 @@ const Command& SimulateCommand() {
           "3-D scenarios (6-DOF simulator, docs/simulator-3d.md): figure8_3d "
           "(figure-eight with roll,\npitch and yaw, then rate doublets on "
           "each axis), hover_3d (hover only), pitch_laps_3d\n(laps along "
-          "north, pitch only). They fly three IMUs and write FILE.csv (IMU "
+          "north with pitch doublets, pitch only), roll_laps_3d (laps along "
+          "east\nwith roll doublets, roll only), yaw_sweeps_3d (hover, heading "
+          "swept +/-60 deg,\nyaw only). They fly three IMUs and write FILE.csv "
+          "(IMU "
           "1),\nFILE.imu2.csv and FILE.imu3.csv, in FRD with the autopilot's "
           "attitude and velocity\n(qw,qx,qy,qz,vn,ve,vd; empty before its "
           "first estimate), and FILE.truth.json (every\nIMU's position, "

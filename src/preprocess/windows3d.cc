@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -212,6 +213,8 @@ Status ChooseWindows(const FlightLog& log,
   const double hi = std::isnan(o.t_end) ? air1 : std::min(air1, o.t_end);
 
   std::vector<const char*> reason(n, nullptr);
+  static constexpr const char* kImpact = "impact (|f| above the limit)";
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   const double impact = o.impact_g * kGravity;
   const double cos_tilt = std::cos(o.max_tilt_deg * kDegToRad);
   std::vector<double> impacts, tilts;  // times, marked with a margin below
@@ -254,7 +257,7 @@ Status ChooseWindows(const FlightLog& log,
       }
     }
   };
-  mark(impacts, "impact (|f| above the limit)");
+  mark(impacts, kImpact);
   mark(tilts, "attitude beyond the tilt limit (a flip or crash)");
   const double gap = o.max_gap_factor * median_dt;
   // Runs of equal status; usable runs split at gaps.
@@ -274,6 +277,40 @@ Status ChooseWindows(const FlightLog& log,
     k = e;
   }
   if (out->windows.empty()) {
+    // A flight whose accelerometer passes the impact limit all through is
+    // shaken, not crashing: when the margins around such samples took most
+    // of the flight, that is the reason, not a want of rotation (the advice
+    // below would send a pilot to fly again what they flew).
+    // Separate events: samples above the limit more than two margins apart
+    // (a crash is one or two).
+    constexpr std::size_t kMinEvents = 5;
+    std::size_t flight = 0, as_impact = 0, above = 0, events = 0;
+    double last_above = -kInf;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (t[i] < lo || t[i] > hi || !armed_at(t[i])) continue;
+      ++flight;
+      if (reason[i] == kImpact) ++as_impact;
+      if (AccelFrd(log, i).norm() > impact) {
+        ++above;
+        if (t[i] - last_above > 2 * o.impact_margin_s) ++events;
+        last_above = t[i];
+      }
+    }
+    if (flight > 0 && 2 * as_impact > flight && events >= kMinEvents) {
+      return FailedPreconditionError(
+          log.source +
+          ": no flight window survives: the accelerometer reads "
+          "more than " +
+          Num3d(o.impact_g) + " g in " + std::to_string(above) +
+          " of the flight's " + std::to_string(flight) + " samples, in " +
+          std::to_string(events) +
+          " separate stretches, and the margins around them take " +
+          Num3d(100.0 * static_cast<double>(as_impact) /
+                static_cast<double>(flight)) +
+          " % of the flight. That is vibration, not impacts: the IMU is shaken "
+          "too hard to fit (balance the propellers, check the flight "
+          "controller's vibration damping) and fly again");
+    }
     return FailedPreconditionError(
         log.source +
         ": no flight window survives the exclusions (take-off and landing "

@@ -86,18 +86,73 @@ double LapRate(double span, double period) {
   return 2.0 * kPi * laps / span;
 }
 
+// The single-axis scenarios: system-identification flights that turn the
+// vehicle about one body axis only, as a pilot flies them to identify that
+// axis. Slow laps (pitch along north, roll along east, heading north) give
+// the drag and the wind something to fit; on top of them rate doublets on
+// the lap's axis, every kAxisDoubletSpacingS with alternating sign, give the
+// lever arm rates large enough to show in ω² and ω̇ (the laps alone reach
+// 0.3 rad/s RMS, whose ω² of 0.1 rad²/s² left x undetermined). Each doublet
+// is one period of a sine in the rate command, A sin(2πτ/T): the attitude
+// rises by AT/π (25°) and comes back. Its rate lies near 1/T = 1.4 Hz, so
+// ω² lies below the fit's 5 Hz low-pass; a stepped doublet (+A, then −A)
+// carries rates above it, and the low-passed ω squared is not the
+// low-passed ω²: on steps of 2 rad/s for 0.2 s, x came out 4–6 mm short at
+// a σ̂ of 1.2–1.8 mm. The yaw flight hovers and sweeps the heading.
+constexpr double kAxisDoubletRate = 1.6;      // rad/s, A
+constexpr double kAxisDoubletS = 0.7;         // s, T
+constexpr double kAxisDoubletSpacingS = 1.5;  // between doublet starts
+constexpr double kYawSweepDeg = 60.0;         // heading swing amplitude
+constexpr double kYawSweepPeriodS = 4.0;      // 1.6 rad/s peak yaw rate
+constexpr double kYawSweepRampS = 3.0;        // sweep-rate ramp, s
+
+// Rate doublets on `axis` from the end of the lap-rate ramp to one spacing
+// before the ramp out, the next one of opposite sign, so the vehicle is
+// pushed alternately nose up and nose down (or right and left).
+void AxisDoublets(int axis, double tau, double span, Reference3d* ref) {
+  const double since = tau - kLapRampS;
+  if (since < 0.0 || tau > span - kLapRampS - kAxisDoubletSpacingS) return;
+  const double index = std::floor(since / kAxisDoubletSpacingS);
+  const double into = since - index * kAxisDoubletSpacingS;
+  if (into >= kAxisDoubletS) return;
+  const double sign = std::fmod(index, 2.0) == 0.0 ? 1.0 : -1.0;
+  ref->rate_override(axis) =
+      sign * kAxisDoubletRate * std::sin(2.0 * kPi * into / kAxisDoubletS);
+}
+
+// The reference of pitch_laps_3d, roll_laps_3d and yaw_sweeps_3d; false
+// for the other scenarios.
+bool SingleAxisReference(const Simulator3dOptions& o,
+                         double tau,
+                         Reference3d* ref) {
+  const double span = o.maneuver_s;
+  const bool pitch = o.scenario == "pitch_laps_3d";
+  const bool roll = o.scenario == "roll_laps_3d";
+  if (pitch || roll) {
+    const double rate = LapRate(span - kLapRampS, kLapPeriod);
+    const double along =
+        0.5 * kLapLength *
+        (1.0 - std::cos(rate * RampedTime(tau, span, kLapRampS)));
+    (pitch ? ref->p.x() : ref->p.y()) = along;
+    AxisDoublets(pitch ? 1 : 0, tau, span, ref);
+    return true;
+  }
+  if (o.scenario == "yaw_sweeps_3d") {
+    const double rate = LapRate(span - kYawSweepRampS, kYawSweepPeriodS);
+    ref->yaw = kYawSweepDeg * kDegToRad *
+               std::sin(rate * RampedTime(tau, span, kYawSweepRampS));
+    return true;
+  }
+  return false;
+}
+
 // The manoeuvre's horizontal reference, yaw and doublets at time tau since
 // its start.
 void ManeuverReference(const Simulator3dOptions& o,
                        double tau,
                        Reference3d* ref) {
+  if (SingleAxisReference(o, tau, ref)) return;
   const double span = o.maneuver_s;
-  if (o.scenario == "pitch_laps_3d") {
-    const double rate = LapRate(span - kLapRampS, kLapPeriod);
-    ref->p.x() = 0.5 * kLapLength *
-                 (1.0 - std::cos(rate * RampedTime(tau, span, kLapRampS)));
-    return;
-  }
   if (o.scenario != "figure8_3d") return;  // hover_3d: stay put
   const double eight = std::max(span - kDoubletBlockS, 2.0 * kEightPeriod);
   if (tau < eight) {

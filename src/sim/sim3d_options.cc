@@ -71,8 +71,9 @@ Status Simulator3dOptions::Validate() const {
   for (const std::string& name : Scenario3dNames()) known |= name == scenario;
   if (!known) {
     return InvalidArgumentError("Simulator3dOptions::scenario = '" + scenario +
-                                "'; required figure8_3d, hover_3d or "
-                                "pitch_laps_3d");
+                                "'; required figure8_3d, hover_3d, "
+                                "pitch_laps_3d, roll_laps_3d or "
+                                "yaw_sweeps_3d");
   }
   IMUSYSID_RETURN_IF_ERROR(InRange("rate_hz", rate_hz, 100.0, 1000.0));
   IMUSYSID_RETURN_IF_ERROR(
@@ -188,7 +189,11 @@ Status Simulator3dOptions::Validate() const {
 }
 
 std::vector<std::string> Scenario3dNames() {
-  return {"figure8_3d", "hover_3d", "pitch_laps_3d"};
+  return {"figure8_3d",
+          "hover_3d",
+          "pitch_laps_3d",
+          "roll_laps_3d",
+          "yaw_sweeps_3d"};
 }
 
 StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
@@ -202,7 +207,8 @@ StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
     }
   }
   return NotFoundError("unknown 3-D scenario '" + std::string(name) +
-                       "'; valid: figure8_3d, hover_3d, pitch_laps_3d");
+                       "'; valid: figure8_3d, hover_3d, pitch_laps_3d, "
+                       "roll_laps_3d, yaw_sweeps_3d");
 }
 
 std::string Truth3dJson(const Simulator3dOptions& o,
