@@ -205,12 +205,12 @@ std::shared_ptr<const ProblemData> SyntheticMotion(std::int64_t n) {
     for (auto& axis : *axes) axis.resize(size);
   }
   for (auto* column : {&d->t_s,
-                       &d->f_x,
-                       &d->f_z,
-                       &d->omega,
-                       &d->omega_dot,
-                       &d->theta,
-                       &d->v}) {
+                       &d->planar.f_x,
+                       &d->planar.f_z,
+                       &d->planar.omega,
+                       &d->planar.omega_dot,
+                       &d->planar.theta,
+                       &d->planar.v}) {
     column->resize(size);
   }
   for (std::size_t k = 0; k < size; ++k) {
@@ -240,11 +240,11 @@ std::shared_ptr<const ProblemData> SyntheticMotion(std::int64_t n) {
     m.east[0][k] = std::sin(yaw);
     m.east[1][k] = std::cos(yaw);
     d->t_s[k] = t;
-    d->f_x[k] = m.f[0][k];
-    d->f_z[k] = -m.f[2][k];
-    d->omega[k] = -w[1];
-    d->omega_dot[k] = -a[1];
-    d->v[k] = v[0];
+    d->planar.f_x[k] = m.f[0][k];
+    d->planar.f_z[k] = -m.f[2][k];
+    d->planar.omega[k] = -w[1];
+    d->planar.omega_dot[k] = -a[1];
+    d->planar.v[k] = v[0];
   }
   return d;
 }
