@@ -44,20 +44,22 @@ std::shared_ptr<const ProblemData> MakeData(int n) {
     const double t = k * h;
     const double theta = 0.4 * std::sin(w1 * t) + 0.08 * std::sin(w2 * t);
     d->t_s.push_back(t);
-    d->theta.push_back(theta);
-    d->omega.push_back(0.4 * w1 * std::cos(w1 * t) +
-                       0.08 * w2 * std::cos(w2 * t));
-    d->omega_dot.push_back(-0.4 * w1 * w1 * std::sin(w1 * t) -
-                           0.08 * w2 * w2 * std::sin(w2 * t));
-    d->f_x.push_back(0.0);
-    d->f_z.push_back(kGravity / std::cos(theta));
+    d->planar.theta.push_back(theta);
+    d->planar.omega.push_back(0.4 * w1 * std::cos(w1 * t) +
+                              0.08 * w2 * std::cos(w2 * t));
+    d->planar.omega_dot.push_back(-0.4 * w1 * w1 * std::sin(w1 * t) -
+                                  0.08 * w2 * w2 * std::sin(w2 * t));
+    d->planar.f_x.push_back(0.0);
+    d->planar.f_z.push_back(kGravity / std::cos(theta));
     // Equation 7 for the paper model (trapezoid).
-    d->v.push_back(
-        k == 0 ? 0.0
-               : d->v.back() +
-                     0.5 * h * kGravity *
-                         (std::sin(d->theta[static_cast<std::size_t>(k) - 1]) +
-                          std::sin(theta)));
+    d->planar.v.push_back(
+        k == 0
+            ? 0.0
+            : d->planar.v.back() +
+                  0.5 * h * kGravity *
+                      (std::sin(
+                           d->planar.theta[static_cast<std::size_t>(k) - 1]) +
+                       std::sin(theta)));
   }
   auto model = ConsistentModel::Create(d);
   std::vector<double> residuals(static_cast<std::size_t>(n));
@@ -69,7 +71,7 @@ std::shared_ptr<const ProblemData> MakeData(int n) {
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.3);
   for (int k = 0; k < n; ++k) {
-    d->f_x[static_cast<std::size_t>(k)] =
+    d->planar.f_x[static_cast<std::size_t>(k)] =
         -residuals[static_cast<std::size_t>(k)] + noise(rng);
   }
   return d;

@@ -78,17 +78,20 @@ std::string MakeProblemCsv(std::size_t n, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0.0, 0.02);
   ProblemData data;
-  for (auto* v :
-       {&data.t_s, &data.f_x, &data.omega, &data.omega_dot, &data.v}) {
+  for (auto* v : {&data.t_s,
+                  &data.planar.f_x,
+                  &data.planar.omega,
+                  &data.planar.omega_dot,
+                  &data.planar.v}) {
     v->reserve(n);
   }
   for (std::size_t i = 0; i < n; ++i) {
     const double t = 3.0 + static_cast<double>(i) / 250.0;
     data.t_s.push_back(t);
-    data.f_x.push_back(1.3 * std::sin(2.1 * t + 0.4) + noise(rng));
-    data.omega.push_back(0.8 * std::sin(2.1 * t) + noise(rng));
-    data.omega_dot.push_back(1.68 * std::cos(2.1 * t) + noise(rng));
-    data.v.push_back(2.0 * std::sin(0.3 * t) + noise(rng));
+    data.planar.f_x.push_back(1.3 * std::sin(2.1 * t + 0.4) + noise(rng));
+    data.planar.omega.push_back(0.8 * std::sin(2.1 * t) + noise(rng));
+    data.planar.omega_dot.push_back(1.68 * std::cos(2.1 * t) + noise(rng));
+    data.planar.v.push_back(2.0 * std::sin(0.3 * t) + noise(rng));
   }
   return FormatProblemCsv(data, {{"source", "benchmark"}}).value();
 }
@@ -186,7 +189,7 @@ void BM_ParseProblemCsv_1e6(benchmark::State& state) {
       return;
     }
     samples = file->data.size();
-    benchmark::DoNotOptimize(file->data.v.data());
+    benchmark::DoNotOptimize(file->data.planar.v.data());
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
                           static_cast<int64_t>(text.size()));
@@ -210,7 +213,7 @@ void BM_ReadProblemCsvFile_1e6(benchmark::State& state) {
       state.SkipWithError(file.status().ToString().c_str());
       return;
     }
-    benchmark::DoNotOptimize(file->data.v.data());
+    benchmark::DoNotOptimize(file->data.planar.v.data());
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
                           static_cast<int64_t>(text.size()));

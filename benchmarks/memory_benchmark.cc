@@ -162,10 +162,10 @@ TestFile ProblemFileOfRows(std::size_t rows) {
     const std::size_t k = i % one.size();
     const double copy = static_cast<double>(i / one.size());
     data.t_s.push_back(one.t_s[k] + copy * span);
-    data.f_x.push_back(one.f_x[k]);
-    data.omega.push_back(one.omega[k]);
-    data.omega_dot.push_back(one.omega_dot[k]);
-    data.v.push_back(one.v[k]);
+    data.planar.f_x.push_back(one.planar.f_x[k]);
+    data.planar.omega.push_back(one.planar.omega[k]);
+    data.planar.omega_dot.push_back(one.planar.omega_dot[k]);
+    data.planar.v.push_back(one.planar.v[k]);
   }
   const double columns = 5.0 * static_cast<double>(rows) * sizeof(double);
   return WriteTestFile(key, FormatProblemCsv(data).value(), columns);

@@ -91,18 +91,18 @@ StatusOr<ProblemData> ExactRegressorProblem(const SimulatedFlight& flight) {
     if (t[k] < t0 || t[k] > t1) continue;
     if (!data.t_s.empty()) {
       const std::size_t m = data.t_s.size() - 1;
-      data.theta.push_back(data.theta[m] +
-                           0.5 * (t[k] - data.t_s[m]) *
-                               (flight.omega[k] + data.omega[m]));
+      data.planar.theta.push_back(data.planar.theta[m] +
+                                  0.5 * (t[k] - data.t_s[m]) *
+                                      (flight.omega[k] + data.planar.omega[m]));
     } else {
-      data.theta.push_back(0.0);
+      data.planar.theta.push_back(0.0);
     }
     data.t_s.push_back(t[k]);
-    data.f_x.push_back(flight.log.ax[k]);
-    data.f_z.push_back(flight.log.az[k]);
-    data.omega.push_back(flight.omega[k]);
-    data.omega_dot.push_back(flight.omega_dot[k]);
-    data.v.push_back(flight.v_eq7[k]);
+    data.planar.f_x.push_back(flight.log.ax[k]);
+    data.planar.f_z.push_back(flight.log.az[k]);
+    data.planar.omega.push_back(flight.omega[k]);
+    data.planar.omega_dot.push_back(flight.omega_dot[k]);
+    data.planar.v.push_back(flight.v_eq7[k]);
   }
   if (data.size() < 10) {
     return FailedPreconditionError(

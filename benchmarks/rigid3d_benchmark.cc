@@ -204,15 +204,7 @@ std::shared_ptr<const ProblemData> SyntheticMotion(std::int64_t n) {
        {&m.f, &m.omega, &m.omega_dot, &m.velocity, &m.north, &m.east}) {
     for (auto& axis : *axes) axis.resize(size);
   }
-  for (auto* column : {&d->t_s,
-                       &d->f_x,
-                       &d->f_z,
-                       &d->omega,
-                       &d->omega_dot,
-                       &d->theta,
-                       &d->v}) {
-    column->resize(size);
-  }
+  d->t_s.resize(size);
   for (std::size_t k = 0; k < size; ++k) {
     const double t = 0.0025 * static_cast<double>(k);
     const double w[3] = {0.6 * std::sin(2.1 * t),
@@ -240,11 +232,6 @@ std::shared_ptr<const ProblemData> SyntheticMotion(std::int64_t n) {
     m.east[0][k] = std::sin(yaw);
     m.east[1][k] = std::cos(yaw);
     d->t_s[k] = t;
-    d->f_x[k] = m.f[0][k];
-    d->f_z[k] = -m.f[2][k];
-    d->omega[k] = -w[1];
-    d->omega_dot[k] = -a[1];
-    d->v[k] = v[0];
   }
   return d;
 }

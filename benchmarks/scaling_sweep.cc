@@ -30,12 +30,12 @@ std::shared_ptr<ProblemData> ResizedData(const ProblemData& data,
     dst->resize(n);
     for (std::size_t k = 0; k < n; ++k) (*dst)[k] = in[k % m];
   };
-  fill(data.f_x, &out->f_x);
-  fill(data.f_z, &out->f_z);
-  fill(data.omega, &out->omega);
-  fill(data.omega_dot, &out->omega_dot);
-  fill(data.theta, &out->theta);
-  fill(data.v, &out->v);
+  fill(data.planar.f_x, &out->planar.f_x);
+  fill(data.planar.f_z, &out->planar.f_z);
+  fill(data.planar.omega, &out->planar.omega);
+  fill(data.planar.omega_dot, &out->planar.omega_dot);
+  fill(data.planar.theta, &out->planar.theta);
+  fill(data.planar.v, &out->planar.v);
   out->t_s.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     out->t_s[k] = data.t_s[k % m] + period * static_cast<double>(k / m);

@@ -109,7 +109,7 @@ TEST(ConsistentModel, HeunErrorIsSecondOrder) {
 
 TEST(ConsistentModel, MeasuredFzWithoutFzIsFailedPrecondition) {
   auto data = SimulateConsistent(Truth(), SimOptions());
-  ASSERT_TRUE(data->f_z.empty());
+  ASSERT_TRUE(data->planar.f_z.empty());
   ModelOptions options;
   options.use_measured_fz = true;
   auto model = CreateModel("consistent", data, options);
@@ -256,11 +256,11 @@ TEST(ConsistentModel, VelocityIntegratesTheDragEquation) {
   const double theta = 10.0 * kDegToRad;
   for (int k = 0; k < 6000; ++k) {
     data->t_s.push_back(0.01 * k);
-    data->theta.push_back(theta);
-    data->omega.push_back(0.0);
-    data->omega_dot.push_back(0.0);
-    data->f_x.push_back(0.0);
-    data->v.push_back(0.0);
+    data->planar.theta.push_back(theta);
+    data->planar.omega.push_back(0.0);
+    data->planar.omega_dot.push_back(0.0);
+    data->planar.f_x.push_back(0.0);
+    data->planar.v.push_back(0.0);
   }
   auto model = MakeModel(data, false);
   Eigen::VectorXd x(6);
@@ -339,7 +339,7 @@ TEST(ConsistentModel, IntegratesGyroWhenThetaColumnIsEmpty) {
   truth.c1 = 0.0;
   auto a = SimulateConsistent(truth, opt);
   auto b = std::make_shared<ProblemData>(*a);
-  b->theta.clear();
+  b->planar.theta.clear();
   auto model_a = MakeModel(a, false);
   auto model_b = MakeModel(b, false);
   // Trapezoid on ω at 1 kHz: θ error ≲ h²/12·max|ω̇|·T ≈ 8e-8·4.7·8 ≈ 3e-6

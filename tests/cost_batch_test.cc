@@ -204,7 +204,7 @@ class NaNBatchModel : public Model {
                  double* jacobian) const override {
     if (jacobian != nullptr) return false;
     for (int k = 0; k < num_residuals(); ++k) {
-      residuals[k] = x[0] - data().f_x[static_cast<std::size_t>(k)];
+      residuals[k] = x[0] - data().planar.f_x[static_cast<std::size_t>(k)];
       if (!std::isfinite(residuals[k])) return false;
     }
     return true;

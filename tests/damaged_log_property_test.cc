@@ -65,7 +65,7 @@ Outcome ReadAndCheck(const std::string& bytes, const std::string& what) {
     if (fallback.ok()) {
       StatusOr<PreprocessResult> pre = Preprocess(*log, po);
       if (pre.ok()) {
-        for (double f : pre->data.f_x) {
+        for (double f : pre->data.planar.f_x) {
           EXPECT_TRUE(std::isfinite(f)) << what;
           if (!std::isfinite(f)) break;
         }

@@ -256,9 +256,10 @@ TEST_P(EstimatorContractTest, RecoversTruthOnStandardProblem) {
   Eigen::VectorXd y(n);
   for (int k = 0; k < n; ++k) {
     const auto s = static_cast<std::size_t>(k);
-    phi.row(k) << 1.0, -d.omega[s] * d.omega[s], d.omega_dot[s],
-        -std::copysign(d.v[s] * d.v[s], d.v[s]);
-    y[k] = d.f_x[s];
+    phi.row(k) << 1.0, -d.planar.omega[s] * d.planar.omega[s],
+        d.planar.omega_dot[s],
+        -std::copysign(d.planar.v[s] * d.planar.v[s], d.planar.v[s]);
+    y[k] = d.planar.f_x[s];
   }
   const Eigen::Vector4d a = phi.colPivHouseholderQr().solve(y);
   ASSERT_GE(a[3], 0.0) << "the standard problem's optimum has mu >= 0";

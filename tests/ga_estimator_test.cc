@@ -55,17 +55,17 @@ Eigen::MatrixXd Regressors(const ProblemData& d) {
   Eigen::MatrixXd phi(static_cast<Eigen::Index>(d.size()), 4);
   for (std::size_t k = 0; k < d.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
-    const double v = d.v[k];
+    const double v = d.planar.v[k];
     phi(i, 0) = 1.0;
-    phi(i, 1) = -d.omega[k] * d.omega[k];
-    phi(i, 2) = d.omega_dot[k];
+    phi(i, 1) = -d.planar.omega[k] * d.planar.omega[k];
+    phi(i, 2) = d.planar.omega_dot[k];
     phi(i, 3) = -(v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0)) * v * v;
   }
   return phi;
 }
 
 Eigen::VectorXd Measurements(const ProblemData& d) {
-  return Eigen::Map<const Eigen::VectorXd>(d.f_x.data(),
+  return Eigen::Map<const Eigen::VectorXd>(d.planar.f_x.data(),
                                            static_cast<Eigen::Index>(d.size()));
 }
 

@@ -42,9 +42,9 @@ Eigen::MatrixXd Regressors(const ProblemData& d) {
   for (std::size_t k = 0; k < d.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     phi(i, 0) = 1.0;
-    phi(i, 1) = -d.omega[k] * d.omega[k];
-    phi(i, 2) = d.omega_dot[k];
-    phi(i, 3) = -std::copysign(d.v[k] * d.v[k], d.v[k]);
+    phi(i, 1) = -d.planar.omega[k] * d.planar.omega[k];
+    phi(i, 2) = d.planar.omega_dot[k];
+    phi(i, 3) = -std::copysign(d.planar.v[k] * d.planar.v[k], d.planar.v[k]);
   }
   return phi;
 }
@@ -128,7 +128,7 @@ TEST(LinearEstimator, WithinFourSigmaWhenNoisy) {
   const Eigen::Vector4d a_hat = ForwardMap(result.parameters.head<4>());
   Eigen::VectorXd y(phi.rows());
   for (Eigen::Index k = 0; k < y.size(); ++k) {
-    y[k] = data->f_x[static_cast<std::size_t>(k)];
+    y[k] = data->planar.f_x[static_cast<std::size_t>(k)];
   }
   const Eigen::Vector4d gradient = phi.transpose() * (phi * a_hat - y);
   // Rounding of the normal equations: ~eps·‖Φ‖·(‖Φ‖‖a‖ + ‖y‖) per entry.
@@ -152,7 +152,7 @@ TEST(LinearEstimator, ClampsMuToZeroAtKktPointWhenTruthMuNegative) {
   const Eigen::MatrixXd phi = Regressors(*data);
   Eigen::VectorXd y(phi.rows());
   for (Eigen::Index k = 0; k < y.size(); ++k) {
-    y[k] = data->f_x[static_cast<std::size_t>(k)];
+    y[k] = data->planar.f_x[static_cast<std::size_t>(k)];
   }
   const Eigen::Vector4d a_hat = ForwardMap(result.parameters.head<4>());
   const Eigen::Vector4d gradient = phi.transpose() * (phi * a_hat - y);

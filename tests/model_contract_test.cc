@@ -275,7 +275,7 @@ TEST_P(ModelContractTest, CostIsHalfTheSumOfSquaredResiduals) {
 TEST_P(ModelContractTest, VelocityIsTheDatasExactlyWhenTheModelReadsIt) {
   StatusOr<ModelDescription> description = BuiltinModels().Describe(GetParam());
   ASSERT_TRUE(description.ok());
-  const std::vector<double>& data_v = model_->data().v;
+  const std::vector<double>& data_v = model_->data().planar.v;
   for (const Eigen::VectorXd& x : Points()) {
     std::vector<double> v(data_v.size());
     ASSERT_TRUE(model_->Velocity(x.data(), v.data()));

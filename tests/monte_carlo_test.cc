@@ -102,11 +102,11 @@ TEST(MonteCarlo, CramerRaoBoundOfALinearModelIsTheLeastSquaresCovariance) {
   for (int k = 0; k < n; ++k) {
     const double t = 0.01 * k;
     data->t_s.push_back(t);
-    data->omega.push_back(std::sin(2.0 * t));
-    data->omega_dot.push_back(2.0 * std::cos(2.0 * t));
-    data->v.push_back(3.0 * std::sin(0.7 * t));
-    data->theta.push_back(0.0);
-    data->f_x.push_back(0.0);
+    data->planar.omega.push_back(std::sin(2.0 * t));
+    data->planar.omega_dot.push_back(2.0 * std::cos(2.0 * t));
+    data->planar.v.push_back(3.0 * std::sin(0.7 * t));
+    data->planar.theta.push_back(0.0);
+    data->planar.f_x.push_back(0.0);
   }
   StatusOr<std::unique_ptr<Model>> model = CreateModel("paper", data);
   ASSERT_TRUE(model.ok());
@@ -120,9 +120,9 @@ TEST(MonteCarlo, CramerRaoBoundOfALinearModelIsTheLeastSquaresCovariance) {
   Eigen::MatrixXd j(n, 4);
   const double a = x[2] * kDegToRad, b = x[1] * kDegToRad, r = x[0];
   for (int k = 0; k < n; ++k) {
-    const double w2 = data->omega[k] * data->omega[k];
-    const double wd = data->omega_dot[k];
-    const double v = data->v[k];
+    const double w2 = data->planar.omega[k] * data->planar.omega[k];
+    const double wd = data->planar.omega_dot[k];
+    const double v = data->planar.v[k];
     j(k, 0) = -w2 * std::cos(b - a) + wd * std::sin(b - a);
     j(k, 1) = (r * w2 * std::sin(b - a) + r * wd * std::cos(b - a)) * kDegToRad;
     j(k, 2) = (kGravity * std::cos(a) - r * w2 * std::sin(b - a) -

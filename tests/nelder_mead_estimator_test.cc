@@ -218,7 +218,7 @@ TEST(NelderMeadEstimator, RecoversTheTruthFromNoiseFreePaperData) {
   ASSERT_TRUE(result.IsUsable()) << result.message;
   EXPECT_EQ(result.termination, Termination::kConverged) << result.message;
   double sum_f2 = 0.0;
-  for (double f : data->f_x) sum_f2 += f * f;
+  for (double f : data->planar.f_x) sum_f2 += f * f;
   const Eigen::MatrixXd h_inv = InverseGram(problem, kTruth);
   const double resolution =
       std::sqrt(2.0 * std::numeric_limits<double>::epsilon() * sum_f2);
@@ -311,10 +311,11 @@ TEST(NelderMeadEstimator, HoldsAParameterFixedByItsBounds) {
   Eigen::VectorXd y(n);
   for (Eigen::Index k = 0; k < n; ++k) {
     const auto s = static_cast<std::size_t>(k);
-    const double v = data->v[s];
-    phi.row(k) << -data->omega[s] * data->omega[s], data->omega_dot[s],
-        -std::copysign(v * v, v);
-    y[k] = data->f_x[s] - kGravity * std::sin(kFixedAlphaDeg * kDegToRad);
+    const double v = data->planar.v[s];
+    phi.row(k) << -data->planar.omega[s] * data->planar.omega[s],
+        data->planar.omega_dot[s], -std::copysign(v * v, v);
+    y[k] =
+        data->planar.f_x[s] - kGravity * std::sin(kFixedAlphaDeg * kDegToRad);
   }
   const Eigen::Vector3d a = phi.colPivHouseholderQr().solve(y);
   ASSERT_GE(a[2], 0.0) << "the reference optimum has mu >= 0";

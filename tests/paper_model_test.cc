@@ -31,11 +31,12 @@ std::shared_ptr<ProblemData> MakeData(int n, double noise_sigma) {
       v += kGravity * std::sin(theta) * dt;
     }
     d->t_s.push_back(t);
-    d->omega.push_back(w);
-    d->omega_dot.push_back(wd);
-    d->theta.push_back(theta);
-    d->v.push_back(v);
-    d->f_x.push_back(PaperPrediction(truth.data(), w, wd, v) + noise(rng));
+    d->planar.omega.push_back(w);
+    d->planar.omega_dot.push_back(wd);
+    d->planar.theta.push_back(theta);
+    d->planar.v.push_back(v);
+    d->planar.f_x.push_back(PaperPrediction(truth.data(), w, wd, v) +
+                            noise(rng));
   }
   return d;
 }
@@ -111,11 +112,11 @@ TEST(PaperModel, NoCompressedResidualsWithoutExcitation) {
   auto d = std::make_shared<ProblemData>();
   for (int k = 0; k < 100; ++k) {
     d->t_s.push_back(0.01 * k);
-    d->omega.push_back(0.0);
-    d->omega_dot.push_back(0.0);
-    d->theta.push_back(0.0);
-    d->v.push_back(0.0);
-    d->f_x.push_back(0.1 + 0.01 * std::sin(0.3 * k));
+    d->planar.omega.push_back(0.0);
+    d->planar.omega_dot.push_back(0.0);
+    d->planar.theta.push_back(0.0);
+    d->planar.v.push_back(0.0);
+    d->planar.f_x.push_back(0.1 + 0.01 * std::sin(0.3 * k));
   }
   PaperModel model(d);
   EXPECT_EQ(model.num_compressed_residuals(), 0);
@@ -134,9 +135,11 @@ TEST(PaperModel, JacobianMatchesJetsOfEquation9AndFiniteDifferences) {
   Jet xj[4];
   for (int i = 0; i < 4; ++i) xj[i] = Jet(x[i], i);
   for (std::size_t k = 0; k < 400; k += 37) {
-    const Jet p =
-        PaperPrediction(xj, data->omega[k], data->omega_dot[k], data->v[k]);
-    EXPECT_NEAR(res[k], data->f_x[k] - p.a, 1e-12);
+    const Jet p = PaperPrediction(xj,
+                                  data->planar.omega[k],
+                                  data->planar.omega_dot[k],
+                                  data->planar.v[k]);
+    EXPECT_NEAR(res[k], data->planar.f_x[k] - p.a, 1e-12);
     for (int i = 0; i < 4; ++i) {
       EXPECT_NEAR(jac[k * 4 + i], -p.v[i], 1e-12);
     }

@@ -129,20 +129,20 @@ TEST(Preprocess, SinusoidalPitchRateGivesClosedFormThetaVAndOmegaDot) {
   EXPECT_EQ(d.gravity, kGravity);
   EXPECT_NEAR(result->sample_rate_hz, kRate, 1e-6);
   EXPECT_EQ(result->gyro_bias_rad_s, 0.0);
-  EXPECT_EQ(d.theta[0], 0.0);
-  EXPECT_EQ(d.v[0], 0.0);
+  EXPECT_EQ(d.planar.theta[0], 0.0);
+  EXPECT_EQ(d.planar.v[0], 0.0);
   double max_v = 0.0;
   for (std::size_t k = 0; k < d.size(); ++k) {
     const double t = d.t_s[k];
-    EXPECT_NEAR(d.omega[k], kOmegaAmp * std::cos(kW * t), 1e-7) << t;
-    EXPECT_NEAR(d.theta[k], ClosedFormTheta(t), kThetaTol) << t;
-    EXPECT_NEAR(d.v[k], ClosedFormV(t), kVTol) << t;
+    EXPECT_NEAR(d.planar.omega[k], kOmegaAmp * std::cos(kW * t), 1e-7) << t;
+    EXPECT_NEAR(d.planar.theta[k], ClosedFormTheta(t), kThetaTol) << t;
+    EXPECT_NEAR(d.planar.v[k], ClosedFormV(t), kVTol) << t;
     EXPECT_NEAR(
-        d.omega_dot[k], -kOmegaAmp * kW * std::sin(kW * t), kOmegaDotTol)
+        d.planar.omega_dot[k], -kOmegaAmp * kW * std::sin(kW * t), kOmegaDotTol)
         << t;
-    EXPECT_NEAR(d.f_x[k], SlowFx(t), kFxTol) << t;
-    EXPECT_NEAR(d.f_z[k], kGravity, 1e-9) << t;
-    max_v = std::max(max_v, std::abs(d.v[k]));
+    EXPECT_NEAR(d.planar.f_x[k], SlowFx(t), kFxTol) << t;
+    EXPECT_NEAR(d.planar.f_z[k], kGravity, 1e-9) << t;
+    max_v = std::max(max_v, std::abs(d.planar.v[k]));
   }
   // The closed form is not trivially small: v reaches ~2 m/s.
   EXPECT_GT(max_v, 1.5);
@@ -165,18 +165,19 @@ TEST(Preprocess, RollPlaneUsesMinusAyAndGx) {
   const ProblemData& d = result->data;
   for (std::size_t k = 0; k < d.size(); ++k) {
     const double t = d.t_s[k];
-    EXPECT_NEAR(d.omega[k], kOmegaAmp * std::cos(kW * t), 1e-7) << t;
-    EXPECT_NEAR(d.theta[k], ClosedFormTheta(t), kThetaTol) << t;
-    EXPECT_NEAR(d.v[k], ClosedFormV(t), kVTol) << t;
-    EXPECT_NEAR(d.f_x[k], SlowFx(t), kFxTol) << t;
+    EXPECT_NEAR(d.planar.omega[k], kOmegaAmp * std::cos(kW * t), 1e-7) << t;
+    EXPECT_NEAR(d.planar.theta[k], ClosedFormTheta(t), kThetaTol) << t;
+    EXPECT_NEAR(d.planar.v[k], ClosedFormV(t), kVTol) << t;
+    EXPECT_NEAR(d.planar.f_x[k], SlowFx(t), kFxTol) << t;
   }
   // The pitch plane of the same log sees gy and ax instead.
   options.plane = Plane::kPitch;
   StatusOr<PreprocessResult> pitch = Preprocess(log, options);
   ASSERT_TRUE(pitch.ok());
-  EXPECT_NEAR(pitch->data.f_x[0], 2.0 + std::cos(0.0), kFxTol);
-  EXPECT_NEAR(
-      pitch->data.omega[1250], 0.3 * std::sin(2.0 * kPi * 0.2 * 5.0), 1e-7);
+  EXPECT_NEAR(pitch->data.planar.f_x[0], 2.0 + std::cos(0.0), kFxTol);
+  EXPECT_NEAR(pitch->data.planar.omega[1250],
+              0.3 * std::sin(2.0 * kPi * 0.2 * 5.0),
+              1e-7);
 }
 
 TEST(Preprocess, ExplicitWindowIsRespectedExactly) {
@@ -192,14 +193,14 @@ TEST(Preprocess, ExplicitWindowIsRespectedExactly) {
   EXPECT_LT(d.t_s.front() - dt, t_start);
   EXPECT_LE(d.t_s.back(), t_end);
   EXPECT_GT(d.t_s.back() + dt, t_end);
-  EXPECT_EQ(d.theta.front(), 0.0);
-  EXPECT_EQ(d.v.front(), 0.0);
+  EXPECT_EQ(d.planar.theta.front(), 0.0);
+  EXPECT_EQ(d.planar.v.front(), 0.0);
   // θ is now the integral from the new reference instant. The trapezoid
   // identity scales the increment sin(ωt) − sin(ωt0), up to 2 in size, by
   // (φ/2)cot(φ/2): twice kThetaTol.
   const double t0 = d.t_s.front();
   for (std::size_t k = 0; k < d.size(); k += 97) {
-    EXPECT_NEAR(d.theta[k],
+    EXPECT_NEAR(d.planar.theta[k],
                 ClosedFormTheta(d.t_s[k]) - ClosedFormTheta(t0),
                 2.0 * kThetaTol)
         << d.t_s[k];
@@ -219,7 +220,7 @@ TEST(Preprocess, GivenGyroBiasIsSubtractedBeforeIntegration) {
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   EXPECT_EQ(result->gyro_bias_rad_s, kBias);
   const ProblemData& d = result->data;
-  EXPECT_NEAR(d.theta.back(), ClosedFormTheta(d.t_s.back()), kThetaTol);
+  EXPECT_NEAR(d.planar.theta.back(), ClosedFormTheta(d.t_s.back()), kThetaTol);
   // The same bias measured over a window where the vehicle is known to be
   // still (here: ω = bias only in [−5, −3] s).
   Signals still = s;
@@ -261,8 +262,8 @@ TEST(Preprocess, LogVelocityIsProjectedOnTheBodyAxisOfThePlane) {
   ASSERT_TRUE(roll.ok()) << roll.status().ToString();
   for (std::size_t k = 0; k < pitch->data.size(); ++k) {
     const double t = pitch->data.t_s[k];
-    EXPECT_NEAR(pitch->data.v[k], u(t), kTol) << t;
-    EXPECT_NEAR(roll->data.v[k], w(t), kTol) << t;
+    EXPECT_NEAR(pitch->data.planar.v[k], u(t), kTol) << t;
+    EXPECT_NEAR(roll->data.planar.v[k], w(t), kTol) << t;
   }
 }
 
@@ -320,8 +321,8 @@ TEST(Preprocess, FilterOffPassesSamplesThrough) {
   options.cutoff_hz = 0.0;
   StatusOr<PreprocessResult> result = Preprocess(log, options);
   ASSERT_TRUE(result.ok()) << result.status().ToString();
-  EXPECT_EQ(result->data.f_x[250], log.ax[1500]);
-  EXPECT_EQ(result->data.omega[250], log.gy[1500]);
+  EXPECT_EQ(result->data.planar.f_x[250], log.ax[1500]);
+  EXPECT_EQ(result->data.planar.omega[250], log.gy[1500]);
 }
 
 // The filter sits where the options put it: a 4th-order Butterworth run
@@ -343,7 +344,7 @@ TEST(Preprocess, LowPassHalvesATwoSidedToneAtTheCutoff) {
     double sum_sq = 0.0;
     int count = 0;
     for (std::size_t k = 500; k < 4500; ++k) {
-      sum_sq += result->data.f_x[k] * result->data.f_x[k];
+      sum_sq += result->data.planar.f_x[k] * result->data.planar.f_x[k];
       ++count;
     }
     const double amplitude = std::sqrt(2.0 * sum_sq / count);
@@ -485,7 +486,7 @@ TEST_P(SegmentDetection,
   const double theta_tol = bias_tol * duration +
                            5.0 * kGyroNoise * std::sqrt(duration / rate) + 1e-3;
   for (std::size_t k = 0; k < d.size(); k += 10) {
-    EXPECT_NEAR(d.theta[k], BurstPitch(d.t_s[k]), theta_tol) << d.t_s[k];
+    EXPECT_NEAR(d.planar.theta[k], BurstPitch(d.t_s[k]), theta_tol) << d.t_s[k];
   }
   EXPECT_GT(result->excitation.max_abs_pitch_deg, 25.0);
 }

@@ -25,11 +25,11 @@ ProblemData MakeData(std::size_t n = 12) {
   for (std::size_t i = 0; i < n; ++i) {
     const double k = static_cast<double>(i);
     d.t_s.push_back(1000.0 + k / 3.0);
-    d.f_x.push_back(-k / 7.0 + 1e-300);
-    d.omega.push_back(std::sin(k) * 1e-17);
-    d.omega_dot.push_back(std::cos(k) * kMaxAbsInputValue);
-    d.v.push_back(0.1 * k - 0.3);
-    d.theta.push_back(std::nextafter(k, 100.0));
+    d.planar.f_x.push_back(-k / 7.0 + 1e-300);
+    d.planar.omega.push_back(std::sin(k) * 1e-17);
+    d.planar.omega_dot.push_back(std::cos(k) * kMaxAbsInputValue);
+    d.planar.v.push_back(0.1 * k - 0.3);
+    d.planar.theta.push_back(std::nextafter(k, 100.0));
   }
   return d;
 }
@@ -62,12 +62,12 @@ TEST(ProblemIo, RoundTripIsBitExact) {
   StatusOr<ProblemFile> file = ParseProblemCsv(text, "p.csv");
   ASSERT_TRUE(file.ok()) << file.status().message();
   ExpectSameBits(file->data.t_s, d.t_s, "t");
-  ExpectSameBits(file->data.f_x, d.f_x, "f");
-  ExpectSameBits(file->data.omega, d.omega, "omega");
-  ExpectSameBits(file->data.omega_dot, d.omega_dot, "omega_dot");
-  ExpectSameBits(file->data.v, d.v, "v");
-  ExpectSameBits(file->data.theta, d.theta, "theta");
-  EXPECT_TRUE(file->data.f_z.empty());
+  ExpectSameBits(file->data.planar.f_x, d.planar.f_x, "f");
+  ExpectSameBits(file->data.planar.omega, d.planar.omega, "omega");
+  ExpectSameBits(file->data.planar.omega_dot, d.planar.omega_dot, "omega_dot");
+  ExpectSameBits(file->data.planar.v, d.planar.v, "v");
+  ExpectSameBits(file->data.planar.theta, d.planar.theta, "theta");
+  EXPECT_TRUE(file->data.planar.f_z.empty());
   EXPECT_EQ(file->data.gravity, d.gravity);
   EXPECT_EQ(file->data.source, "p.csv");
   ASSERT_NE(file->FindMetadata("source"), nullptr);
@@ -92,7 +92,7 @@ TEST(ProblemIo, WriteThenReadFile) {
   ASSERT_TRUE(WriteProblemCsv(path, d, {{"source", "x"}}).ok());
   StatusOr<ProblemFile> file = ReadProblemCsv(path);
   ASSERT_TRUE(file.ok()) << file.status().message();
-  ExpectSameBits(file->data.f_x, d.f_x, "f");
+  ExpectSameBits(file->data.planar.f_x, d.planar.f_x, "f");
   EXPECT_EQ(file->data.source, path);
 }
 
@@ -114,12 +114,12 @@ TEST(ProblemIo, ColumnsInAnyOrderWithExtrasIgnored) {
   EXPECT_EQ(file->ignored_columns, std::vector<std::string>{"note"});
   EXPECT_EQ(file->data.size(), 10u);
   EXPECT_EQ(file->data.t_s[3], 3.0);
-  EXPECT_EQ(file->data.f_x[3], 1.0);
-  EXPECT_EQ(file->data.omega[3], 2.0);
-  EXPECT_EQ(file->data.omega_dot[3], 3.0);
-  EXPECT_EQ(file->data.v[3], 4.0);
-  EXPECT_EQ(file->data.f_z[3], -9.0);
-  EXPECT_TRUE(file->data.theta.empty());
+  EXPECT_EQ(file->data.planar.f_x[3], 1.0);
+  EXPECT_EQ(file->data.planar.omega[3], 2.0);
+  EXPECT_EQ(file->data.planar.omega_dot[3], 3.0);
+  EXPECT_EQ(file->data.planar.v[3], 4.0);
+  EXPECT_EQ(file->data.planar.f_z[3], -9.0);
+  EXPECT_TRUE(file->data.planar.theta.empty());
   EXPECT_EQ(file->data.gravity, 9.8);
 }
 

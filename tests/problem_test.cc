@@ -53,7 +53,7 @@ TEST(ProblemData, ThreeDimensionalDataNeedNoPlanarColumns) {
   ProblemData motion = SmallMotionData();
   EXPECT_TRUE(motion.Validate().ok()) << motion.Validate().ToString();
   ProblemData ragged = motion;
-  ragged.theta = {0.0, 0.0};
+  ragged.planar.theta = {0.0, 0.0};
   const Status s = ragged.Validate();
   EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
   EXPECT_THAT(s.message(), HasSubstr("'theta' has 2 samples, t has 3"));
@@ -76,7 +76,7 @@ TEST(ProblemData, ThreeDimensionalDataNeedNoPlanarColumns) {
   // A block of 3-D data stays 3-D, with no planar column made up.
   StatusOr<ProblemData> block = SelectSamples(motion, 1, 3);
   ASSERT_TRUE(block.ok());
-  EXPECT_TRUE(block->f_x.empty());
+  EXPECT_TRUE(block->planar.f_x.empty());
   EXPECT_EQ(block->motion.f[0].size(), 2u);
   EXPECT_TRUE(block->Validate().ok());
 }

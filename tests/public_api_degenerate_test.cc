@@ -93,12 +93,12 @@ std::shared_ptr<ProblemData> SmallData(std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) {
     const double t = 0.01 * static_cast<double>(i);
     data->t_s.push_back(t);
-    data->f_x.push_back(0.3 * std::sin(2.0 * t));
-    data->f_z.push_back(9.8);
-    data->omega.push_back(0.5 * std::sin(2.0 * t));
-    data->omega_dot.push_back(std::cos(2.0 * t));
-    data->theta.push_back(0.25 * (1.0 - std::cos(2.0 * t)));
-    data->v.push_back(0.1 * t);
+    data->planar.f_x.push_back(0.3 * std::sin(2.0 * t));
+    data->planar.f_z.push_back(9.8);
+    data->planar.omega.push_back(0.5 * std::sin(2.0 * t));
+    data->planar.omega_dot.push_back(std::cos(2.0 * t));
+    data->planar.theta.push_back(0.25 * (1.0 - std::cos(2.0 * t)));
+    data->planar.v.push_back(0.1 * t);
   }
   return data;
 }
@@ -187,13 +187,13 @@ TEST(DegenerateReaders, ProblemFileAndFitJson) {
 
 TEST(DegenerateProblemData, ValidateNamesTheColumnAndTheRule) {
   std::shared_ptr<ProblemData> data = SmallData(5);
-  data->omega.pop_back();
+  data->planar.omega.pop_back();
   ExpectError(data->Validate(), kArg, "'omega' has 4 samples, t has 5");
   data = SmallData(5);
-  data->v[2] = kNan;
+  data->planar.v[2] = kNan;
   ExpectError(data->Validate(), kArg, "'v' sample 2 is not finite");
   data = SmallData(5);
-  data->f_x[4] = -kInf;
+  data->planar.f_x[4] = -kInf;
   ExpectError(data->Validate(), kArg, "'f' sample 4 is not finite");
   data = SmallData(5);
   std::swap(data->t_s[1], data->t_s[3]);
@@ -209,7 +209,7 @@ TEST(DegenerateProblemData, SelectSamplesRefusesBadRangesAndRaggedColumns) {
   ExpectError(SelectSamples(*data, 0, 11), kArg, "end = 11");
   ExpectError(SelectSamples(*data, 0, 10, 0), kArg, "step = 0; required >= 1");
   ProblemData ragged = *data;
-  ragged.theta.resize(3);
+  ragged.planar.theta.resize(3);
   ExpectError(SelectSamples(ragged, 0, 10), kArg, "'theta' has 3 samples");
   ragged = *data;
   ragged.motion.velocity[2].resize(4);  // motion otherwise empty
@@ -219,16 +219,16 @@ TEST(DegenerateProblemData, SelectSamplesRefusesBadRangesAndRaggedColumns) {
   StatusOr<ProblemData> empty = SelectSamples(*data, 4, 4);
   ASSERT_TRUE(empty.ok()) << empty.status().ToString();
   EXPECT_EQ(empty->size(), 0u);
-  EXPECT_TRUE(empty->f_x.empty());
+  EXPECT_TRUE(empty->planar.f_x.empty());
   StatusOr<ProblemData> one = SelectSamples(*data, 0, 10, 100);
   ASSERT_TRUE(one.ok());
   ASSERT_EQ(one->size(), 1u);
-  EXPECT_EQ(one->v[0], data->v[0]);
+  EXPECT_EQ(one->planar.v[0], data->planar.v[0]);
 }
 
 TEST(DegenerateProblemData, ProblemFilesRefuseInvalidData) {
   std::shared_ptr<ProblemData> data = SmallData(4);
-  data->omega_dot.resize(2);
+  data->planar.omega_dot.resize(2);
   ExpectError(FormatProblemCsv(*data), kArg, "'omega_dot' has 2 samples");
   data = SmallData(4);
   data->gravity = kNan;
@@ -357,7 +357,7 @@ TEST(DegenerateModels, EveryModelOnEmptyOneAndTwoSamples) {
     SCOPED_TRACE(name);
     ExpectError(CreateModel(name, nullptr), kArg, "no problem data");
     std::shared_ptr<ProblemData> ragged = SmallData(5);
-    ragged->v.resize(1);
+    ragged->planar.v.resize(1);
     ExpectError(CreateModel(name, ragged), kArg, "'v' has 1 samples");
     // Without samples every parameter vector would cost 0.
     ExpectError(CreateModel(name, SmallData(0)),
@@ -451,8 +451,9 @@ TEST(DegenerateEstimators, EveryEstimatorOnDegenerateProblems) {
   datasets.push_back(testing::WithMotion3d(SmallData(2)));
   std::shared_ptr<ProblemData> flat = SmallData(30);
   for (std::size_t i = 0; i < flat->size(); ++i) {
-    flat->f_x[i] = flat->omega[i] = flat->omega_dot[i] = 0.0;
-    flat->theta[i] = flat->v[i] = 0.0;
+    flat->planar.f_x[i] = flat->planar.omega[i] = flat->planar.omega_dot[i] =
+        0.0;
+    flat->planar.theta[i] = flat->planar.v[i] = 0.0;
   }
   datasets.push_back(testing::WithMotion3d(flat));
   EstimatorOptions options = testing::SmallGaOptions();
@@ -759,10 +760,10 @@ TEST(DegenerateIdentify, EveryInputKindAndModelReturnsAStatus) {
         Identify(IdentifyInput::Data(std::make_shared<ProblemData>()), options)
             .ok());
     auto nan = SmallData(50);
-    nan->f_x[7] = kNan;
+    nan->planar.f_x[7] = kNan;
     EXPECT_FALSE(Identify(IdentifyInput::Data(nan), options).ok());
     auto ragged = SmallData(50);
-    ragged->omega.resize(3);
+    ragged->planar.omega.resize(3);
     EXPECT_FALSE(Identify(IdentifyInput::Data(ragged), options).ok());
     EXPECT_FALSE(Identify(IdentifyInput::Data(nullptr), options).ok());
   }

@@ -55,7 +55,7 @@ class TiltOnlyModel : public Model {
     const double alpha = x[kAlpha] * kDegToRad;
     for (int k = 0; k < num_residuals(); ++k) {
       residuals[k] =
-          data().f_x[static_cast<std::size_t>(k)] - g * std::sin(alpha);
+          data().planar.f_x[static_cast<std::size_t>(k)] - g * std::sin(alpha);
       if (jacobian == nullptr) continue;
       double* row = jacobian + 4 * k;
       row[kR] = row[kBeta] = row[kMu] = 0.0;
@@ -102,7 +102,7 @@ TEST(ModelRegistry, NullOrInvalidDataAreInvalidArguments) {
   EXPECT_EQ(CreateModel(name, nullptr).status().code(),
             StatusCode::kInvalidArgument);
   auto bad = std::make_shared<ProblemData>(*SmallData());
-  bad->f_x.pop_back();
+  bad->planar.f_x.pop_back();
   EXPECT_EQ(CreateModel(name, bad).status().code(),
             StatusCode::kInvalidArgument);
 }

@@ -241,12 +241,12 @@ ProblemData WithoutBlock(const ProblemData& data,
     to->insert(to->end(), x.begin(), x.end());
   };
   for (auto [to, from] : {std::pair{&out.t_s, &tail.t_s},
-                          {&out.f_x, &tail.f_x},
-                          {&out.f_z, &tail.f_z},
-                          {&out.omega, &tail.omega},
-                          {&out.omega_dot, &tail.omega_dot},
-                          {&out.theta, &tail.theta},
-                          {&out.v, &tail.v}}) {
+                          {&out.planar.f_x, &tail.planar.f_x},
+                          {&out.planar.f_z, &tail.planar.f_z},
+                          {&out.planar.omega, &tail.planar.omega},
+                          {&out.planar.omega_dot, &tail.planar.omega_dot},
+                          {&out.planar.theta, &tail.planar.theta},
+                          {&out.planar.v, &tail.planar.v}}) {
     append(to, *from);
   }
   Motion3d& m = out.motion;

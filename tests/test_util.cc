@@ -211,16 +211,16 @@ std::shared_ptr<ProblemData> SimulateConsistent(
     const double theta_gyro = th - c0 - c1 * tau;
     if (k > 0) {
       // Equation 7 (for the paper model's v column), trapezoid.
-      const double th_prev = d->theta.back();
+      const double th_prev = d->planar.theta.back();
       v_eq7 += 0.5 * h * g * (std::sin(th_prev) + std::sin(theta_gyro));
     }
     d->t_s.push_back(options.t_start_s + tau);
-    d->f_x.push_back(fx + options.noise_sigma * noise(rng));
-    if (options.measured_fz) d->f_z.push_back(fz);
-    d->omega.push_back(w);
-    d->omega_dot.push_back(wd);
-    d->theta.push_back(theta_gyro);
-    d->v.push_back(v_eq7);
+    d->planar.f_x.push_back(fx + options.noise_sigma * noise(rng));
+    if (options.measured_fz) d->planar.f_z.push_back(fz);
+    d->planar.omega.push_back(w);
+    d->planar.omega_dot.push_back(wd);
+    d->planar.theta.push_back(theta_gyro);
+    d->planar.v.push_back(v_eq7);
   }
   return d;
 }

@@ -190,7 +190,7 @@ TEST(VarproEstimator, FailsWithA1ExceedsGOnALargeOffset) {
   opt.duration_s = 5.0;
   for (const char* model : {"consistent", "paper"}) {
     auto data = SimulateConsistent(Truth(), opt);
-    for (double& f : data->f_x) f += 15.0;  // no tilt explains 15 m/s²
+    for (double& f : data->planar.f_x) f += 15.0;  // no tilt explains 15 m/s²
     const Problem problem = MakeProblem(data, model);
     const EstimateResult result = RunVarpro(problem);
     EXPECT_EQ(result.termination, Termination::kFailure) << model;
@@ -210,14 +210,14 @@ ClosedForm PaperLeastSquares(const ProblemData& d, int columns) {
   Eigen::VectorXd y(n);
   for (Eigen::Index k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(k);
-    const double v = d.v[i];
+    const double v = d.planar.v[i];
     const double regressors[4] = {
         1.0,
-        -d.omega[i] * d.omega[i],
-        d.omega_dot[i],
+        -d.planar.omega[i] * d.planar.omega[i],
+        d.planar.omega_dot[i],
         -(v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0)) * v * v};
     for (int j = 0; j < columns; ++j) phi(k, j) = regressors[j];
-    y[k] = d.f_x[i];
+    y[k] = d.planar.f_x[i];
   }
   ClosedForm out;
   out.a = phi.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(y);
@@ -262,7 +262,8 @@ TEST(VarproEstimator, PaperModelConstrainsNegativeMuToZero) {
   auto data = SimulateConsistent(truth, opt);
   // Reverse the drag's sign in the data so the free fit wants μ < 0.
   for (std::size_t k = 0; k < data->size(); ++k) {
-    data->f_x[k] += 2.0 * truth.mu * data->v[k] * std::abs(data->v[k]);
+    data->planar.f_x[k] +=
+        2.0 * truth.mu * data->planar.v[k] * std::abs(data->planar.v[k]);
   }
   const Problem problem = MakeProblem(data, "paper");
   const ClosedForm free_ls = PaperLeastSquares(*data, 4);

@@ -45,7 +45,7 @@ class IdentifyInput {
   static IdentifyInput LogBytes(std::string bytes, std::string source);
   // A problem CSV (docs/problem-files.md), fitted as it is.
   static IdentifyInput ProblemFile(std::string path);
-  // Preprocessed samples (planar columns, or ProblemData::motion for a 3-D
+  // Preprocessed samples (ProblemData::planar, or ProblemData::motion for a 3-D
   // model), fitted as they are.
   static IdentifyInput Data(std::shared_ptr<const ProblemData> data);
 
@@ -189,9 +189,9 @@ struct IdentifySummary {
 StatusOr<IdentifySummary> Identify(const IdentifyInput& input,
                                    const IdentifyOptions& options);
 
-// Registered models that read ProblemData::v (`uses` = true) or integrate
-// their own velocity, planar only, in registration order; and the first of
-// them (the defaults above).
+// Registered models that read ProblemData::planar.v (`uses` = true) or
+// integrate their own velocity, planar only, in registration order; and the
+// first of them (the defaults above).
 std::vector<std::string> PlanarModelsUsingDataVelocity(bool uses);
 std::string DefaultPlanarModel(bool uses_data_velocity);
 

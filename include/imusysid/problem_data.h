@@ -1,7 +1,7 @@
-// The preprocessed samples a fit consumes (ProblemData, with the 3-D motion a
-// 3-D model reads) and the selection of a block of them: what preprocessing,
-// problem files and the reports exchange, without the models behind them
-// (imusysid/extend/model.h).
+// The preprocessed samples a fit consumes (ProblemData: the planar columns a
+// planar model reads, the 3-D motion a 3-D model reads) and the selection of
+// a block of them: what preprocessing, problem files and the reports
+// exchange, without the models behind them (imusysid/extend/model.h).
 
 #ifndef IMUSYSID_PROBLEM_DATA_H_
 #define IMUSYSID_PROBLEM_DATA_H_
@@ -47,28 +47,39 @@ struct Motion3d {
   bool empty() const { return f[0].empty(); }
 };
 
-// The samples of the fit segment after preprocessing, SI units. Planar data
-// (Preprocess, problem files) fill the FLU columns f_x ... v, every one with
-// size() entries; sample 0 is the reference instant t_a (in hover, just
-// before the maneuver) where θ and v start at zero. 3-D data (Preprocess3d)
-// fill t_s and `motion` only, and may join several flight windows (t still
-// increases). A caller may give both accounts of the same samples (a test
-// that makes every model on one flight). A planar model refuses data
-// without the planar columns, a 3-D model data without the motion
-// (ModelRegistry::Create).
-struct ProblemData {
-  std::string source;             // log path or description, for messages
-  double gravity = kGravity;      // m/s²
-  std::vector<double> t_s;        // time, s, strictly increasing
+// The planar account of the samples, what a planar model (paper, consistent)
+// reads: FLU columns, SI units, one entry per sample; sample 0 is the
+// reference instant t_a (in hover, just before the maneuver) where θ and v
+// start at zero. Preprocess and problem files fill it; empty for 3-D data.
+struct PlanarSamples {
   std::vector<double> f_x;        // x specific force (filtered), m/s²
   std::vector<double> f_z;        // z specific force (filtered), m/s²; may be
                                   // empty when the source has none
   std::vector<double> omega;      // y rate, bias removed, filtered, rad/s
   std::vector<double> omega_dot;  // time derivative of omega, rad/s²
-  std::vector<double> theta;      // ∫ω dt from sample 0 (θ0 = 0), rad
+  std::vector<double> theta;      // ∫ω dt from sample 0 (θ0 = 0), rad; may
+                                  // be empty
   std::vector<double> v;          // horizontal velocity used by the paper's
                                   // model (equation 7 by default), m/s
-  Motion3d motion;                // 3-D data only; empty for planar data
+
+  bool empty() const { return f_x.empty(); }
+};
+
+// The samples of the fit segment after preprocessing: the time base and one
+// or both accounts of the motion over it. Planar data (Preprocess, problem
+// files) fill `planar`, every required column with size() entries; 3-D data
+// (Preprocess3d) fill t_s and `motion` only, and may join several flight
+// windows (t still increases). A caller may give both accounts only when
+// they describe the same samples (a test that makes every model on one
+// flight). A planar model refuses data whose planar part is empty, a 3-D
+// model data whose motion is empty (ModelRegistry::Create), so neither path
+// makes up the other's columns.
+struct ProblemData {
+  std::string source;         // log path or description, for messages
+  double gravity = kGravity;  // m/s²
+  std::vector<double> t_s;    // time, s, strictly increasing
+  PlanarSamples planar;       // planar data only; empty for 3-D data
+  Motion3d motion;            // 3-D data only; empty for planar data
 
   std::size_t size() const { return t_s.size(); }
   // Checks sizes agree, values are finite and t strictly increases; the
@@ -76,11 +87,11 @@ struct ProblemData {
   Status Validate() const;
 };
 
-// Samples begin, begin + step, ... (< end) of `data`, every column (and the
-// 3-D motion, its wind and fitted mask) alike: a block for a jackknife or a
-// window, or a thinned copy for a search. InvalidArgument, naming the rule,
-// unless begin ≤ end ≤ size and step ≥ 1, or when a column's size differs
-// from t's (values are copied as they are, not validated).
+// Samples begin, begin + step, ... (< end) of `data`, every column (the
+// planar ones, and the 3-D motion, its wind and fitted mask) alike: a block
+// for a jackknife or a window, or a thinned copy for a search. InvalidArgument,
+// naming the rule, unless begin ≤ end ≤ size and step ≥ 1, or when a column's
+// size differs from t's (values are copied as they are, not validated).
 StatusOr<ProblemData> SelectSamples(const ProblemData& data,
                                     std::size_t begin,
                                     std::size_t end,

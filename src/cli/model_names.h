@@ -12,7 +12,7 @@ namespace imusysid {
 namespace cli {
 
 // Names of the registered models whose prediction uses (`uses` = true) or
-// does not use ProblemData::v (ModelDescription::uses_data_velocity), in
+// does not use ProblemData::planar.v (ModelDescription::uses_data_velocity), in
 // registration order.
 std::vector<std::string> ModelsUsingDataVelocity(bool uses);
 

@@ -217,15 +217,18 @@ StatusOr<std::string> FormatProblemCsv(const ProblemData& data,
     return InvalidArgumentError(msg.str());
   }
   const std::size_t n = data.size();
-  std::vector<const std::vector<double>*> columns = {
-      &data.t_s, &data.f_x, &data.omega, &data.omega_dot, &data.v};
+  std::vector<const std::vector<double>*> columns = {&data.t_s,
+                                                     &data.planar.f_x,
+                                                     &data.planar.omega,
+                                                     &data.planar.omega_dot,
+                                                     &data.planar.v};
   std::string header = RequiredList();
-  if (!data.theta.empty()) {
-    columns.push_back(&data.theta);
+  if (!data.planar.theta.empty()) {
+    columns.push_back(&data.planar.theta);
     header += ",theta";
   }
-  if (!data.f_z.empty()) {
-    columns.push_back(&data.f_z);
+  if (!data.planar.f_z.empty()) {
+    columns.push_back(&data.planar.f_z);
     header += ",f_z";
   }
 
@@ -410,12 +413,12 @@ StatusOr<ProblemFile> ParseProblemCsv(std::string_view text,
   }
 
   std::vector<double>* dest_of_role[kNumRoles] = {&data.t_s,
-                                                  &data.f_x,
-                                                  &data.omega,
-                                                  &data.omega_dot,
-                                                  &data.v,
-                                                  &data.theta,
-                                                  &data.f_z};
+                                                  &data.planar.f_x,
+                                                  &data.planar.omega,
+                                                  &data.planar.omega_dot,
+                                                  &data.planar.v,
+                                                  &data.planar.theta,
+                                                  &data.planar.f_z};
   std::vector<std::vector<double>*> dest(header.size(), nullptr);
   for (std::size_t c = 0; c < header.size(); ++c) {
     if (roles[c] != kIgnored) dest[c] = dest_of_role[roles[c]];

@@ -72,12 +72,12 @@ std::vector<ParameterInfo> ConsistentParameterInfo() {
 StatusOr<std::unique_ptr<ConsistentModel>> ConsistentModel::Create(
     std::shared_ptr<const ProblemData> data, const ModelOptions& options) {
   if (data == nullptr) return InvalidArgumentError("no problem data");
-  if (options.use_measured_fz && data->f_z.size() != data->size()) {
+  if (options.use_measured_fz && data->planar.f_z.size() != data->size()) {
     std::ostringstream msg;
     msg << data->source
         << ": model 'consistent' with use_measured_fz needs the f_z column, "
            "which has "
-        << data->f_z.size() << " samples (t has " << data->size() << ")";
+        << data->planar.f_z.size() << " samples (t has " << data->size() << ")";
     return FailedPreconditionError(msg.str());
   }
   return std::unique_ptr<ConsistentModel>(
@@ -97,18 +97,19 @@ ConsistentModel::ConsistentModel(std::shared_ptr<const ProblemData> data,
   h_.resize(n > 0 ? n - 1 : 0);
   for (std::size_t k = 0; k < n; ++k) {
     tau_[k] = d.t_s[k] - t0_;
-    omega_sq_[k] = d.omega[k] * d.omega[k];
+    omega_sq_[k] = d.planar.omega[k] * d.planar.omega[k];
     if (k + 1 < n) h_[k] = d.t_s[k + 1] - d.t_s[k];
   }
   std::vector<double> theta_gyro;
-  if (d.theta.size() == n) {
-    theta_gyro = d.theta;
+  if (d.planar.theta.size() == n) {
+    theta_gyro = d.planar.theta;
   } else {
     // Trapezoid rule, the same order as the velocity scheme.
     theta_gyro.assign(n, 0.0);
     for (std::size_t k = 1; k < n; ++k) {
       theta_gyro[k] =
-          theta_gyro[k - 1] + 0.5 * h_[k - 1] * (d.omega[k - 1] + d.omega[k]);
+          theta_gyro[k - 1] +
+          0.5 * h_[k - 1] * (d.planar.omega[k - 1] + d.planar.omega[k]);
     }
   }
   sin_gyro_.resize(n);
@@ -166,7 +167,7 @@ bool Integrate(const ProblemData& d,
   const std::size_t n = d.size();
   if (n == 0) return true;
   const double g = d.gravity;
-  const double* f_z = kMeasuredFz ? d.f_z.data() : nullptr;
+  const double* f_z = kMeasuredFz ? d.planar.f_z.data() : nullptr;
   const bool rotate = std::abs(c1_rad_s) * max_h <= kMaxRotationStep;
   double sd = 0.0;  // sin δ_k
   double cd = 1.0;  // cos δ_k
@@ -311,9 +312,9 @@ bool ConsistentModel::Evaluate(const double* x,
   const double sb = std::sin(bma);
   const double rc = r * cb;
   const double rs = r * sb;
-  const double* f_x = d.f_x.data();
-  const double* f_z = kMeasuredFz ? d.f_z.data() : nullptr;
-  const double* omega_dot = d.omega_dot.data();
+  const double* f_x = d.planar.f_x.data();
+  const double* f_z = kMeasuredFz ? d.planar.f_z.data() : nullptr;
+  const double* omega_dot = d.planar.omega_dot.data();
   const double* omega_sq = omega_sq_.data();
   constexpr int kP = kNumConsistentParameters;
 
@@ -437,9 +438,9 @@ bool ConsistentModel::CostBatchWithIsa(internal::BatchIsa isa,
   grid.tau = tau_.data();
   grid.h = h_.data();
   grid.omega_sq = omega_sq_.data();
-  grid.omega_dot = d.omega_dot.data();
-  grid.f_x = d.f_x.data();
-  grid.f_z = use_measured_fz_ ? d.f_z.data() : nullptr;
+  grid.omega_dot = d.planar.omega_dot.data();
+  grid.f_x = d.planar.f_x.data();
+  grid.f_z = use_measured_fz_ ? d.planar.f_z.data() : nullptr;
 
   bool all_finite = true;
   const double* lane_rows[kLanes];
@@ -490,8 +491,8 @@ bool ConsistentModel::EvaluateLinear(double mu,
   const ProblemData& d = data();
   const std::size_t n = d.size();
   const double g = d.gravity;
-  const double* f_x = d.f_x.data();
-  const double* f_z = kMeasuredFz ? d.f_z.data() : nullptr;
+  const double* f_x = d.planar.f_x.data();
+  const double* f_z = kMeasuredFz ? d.planar.f_z.data() : nullptr;
   double guard = 0.0;
   bool ok;
   if (d_fz == nullptr) {
@@ -557,7 +558,7 @@ bool ConsistentModel::LinearSystem(double mu,
   }
   for (Eigen::Index k = 0; k < n; ++k) {
     (*a)(k, 1) = -omega_sq_[static_cast<std::size_t>(k)];
-    (*a)(k, 2) = d.omega_dot[static_cast<std::size_t>(k)];
+    (*a)(k, 2) = d.planar.omega_dot[static_cast<std::size_t>(k)];
   }
   double* dfz = d_fz != nullptr ? d_fz->data() : nullptr;
   double* doff = d_offset != nullptr ? d_offset->data() : nullptr;

@@ -28,9 +28,9 @@ inline constexpr int kNumConsistentParameters = 6;
 
 // Parameters x = (r [m], β [deg], α [deg], μ [1/m], c0 [deg], c1 [deg/s]).
 //
-// Pitch: θ_k = θ_gyro,k + c0 + c1·(t_k − t_0), θ_gyro = ProblemData::theta
-// (∫ω dt from sample 0; integrated here by the trapezoid rule when the data
-// leave it empty), t_0 = t_s[0].
+// Pitch: θ_k = θ_gyro,k + c0 + c1·(t_k − t_0), θ_gyro =
+// ProblemData::planar.theta (∫ω dt from sample 0; integrated here by the
+// trapezoid rule when the data leave it empty), t_0 = t_s[0].
 //
 // The vehicle's specific force at the CoM in body axes, with thrust T along
 // z_b and drag −μ v|v| along x_W (x_W = (cos θ, sin θ) in body x–z):
@@ -72,8 +72,8 @@ inline constexpr int kNumConsistentParameters = 6;
 // target = f_x − offset.
 class ConsistentModel : public Model, public LinearStructure {
  public:
-  // FailedPrecondition when options.use_measured_fz and data->f_z is empty.
-  // The data must already be valid (CreateModel validates them).
+  // FailedPrecondition when options.use_measured_fz and data->planar.f_z is
+  // empty. The data must already be valid (CreateModel validates them).
   static StatusOr<std::unique_ptr<ConsistentModel>> Create(
       std::shared_ptr<const ProblemData> data,
       const ModelOptions& options = {});

@@ -64,7 +64,7 @@ StatusOr<std::unique_ptr<Model>> ModelRegistry::Create(
     if (entry.name != name) continue;
     // A planar model reads the planar columns, which 3-D preprocessing
     // does not fill.
-    if (!entry.description.needs_motion3d && data->f_x.empty()) {
+    if (!entry.description.needs_motion3d && data->planar.empty()) {
       return FailedPreconditionError(
           data->source + ": model '" + entry.name +
           "' is planar and reads the planar columns (f, omega, omega_dot, "

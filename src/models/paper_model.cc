@@ -36,8 +36,8 @@ PaperModel::PaperModel(std::shared_ptr<const ProblemData> data)
   gram_.setZero();
   Eigen::Matrix<double, 5, 1> row;
   for (std::size_t k = 0; k < d.size(); ++k) {
-    row << 1.0, -d.omega[k] * d.omega[k], d.omega_dot[k], -SignedSquare(d.v[k]),
-        d.f_x[k];
+    row << 1.0, -d.planar.omega[k] * d.planar.omega[k], d.planar.omega_dot[k],
+        -SignedSquare(d.planar.v[k]), d.planar.f_x[k];
     gram_.selfadjointView<Eigen::Lower>().rankUpdate(row);
   }
   gram_.triangularView<Eigen::StrictlyUpper>() = gram_.transpose();
@@ -99,10 +99,13 @@ bool PaperModel::Residuals(const double* x,
   CoefficientsOf(xj, d.gravity, aj);
   for (std::size_t k = 0; k < n; ++k) {
     const double phi[kNumPhysicalParameters] = {
-        1.0, -d.omega[k] * d.omega[k], d.omega_dot[k], -SignedSquare(d.v[k])};
+        1.0,
+        -d.planar.omega[k] * d.planar.omega[k],
+        d.planar.omega_dot[k],
+        -SignedSquare(d.planar.v[k])};
     double pred = 0.0;
     for (int j = 0; j < kNumPhysicalParameters; ++j) pred += phi[j] * aj[j].a;
-    residuals[k] = d.f_x[k] - pred;
+    residuals[k] = d.planar.f_x[k] - pred;
     if (!std::isfinite(residuals[k])) return false;
     if (jacobian == nullptr) continue;
     for (int i = 0; i < kNumPhysicalParameters; ++i) {
@@ -149,10 +152,10 @@ Eigen::Matrix<double, 5, 5> PaperModel::TriangularFactor() const {
     for (Eigen::Index i = 0; i < m; ++i) {
       const auto k = static_cast<std::size_t>(start + i);
       stack(5 + i, 0) = 1.0;
-      stack(5 + i, 1) = -d.omega[k] * d.omega[k];
-      stack(5 + i, 2) = d.omega_dot[k];
-      stack(5 + i, 3) = -SignedSquare(d.v[k]);
-      stack(5 + i, 4) = d.f_x[k];
+      stack(5 + i, 1) = -d.planar.omega[k] * d.planar.omega[k];
+      stack(5 + i, 2) = d.planar.omega_dot[k];
+      stack(5 + i, 3) = -SignedSquare(d.planar.v[k]);
+      stack(5 + i, 4) = d.planar.f_x[k];
     }
     qr.compute(stack);
     r = qr.matrixQR().topRows<5>().triangularView<Eigen::Upper>();
@@ -166,9 +169,9 @@ Eigen::MatrixXd PaperModel::Regressors() const {
   for (std::size_t k = 0; k < d.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
     phi(i, 0) = 1.0;
-    phi(i, 1) = -d.omega[k] * d.omega[k];
-    phi(i, 2) = d.omega_dot[k];
-    phi(i, 3) = -SignedSquare(d.v[k]);
+    phi(i, 1) = -d.planar.omega[k] * d.planar.omega[k];
+    phi(i, 2) = d.planar.omega_dot[k];
+    phi(i, 3) = -SignedSquare(d.planar.v[k]);
   }
   return phi;
 }
@@ -190,10 +193,10 @@ bool PaperModel::LinearSystem(const double* /*p*/,
   for (Eigen::Index i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     (*a)(i, 0) = 1.0;
-    (*a)(i, 1) = -d.omega[k] * d.omega[k];
-    (*a)(i, 2) = d.omega_dot[k];
-    (*a)(i, 3) = -SignedSquare(d.v[k]);
-    (*target)[i] = d.f_x[k];
+    (*a)(i, 1) = -d.planar.omega[k] * d.planar.omega[k];
+    (*a)(i, 2) = d.planar.omega_dot[k];
+    (*a)(i, 3) = -SignedSquare(d.planar.v[k]);
+    (*target)[i] = d.planar.f_x[k];
   }
   if (d_a != nullptr) {
     d_a->clear();

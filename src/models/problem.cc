@@ -27,16 +27,17 @@ Status CheckColumnSizes(const ProblemData& data) {
     return InvalidArgumentError(msg.str());
   };
   const Motion3d& m = data.motion;
-  // 3-D data carry no planar columns (Validate refuses them there); any that
-  // are present must still match t before they are copied.
-  const bool planar = m.empty();
+  // 3-D data carry no planar columns (Validate does not require them there);
+  // any that are present must still match t before they are copied.
+  const bool needs_planar = m.empty();
+  const PlanarSamples& p = data.planar;
   for (const auto& [column, name, required] :
-       {std::tuple{&data.f_x, "f", planar},
-        std::tuple{&data.f_z, "f_z", false},
-        std::tuple{&data.omega, "omega", planar},
-        std::tuple{&data.omega_dot, "omega_dot", planar},
-        std::tuple{&data.theta, "theta", false},
-        std::tuple{&data.v, "v", planar}}) {
+       {std::tuple{&p.f_x, "f", needs_planar},
+        std::tuple{&p.f_z, "f_z", false},
+        std::tuple{&p.omega, "omega", needs_planar},
+        std::tuple{&p.omega_dot, "omega_dot", needs_planar},
+        std::tuple{&p.theta, "theta", false},
+        std::tuple{&p.v, "v", needs_planar}}) {
     if (required || !column->empty()) {
       IMUSYSID_RETURN_IF_ERROR(check(column->size(), name));
     }
@@ -107,13 +108,14 @@ Status ProblemData::Validate() const {
   };
   IMUSYSID_RETURN_IF_ERROR(check_size(t_s, "t", false));
   // 3-D data need no planar column; any given must still be whole.
-  const bool planar = motion.empty();
-  IMUSYSID_RETURN_IF_ERROR(check_size(f_x, "f", !planar));
-  IMUSYSID_RETURN_IF_ERROR(check_size(f_z, "f_z", true));
-  IMUSYSID_RETURN_IF_ERROR(check_size(omega, "omega", !planar));
-  IMUSYSID_RETURN_IF_ERROR(check_size(omega_dot, "omega_dot", !planar));
-  IMUSYSID_RETURN_IF_ERROR(check_size(theta, "theta", true));
-  IMUSYSID_RETURN_IF_ERROR(check_size(v, "v", !planar));
+  const bool needs_planar = motion.empty();
+  IMUSYSID_RETURN_IF_ERROR(check_size(planar.f_x, "f", !needs_planar));
+  IMUSYSID_RETURN_IF_ERROR(check_size(planar.f_z, "f_z", true));
+  IMUSYSID_RETURN_IF_ERROR(check_size(planar.omega, "omega", !needs_planar));
+  IMUSYSID_RETURN_IF_ERROR(
+      check_size(planar.omega_dot, "omega_dot", !needs_planar));
+  IMUSYSID_RETURN_IF_ERROR(check_size(planar.theta, "theta", true));
+  IMUSYSID_RETURN_IF_ERROR(check_size(planar.v, "v", !needs_planar));
   if (!motion.fitted.empty() && motion.fitted.size() != n) {
     return InvalidArgumentError(source + ": problem column 'fitted' has " +
                                 std::to_string(motion.fitted.size()) +
@@ -179,12 +181,14 @@ StatusOr<ProblemData> SelectSamples(const ProblemData& data,
   out.source = data.source;
   out.gravity = data.gravity;
   out.t_s = pick(data.t_s);
-  out.f_x = pick(data.f_x);
-  out.f_z = pick(data.f_z);
-  out.omega = pick(data.omega);
-  out.omega_dot = pick(data.omega_dot);
-  out.theta = pick(data.theta);
-  out.v = pick(data.v);
+  const PlanarSamples& p = data.planar;
+  PlanarSamples& q = out.planar;
+  q.f_x = pick(p.f_x);
+  q.f_z = pick(p.f_z);
+  q.omega = pick(p.omega);
+  q.omega_dot = pick(p.omega_dot);
+  q.theta = pick(p.theta);
+  q.v = pick(p.v);
   const Motion3d& m = data.motion;
   Motion3d& o = out.motion;
   for (std::size_t a = 0; a < 3; ++a) {
@@ -265,7 +269,7 @@ bool Model::ResidualsWithJacobianColumns(const double* x,
 
 bool Model::Velocity(const double* /*x*/, double* v) const {
   CHECK(v != nullptr);
-  std::copy(data_->v.begin(), data_->v.end(), v);
+  std::copy(data_->planar.v.begin(), data_->planar.v.end(), v);
   return true;
 }
 

@@ -137,11 +137,11 @@ ProblemData CutSegment(const FlightLog& log,
   data.source = log.source;
   data.gravity = kGravity;
   data.t_s = cut(log.t_s);
-  data.f_x = cut(signals.f);
-  data.f_z = cut(signals.f_z);
-  data.omega = cut(signals.omega);
-  data.omega_dot = std::move(omega_dot);
-  data.theta = CumulativeTrapezoid(data.t_s, data.omega);
+  data.planar.f_x = cut(signals.f);
+  data.planar.f_z = cut(signals.f_z);
+  data.planar.omega = cut(signals.omega);
+  data.planar.omega_dot = std::move(omega_dot);
+  data.planar.theta = CumulativeTrapezoid(data.t_s, data.planar.omega);
   return data;
 }
 
@@ -153,10 +153,10 @@ Excitation MeasureExcitation(const ProblemData& data,
   Excitation ex;
   ex.samples = count;
   ex.duration_s = data.t_s.back() - data.t_s.front();
-  ex.rms_omega = Rms(data.omega);
-  ex.rms_omega_dot = Rms(data.omega_dot);
-  ex.rms_v = Rms(data.v);
-  for (double th : data.theta) {
+  ex.rms_omega = Rms(data.planar.omega);
+  ex.rms_omega_dot = Rms(data.planar.omega_dot);
+  ex.rms_v = Rms(data.planar.v);
+  for (double th : data.planar.theta) {
     ex.max_abs_pitch_deg = std::max(ex.max_abs_pitch_deg, std::abs(th));
   }
   ex.max_abs_pitch_deg *= kRadToDeg;

@@ -126,7 +126,7 @@ Status LowPass(const PreprocessOptions& options,
                const std::vector<double>& times,
                std::vector<double>* x);
 
-// The horizontal velocity over `segment` into data->v: from the gyro
+// The horizontal velocity over `segment` into data->planar.v: from the gyro
 // (equation 7) or the log's velocity and yaw channels, as options ask.
 Status AddVelocity(const FlightLog& log,
                    const PreprocessOptions& options,

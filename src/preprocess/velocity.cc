@@ -20,10 +20,10 @@ void GyroVelocity(ProblemData* data, std::vector<std::string>* notes) {
   const std::size_t count = data->t_s.size();
   std::vector<double> sin_theta(count);
   for (std::size_t i = 0; i < count; ++i) {
-    sin_theta[i] = std::sin(data->theta[i]);
+    sin_theta[i] = std::sin(data->planar.theta[i]);
   }
-  data->v = CumulativeTrapezoid(data->t_s, sin_theta);
-  for (double& v : data->v) v *= kGravity;
+  data->planar.v = CumulativeTrapezoid(data->t_s, sin_theta);
+  for (double& v : data->planar.v) v *= kGravity;
   notes->push_back("v from the gyro (equation 7): θ0 = v0 = 0 at " +
                    FormatFixed(data->t_s.front(), 3) + " s");
 }
@@ -114,8 +114,8 @@ Status LogVelocity(const FlightLog& log,
   const std::vector<double> t_v(t.begin() + static_cast<std::ptrdiff_t>(v0),
                                 t.begin() + static_cast<std::ptrdiff_t>(v1));
   IMUSYSID_RETURN_IF_ERROR(LowPass(options, t_v, &v));
-  data->v.assign(v.begin() + static_cast<std::ptrdiff_t>(i0 - v0),
-                 v.begin() + static_cast<std::ptrdiff_t>(i1 - v0));
+  data->planar.v.assign(v.begin() + static_cast<std::ptrdiff_t>(i0 - v0),
+                        v.begin() + static_cast<std::ptrdiff_t>(i1 - v0));
   notes->push_back(
       std::string("v from the log's vel_n, vel_e, yaw along "
                   "body ") +

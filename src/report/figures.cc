@@ -100,13 +100,13 @@ Status WriteFitFigures(const std::string& dir,
       {"accel_x",
        "x specific force (m/s²)",
        options.raw_log ? &options.raw_log->ax : nullptr,
-       &data->f_x,
+       &data->planar.f_x,
        "Analog of the paper's Fig. 7: the x accelerometer over the flight "
        "(grey: as logged; blue: filtered, inside the fit segment)."},
       {"gyro_y",
        "y angular rate (rad/s)",
        options.raw_log ? &options.raw_log->gy : nullptr,
-       &data->omega,
+       &data->planar.omega,
        "Analog of the paper's Fig. 8: the y gyroscope over the flight (grey: "
        "as logged; blue: bias removed and filtered, inside the fit segment)."}};
   for (const Signal& s : signals) {
@@ -204,13 +204,14 @@ Status WriteFitFigures(const std::string& dir,
       continue;
     }
     std::vector<double> pred(n);
-    for (std::size_t k = 0; k < n; ++k) pred[k] = data->f_x[k] - res[k];
+    for (std::size_t k = 0; k < n; ++k) pred[k] = data->planar.f_x[k] - res[k];
     predictions.push_back(std::move(pred));
     residuals.push_back(std::move(res));
     shown.push_back(entry.second);
   }
   if (!shown.empty()) {
-    std::vector<const std::vector<double>*> cols = {&data->t_s, &data->f_x};
+    std::vector<const std::vector<double>*> cols = {&data->t_s,
+                                                    &data->planar.f_x};
     for (const auto& v : predictions) cols.push_back(&v);
     const std::string name = p + "fx_fit";
     IMUSYSID_RETURN_IF_ERROR(
@@ -275,7 +276,8 @@ Status WriteFitFigures(const std::string& dir,
   // use), the velocity of each model that integrates its own (at its best
   // fit), and the simulator's truth.
   {
-    std::vector<const std::vector<double>*> cols = {&data->t_s, &data->v};
+    std::vector<const std::vector<double>*> cols = {&data->t_s,
+                                                    &data->planar.v};
     std::string plot = "plot " + GnuplotQuote(p + "velocity.dat") +
                        " using 1:2 with lines lw 1.5 lc 1 title 'equation 7 "
                        "(g∫sin θ)'";

@@ -41,11 +41,11 @@ std::shared_ptr<ProblemData> MakeSyntheticPaperData(
     if (k > 0) v += 0.5 * dt * (accel + previous_accel);
     previous_accel = accel;
     data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(
+    data->planar.omega.push_back(omega);
+    data->planar.omega_dot.push_back(omega_dot);
+    data->planar.theta.push_back(theta);
+    data->planar.v.push_back(v);
+    data->planar.f_x.push_back(
         PaperPrediction(truth.data(), omega, omega_dot, v, data->gravity) +
         options.fx_offset + sigma * noise(rng));
   }
@@ -81,12 +81,13 @@ std::shared_ptr<ProblemData> MakeTwoToneFlight(const Eigen::Vector4d& truth,
     if (k > 0) v += 0.5 * kGravity * (sin_theta + previous_sin_theta) / rate_hz;
     previous_sin_theta = sin_theta;
     data->t_s.push_back(t);
-    data->omega.push_back(omega);
-    data->omega_dot.push_back(omega_dot);
-    data->theta.push_back(theta);
-    data->v.push_back(v);
-    data->f_x.push_back(PaperPrediction(truth.data(), omega, omega_dot, v) +
-                        sigma * noise(engine));
+    data->planar.omega.push_back(omega);
+    data->planar.omega_dot.push_back(omega_dot);
+    data->planar.theta.push_back(theta);
+    data->planar.v.push_back(v);
+    data->planar.f_x.push_back(
+        PaperPrediction(truth.data(), omega, omega_dot, v) +
+        sigma * noise(engine));
   }
   return data;
 }

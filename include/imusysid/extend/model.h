@@ -127,9 +127,9 @@ class Model {
                                             double* jacobian) const;
 
   // Writes the horizontal velocity v_k (m/s) the prediction uses at x, one
-  // per sample, for plots and diagnostics. The default copies ProblemData::v
-  // (models that read the data's velocity); a model that integrates its own
-  // overrides it. Returns false where Residuals would.
+  // per sample, for plots and diagnostics. The default copies
+  // ProblemData::planar.v (models that read the data's velocity); a model that
+  // integrates its own overrides it. Returns false where Residuals would.
   virtual bool Velocity(const double* x, double* v) const;
 
   // ½ Σ r². The default evaluates the residuals; a model with a cheaper exact
@@ -179,9 +179,9 @@ struct ModelOptions {
 // one on.
 struct ModelDescription {
   std::string summary;  // one line for --help
-  // True when the prediction uses ProblemData::v (the velocity preprocessing
-  // made, or the log's); false when the model integrates its own from the IMU
-  // and so needs the raw log behind the data.
+  // True when the prediction uses ProblemData::planar.v (the velocity
+  // preprocessing made, or the log's); false when the model integrates its own
+  // from the IMU and so needs the raw log behind the data.
   bool uses_data_velocity = true;
   // True when the model needs ProblemData::motion (Preprocess3d).
   bool needs_motion3d = false;
