@@ -20,6 +20,13 @@ namespace internal {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The searches' sample rates. The delay's: the motion lies below the 5 Hz
+// cutoff, but at 25 Hz the fit's RMSE over the delay is too coarse to find
+// it within a sample (20 ms found as 27). The wind search's: 2.5 times the
+// cutoff, every motion the filtered data hold still sampled (at 50 Hz its
+// Nelder-Mead was half of a 10-minute log's fit).
+constexpr double kDelaySearchRateHz = 50.0;
+constexpr double kWindSearchRateHz = 25.0;
 
 // The calibration's linear fits: the white covariance (σ̂²(JᵀJ)⁻¹: the
 // wind's 1σ below, and no HAC pass over the residuals per candidate), no
@@ -116,14 +123,22 @@ Status SearchQuadraticWind(ProblemData* data) {
   return Status::Ok();
 }
 
-// The quadratic drag's wind of `data`: the fixed point, then the search on
-// a copy thinned to about 50 Hz. Set on `data`.
-Status FindQuadraticWind(ProblemData* data, double rate_hz) {
-  IMUSYSID_RETURN_IF_ERROR(IterateQuadraticWind(data));
+// `data`, sampled at rate_hz, taken every step that brings it to about
+// target_hz (every sample when it is not faster).
+StatusOr<ProblemData> ThinnedTo(const ProblemData& data,
+                                double rate_hz,
+                                double target_hz) {
   const auto step =
-      static_cast<std::size_t>(std::max(1.0, std::floor(rate_hz / 50.0)));
-  StatusOr<ProblemData> thin = SelectSamples(*data, 0, data->size(), step);
+      static_cast<std::size_t>(std::max(1.0, std::floor(rate_hz / target_hz)));
+  return SelectSamples(data, 0, data.size(), step);
+}
+
+// The quadratic drag's wind of `data`: the fixed point, then the search,
+// both on a copy thinned to about kWindSearchRateHz. Set on `data`.
+Status FindQuadraticWind(ProblemData* data, double rate_hz) {
+  StatusOr<ProblemData> thin = ThinnedTo(*data, rate_hz, kWindSearchRateHz);
   if (!thin.ok()) return thin.status();
+  IMUSYSID_RETURN_IF_ERROR(IterateQuadraticWind(&*thin));
   IMUSYSID_RETURN_IF_ERROR(SearchQuadraticWind(&*thin));
   data->motion.quadratic_wind_n = thin->motion.quadratic_wind_n;
   data->motion.quadratic_wind_e = thin->motion.quadratic_wind_e;
@@ -304,11 +319,11 @@ bool QuadraticWindModel::Residuals(const double* x,
 StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
                                     const Preprocess3dOptions& options) {
   Calibration3d out;
-  // The searches run on a copy thinned to about 50 Hz after filtering: the
-  // motion they fit lies below the 5 Hz cutoff, and a 10-min 400 Hz log
-  // then costs what a 50 Hz one does.
-  const auto thin_step = static_cast<std::size_t>(
-      std::max(1.0, std::floor(conditioned.sample_rate_hz / 50.0)));
+  // The searches run on a copy thinned to about kDelaySearchRateHz after
+  // filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
+  // 400 Hz log then costs what a 50 Hz one does.
+  const auto thin_step = static_cast<std::size_t>(std::max(
+      1.0, std::floor(conditioned.sample_rate_hz / kDelaySearchRateHz)));
   const Conditioned3d thin = Thinned(conditioned, thin_step);
   const bool wind_given = !std::isnan(options.quadratic_wind_n) &&
                           !std::isnan(options.quadratic_wind_e);
@@ -321,9 +336,12 @@ StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
     if (!wind_given) {
       StatusOr<ProblemData> at_zero = DataAt(thin, 0.0, 0.0, 0.0);
       if (!at_zero.ok()) return at_zero.status();
-      IMUSYSID_RETURN_IF_ERROR(IterateQuadraticWind(&*at_zero));
-      out.wind_n = at_zero->motion.quadratic_wind_n;
-      out.wind_e = at_zero->motion.quadratic_wind_e;
+      StatusOr<ProblemData> coarse =
+          ThinnedTo(*at_zero, thin.sample_rate_hz, kWindSearchRateHz);
+      if (!coarse.ok()) return coarse.status();
+      IMUSYSID_RETURN_IF_ERROR(IterateQuadraticWind(&*coarse));
+      out.wind_n = coarse->motion.quadratic_wind_n;
+      out.wind_e = coarse->motion.quadratic_wind_e;
     }
     IMUSYSID_RETURN_IF_ERROR(FindDelay(thin,
                                        options.max_estimator_delay_s,

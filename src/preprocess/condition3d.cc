@@ -56,33 +56,33 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   };
   WindowImu out;
   out.t = cut(t);
-  std::array<std::vector<double>, 3> rates;
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double> f, g;
+  Axes f, g;
+  for (std::size_t a = 0; a < 3; ++a) {
     for (std::size_t k = c0; k < c1; ++k) {
-      f.push_back(AccelFrd(log, k)[a]);
-      g.push_back(GyroFrd(log, k)[a] - bias[a]);
+      f[a].push_back(AccelFrd(log, k)[static_cast<Eigen::Index>(a)]);
+      g[a].push_back(GyroFrd(log, k)[static_cast<Eigen::Index>(a)] -
+                     bias[static_cast<Eigen::Index>(a)]);
     }
-    rates[static_cast<std::size_t>(a)] = g;
-    if (o.cutoff_hz > 0) {
-      StatusOr<std::vector<double>> ff =
-          ZeroPhaseLowPassOnTimes(t, f, o.cutoff_hz, o.filter_order);
-      if (!ff.ok()) return ff.status().WithPrefix("low-pass cutoff_hz");
-      StatusOr<std::vector<double>> gf =
-          ZeroPhaseLowPassOnTimes(t, g, o.cutoff_hz, o.filter_order);
-      if (!gf.ok()) return gf.status().WithPrefix("low-pass cutoff_hz");
-      f = std::move(*ff);
-      g = std::move(*gf);
-    }
-    const int half = std::max(
-        o.derivative_degree,
-        static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
+  }
+  Axes rates = g;
+  if (o.cutoff_hz > 0) {
+    IMUSYSID_RETURN_IF_ERROR(
+        ZeroPhaseLowPassEachOnTimes(t,
+                                    {&f[0], &f[1], &f[2], &g[0], &g[1], &g[2]},
+                                    o.cutoff_hz,
+                                    o.filter_order)
+            .WithPrefix("low-pass cutoff_hz"));
+  }
+  const int half = std::max(
+      o.derivative_degree,
+      static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
+  for (std::size_t a = 0; a < 3; ++a) {
     StatusOr<std::vector<double>> d =
-        SavitzkyGolayDerivative(t, g, half, o.derivative_degree);
+        SavitzkyGolayDerivative(t, g[a], half, o.derivative_degree);
     if (!d.ok()) return d.status();
-    out.f[static_cast<std::size_t>(a)] = cut(f);
-    out.omega[static_cast<std::size_t>(a)] = cut(g);
-    out.omega_dot[static_cast<std::size_t>(a)] = cut(*d);
+    out.f[a] = cut(f[a]);
+    out.omega[a] = cut(g[a]);
+    out.omega_dot[a] = cut(*d);
   }
   // The rate products, low-passed as f is. The rates are first cleared of
   // the motor vibration (tens of Hz and up), whose square would add a
@@ -90,28 +90,29 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   // vibration is not the body's rotation; four times the cutoff keeps
   // every manoeuvre the cutoff passes.
   if (o.cutoff_hz > 0) {
-    const double pre_hz = std::min(4.0 * o.cutoff_hz, 0.4 * rate_hz);
-    for (auto& g : rates) {
-      StatusOr<std::vector<double>> gf =
-          ZeroPhaseLowPassOnTimes(t, g, pre_hz, o.filter_order);
-      if (!gf.ok()) return gf.status().WithPrefix("low-pass cutoff_hz");
-      g = std::move(*gf);
-    }
+    IMUSYSID_RETURN_IF_ERROR(
+        ZeroPhaseLowPassEachOnTimes(t,
+                                    {&rates[0], &rates[1], &rates[2]},
+                                    std::min(4.0 * o.cutoff_hz, 0.4 * rate_hz),
+                                    o.filter_order)
+            .WithPrefix("low-pass cutoff_hz"));
   }
   constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
+  std::array<std::vector<double>, 6> products;
   for (std::size_t j = 0; j < 6; ++j) {
     const auto& x = rates[static_cast<std::size_t>(kPairs[j][0])];
     const auto& y = rates[static_cast<std::size_t>(kPairs[j][1])];
-    std::vector<double> product(x.size());
-    for (std::size_t k = 0; k < x.size(); ++k) product[k] = x[k] * y[k];
-    if (o.cutoff_hz > 0) {
-      StatusOr<std::vector<double>> pf =
-          ZeroPhaseLowPassOnTimes(t, product, o.cutoff_hz, o.filter_order);
-      if (!pf.ok()) return pf.status().WithPrefix("low-pass cutoff_hz");
-      product = std::move(*pf);
-    }
-    out.omega_products[j] = cut(product);
+    products[j].resize(x.size());
+    for (std::size_t k = 0; k < x.size(); ++k) products[j][k] = x[k] * y[k];
   }
+  if (o.cutoff_hz > 0) {
+    std::vector<std::vector<double>*> all;
+    for (auto& product : products) all.push_back(&product);
+    IMUSYSID_RETURN_IF_ERROR(
+        ZeroPhaseLowPassEachOnTimes(t, all, o.cutoff_hz, o.filter_order)
+            .WithPrefix("low-pass cutoff_hz"));
+  }
+  for (std::size_t j = 0; j < 6; ++j) out.omega_products[j] = cut(products[j]);
   return out;
 }
 
@@ -148,17 +149,17 @@ StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
         east[a].push_back(r(1, static_cast<Eigen::Index>(a)));
       }
     }
-    for (std::size_t a = 0; a < 3; ++a) {
-      // The attitude's north and east too: the wind's drag k·Rᵀw turns with
-      // the body, and the accelerometer's share of it is low-passed.
-      if (o.cutoff_hz > 0) {
-        for (std::vector<double>* x : {&velocity[a], &north[a], &east[a]}) {
-          StatusOr<std::vector<double>> xf =
-              ZeroPhaseLowPassOnTimes(w.t, *x, o.cutoff_hz, o.filter_order);
-          if (!xf.ok()) return xf.status();
-          *x = std::move(*xf);
-        }
+    // The attitude's north and east too: the wind's drag k·Rᵀw turns with
+    // the body, and the accelerometer's share of it is low-passed.
+    if (o.cutoff_hz > 0) {
+      std::vector<std::vector<double>*> series;
+      for (Axes* axes : {&velocity, &north, &east}) {
+        for (auto& axis : *axes) series.push_back(&axis);
       }
+      IMUSYSID_RETURN_IF_ERROR(ZeroPhaseLowPassEachOnTimes(
+          w.t, series, o.cutoff_hz, o.filter_order));
+    }
+    for (std::size_t a = 0; a < 3; ++a) {
       append(&m.f[a], w.f[a]);
       append(&m.omega[a], w.omega[a]);
       append(&m.omega_dot[a], w.omega_dot[a]);

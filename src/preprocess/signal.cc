@@ -131,13 +131,25 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
     const std::vector<double>& x,
     double cutoff_hz,
     int order) {
-  if (t.size() != x.size()) {
-    std::ostringstream msg;
-    msg << "low-pass: t has " << t.size() << " samples, x has " << x.size();
-    return InvalidArgumentError(msg.str());
+  std::vector<double> y = x;
+  IMUSYSID_RETURN_IF_ERROR(
+      ZeroPhaseLowPassEachOnTimes(t, {&y}, cutoff_hz, order));
+  return y;
+}
+
+Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
+                                   const std::vector<std::vector<double>*>& xs,
+                                   double cutoff_hz,
+                                   int order) {
+  for (const std::vector<double>* x : xs) {
+    if (t.size() != x->size()) {
+      std::ostringstream msg;
+      msg << "low-pass: t has " << t.size() << " samples, x has " << x->size();
+      return InvalidArgumentError(msg.str());
+    }
   }
   const std::size_t n = t.size();
-  if (n < 2) return x;
+  if (n < 2) return Status::Ok();
   for (std::size_t i = 1; i < n; ++i) {
     if (!(t[i] > t[i - 1])) {
       std::ostringstream msg;
@@ -150,7 +162,15 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
   for (std::size_t i = 1; i < n && uniform; ++i) {
     uniform = std::abs(t[i] - t[i - 1] - dt) <= 1e-6 * dt;
   }
-  if (uniform) return ZeroPhaseLowPass(x, cutoff_hz, 1.0 / dt, order);
+  if (uniform) {
+    for (std::vector<double>* x : xs) {
+      StatusOr<std::vector<double>> y =
+          ZeroPhaseLowPass(*x, cutoff_hz, 1.0 / dt, order);
+      if (!y.ok()) return y.status();
+      *x = std::move(y).value();
+    }
+    return Status::Ok();
+  }
   // The grid spans the whole time range at the median interval, so one
   // corrupt time stamp (days ahead, in a damaged binary log) asked for
   // billions of points and tens of GB. Holes real logs have (the logger
@@ -167,34 +187,46 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
            "--t_start/--t_end";
     return InvalidArgumentError(msg.str());
   }
+  // Where each grid point falls among the samples, and each sample among the
+  // grid points: the same for every channel.
   const std::size_t m =
       static_cast<std::size_t>(std::floor(span_intervals)) + 1;
-  std::vector<double> grid(m);
+  std::vector<std::size_t> below(m);
+  std::vector<double> weight(m);
   std::size_t k = 0;
   for (std::size_t j = 0; j < m; ++j) {
     const double u = t.front() + static_cast<double>(j) * dt;
     while (k + 2 < n && t[k + 1] < u) ++k;
-    const double w = (u - t[k]) / (t[k + 1] - t[k]);
-    grid[j] = x[k] + std::clamp(w, 0.0, 1.0) * (x[k + 1] - x[k]);
+    below[j] = k;
+    weight[j] = std::clamp((u - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0);
   }
-  StatusOr<std::vector<double>> filtered =
-      ZeroPhaseLowPass(grid, cutoff_hz, 1.0 / dt, order);
-  if (!filtered.ok()) return filtered.status();
-  std::vector<double> y(n);
+  std::vector<std::size_t> cell(n);
+  std::vector<double> offset(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double pos = (t[i] - t.front()) / dt;
     std::size_t j = static_cast<std::size_t>(std::max(0.0, std::floor(pos)));
-    if (m < 2) {
-      y[i] = (*filtered)[0];
-      continue;
-    }
-    j = std::min(j, m - 2);
-    // Past the last grid point (less than one interval) the last segment is
-    // extended.
-    const double w = pos - static_cast<double>(j);
-    y[i] = (*filtered)[j] + w * ((*filtered)[j + 1] - (*filtered)[j]);
+    j = m < 2 ? 0 : std::min(j, m - 2);
+    cell[i] = j;
+    // Past the last grid point (less than one interval) the last segment
+    // is extended.
+    offset[i] = m < 2 ? 0.0 : pos - static_cast<double>(j);
   }
-  return y;
+  std::vector<double> grid(m);
+  for (std::vector<double>* x : xs) {
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t b = below[j];
+      grid[j] = (*x)[b] + weight[j] * ((*x)[b + 1] - (*x)[b]);
+    }
+    StatusOr<std::vector<double>> filtered =
+        ZeroPhaseLowPass(grid, cutoff_hz, 1.0 / dt, order);
+    if (!filtered.ok()) return filtered.status();
+    const std::vector<double>& f = *filtered;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t j = cell[i];
+      (*x)[i] = m < 2 ? f[0] : f[j] + offset[i] * (f[j + 1] - f[j]);
+    }
+  }
+  return Status::Ok();
 }
 
 namespace {

@@ -82,6 +82,14 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
     const std::vector<double>& x,
     double cutoff_hz,
     int order = 4);
+// The same for several series on the times t, in place: the median
+// interval and the resampling are worked out once for all of them (a
+// sort of t and two searches per series otherwise). On error the series
+// may be partly filtered.
+Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
+                                   const std::vector<std::vector<double>*>& xs,
+                                   double cutoff_hz,
+                                   int order = 4);
 
 // Savitzky–Golay derivative: at each sample k, the least-squares polynomial of
 // `degree` (1 to 4) through the window of 2·half_width + 1 samples centred on
