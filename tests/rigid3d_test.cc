@@ -320,6 +320,34 @@ TEST(Rigid3d, RateProductsAreLowPassedAsProducts) {
   EXPECT_GT(worst_rates, 0.3 * signal);                 // 63 % measured
 }
 
+// The wind is k·w over k: reported only with a positive rotor drag and
+// within the calibration's 30 m/s, otherwise not determined (NaN, null in
+// JSON, "not determined" in text).
+TEST(Rigid3d, WindIsReportedOnlyWhereTheDragDeterminesIt) {
+  StatusOr<Preprocess3dResult> pre =
+      Preprocess3d(OneImuLog("figure8_3d"), Preprocess3dOptions());
+  ASSERT_TRUE(pre.ok()) << pre.status().ToString();
+  auto report = [&](double drag, double wind_n) {
+    EstimateResult fit;
+    fit.model = kRigid3dModelName;
+    fit.termination = Termination::kConverged;
+    fit.parameters = Eigen::VectorXd::Zero(kNumRigid3dParameters);
+    fit.parameters[kRotorDrag] = drag;
+    fit.parameters[kWindNorth] = wind_n;
+    fit.parameters[kWindEast] = 0.0;
+    return Rigid3dReport(fit, *pre, 0);
+  };
+  EXPECT_NEAR(report(0.3, 29.9).wind_ne_m_s[0], 29.9, 1e-12);
+  EXPECT_NEAR(report(0.0011, 1.8).wind_ne_m_s[0], 1.8, 1e-12);
+  const ImuPosition3d far = report(0.3, 30.1);
+  EXPECT_TRUE(far.wind_ne_m_s.array().isNaN().all());
+  EXPECT_THAT(Rigid3dToText(far),
+              ::testing::HasSubstr("wind N/E not determined"));
+  EXPECT_TRUE(Rigid3dToJson(far)["wind_ne_m_s"][0].is_null());
+  EXPECT_TRUE(report(0.0009, 1.8).wind_ne_m_s.array().isNaN().all());
+  EXPECT_TRUE(report(-0.09, 1.8).wind_ne_m_s.array().isNaN().all());
+}
+
 TEST(Rigid3d, JackknifeFromFactorsIsTheFitsWithoutEachBlock) {
   StatusOr<Preprocess3dResult> pre =
       Preprocess3d(OneImuLog("figure8_3d"), Preprocess3dOptions());

@@ -101,6 +101,8 @@ struct ImuPosition3d {
   Eigen::Vector2d bias_m_s2 = Eigen::Vector2d::Zero();
   double misalignment_roll_deg = 0.0;
   double misalignment_pitch_deg = 0.0;
+  // NaN where the fit does not determine it (no positive rotor drag, or
+  // beyond 30 m/s).
   Eigen::Vector2d wind_ne_m_s = Eigen::Vector2d::Zero();
   double rmse = 0.0;        // m/s², over the x and y rows
   double signal_rms = 0.0;  // m/s², x/y specific force about its mean

@@ -115,7 +115,14 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       -std::asin(std::clamp(x[kThrustToX], -1.0, 1.0)) * kRadToDeg;
   out.misalignment_roll_deg =
       std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg;
+  // The wind is the linear drag's k·w over k: with no positive rotor drag,
+  // or beyond any plausible wind (the calibration's 30 m/s), it is a ratio
+  // of noise (a real log the model does not explain gave −78.7 m/s).
+  constexpr double kMaxWindMps = 30.0;
   out.wind_ne_m_s = {x[kWindNorth], x[kWindEast]};
+  if (!(x[kRotorDrag] > 1e-3) || !(out.wind_ne_m_s.norm() <= kMaxWindMps)) {
+    out.wind_ne_m_s.setConstant(std::numeric_limits<double>::quiet_NaN());
+  }
 
   const bool aligned = !pre.delay_at_limit;
   if (!aligned) {
@@ -331,9 +338,14 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
     s << "  estimator delay " << FormatNumber(r.estimator_delay_s * 1e3, 3)
       << " ms" << (r.delay_estimated ? " (estimated)" : "") << "; rotor drag "
       << FormatNumber(r.rotor_drag_per_s, 3) << " 1/s, mu "
-      << FormatNumber(r.mu_per_m, 3) << " 1/m, wind N/E "
-      << FormatNumber(r.wind_ne_m_s[0], 3) << "/"
-      << FormatNumber(r.wind_ne_m_s[1], 3) << " m/s, misalignment roll/pitch "
+      << FormatNumber(r.mu_per_m, 3) << " 1/m, wind N/E ";
+    if (r.wind_ne_m_s.allFinite()) {
+      s << FormatNumber(r.wind_ne_m_s[0], 3) << "/"
+        << FormatNumber(r.wind_ne_m_s[1], 3) << " m/s";
+    } else {
+      s << "not determined";
+    }
+    s << ", misalignment roll/pitch "
       << FormatNumber(r.misalignment_roll_deg, 3) << "/"
       << FormatNumber(r.misalignment_pitch_deg, 3) << " deg\n";
   }
