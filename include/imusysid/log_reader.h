@@ -54,6 +54,8 @@ StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,
 // A log parsed once, from which each IMU instance is converted without
 // parsing the file again: what a fit of every instance of a binary log
 // reads. Copies share the parsed data.
+struct LogSegment;  // below
+
 class ParsedFlightLog {
  public:
   // Detects the format and parses the file image (a CSV is kept as text and
@@ -63,6 +65,9 @@ class ParsedFlightLog {
   // The instance and frame `options` ask for, as ParseFlightLog(bytes,
   // name, options) returns it.
   StatusOr<FlightLog> Instance(const LogReadOptions& options) const;
+  // The autopilot's armed spans, as SummarizeLogBytes(bytes, name).armed
+  // gives them (empty for a CSV): read from this parse, not the file again.
+  std::vector<LogSegment> ArmedSpans() const;
   LogFormat format() const { return format_; }
 
  private:

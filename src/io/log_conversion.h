@@ -91,6 +91,12 @@ std::vector<double> TopicSeconds(const UlogTopic& topic,
 // DataFlash: the time column of a message (TimeUS or TimeMS) in seconds, or
 // empty.
 std::vector<double> MessageSeconds(const DataFlashMessage& message);
+
+// The armed spans SummarizeLogBytes gives (LogSummary::armed), from a log
+// already parsed with at least the IMU and the arming topics (ULog
+// vehicle_status; DataFlash ARM and EV).
+std::vector<LogSegment> UlogArmedSpans(const UlogData& ulog);
+std::vector<LogSegment> DataFlashArmedSpans(const DataFlashLog& log);
 // The firmware text that names the vehicle (ArduCopter ...), else the first.
 std::string DataFlashVehicle(const DataFlashLog& log);
 

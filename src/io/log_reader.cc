@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "src/io/csv_log.h"
+#include "src/io/log_conversion.h"
 
 namespace imusysid {
 namespace {
@@ -78,7 +79,8 @@ StatusOr<ParsedFlightLog> ParsedFlightLog::Parse(std::string_view bytes,
                              "sensor_accel",
                              "sensor_gyro",
                              "vehicle_local_position",
-                             "vehicle_attitude"};
+                             "vehicle_attitude",
+                             "vehicle_status"};
       StatusOr<UlogData> ulog = ParseUlog(bytes, parsed.name_, ulog_options);
       if (!ulog.ok()) return ulog.status();
       parsed.ulog_ = std::make_shared<const UlogData>(std::move(*ulog));
@@ -87,8 +89,16 @@ StatusOr<ParsedFlightLog> ParsedFlightLog::Parse(std::string_view bytes,
     case LogFormat::kDataFlash: {
       // Only the messages the conversion reads are decoded.
       DataFlashReadOptions df_options;
-      df_options.messages = {
-          "IMU", "IMU2", "IMU3", "XKF1", "NKF1", "EKF1", "ATT", "MSG"};
+      df_options.messages = {"IMU",
+                             "IMU2",
+                             "IMU3",
+                             "XKF1",
+                             "NKF1",
+                             "EKF1",
+                             "ATT",
+                             "MSG",
+                             "ARM",
+                             "EV"};
       StatusOr<DataFlashLog> df =
           ParseDataFlash(bytes, parsed.name_, df_options);
       if (!df.ok()) return df.status();
@@ -128,6 +138,12 @@ StatusOr<FlightLog> ParsedFlightLog::Instance(
   }
   return ParseCsvLog(
       csv_ == nullptr ? std::string_view() : *csv_, name_, CsvOptions(options));
+}
+
+std::vector<LogSegment> ParsedFlightLog::ArmedSpans() const {
+  if (ulog_ != nullptr) return internal::UlogArmedSpans(*ulog_);
+  if (dataflash_ != nullptr) return internal::DataFlashArmedSpans(*dataflash_);
+  return {};
 }
 
 StatusOr<FlightLog> ParseFlightLog(std::string_view bytes,

@@ -152,6 +152,17 @@ void AppendUlogStatusSpans(const UlogData& ulog,
   }
 }
 
+// The first IMU topic with two samples or more, whose time the spans end
+// with; null when there is none.
+const UlogTopic* UlogImuTopic(const UlogData& ulog) {
+  for (const char* imu : {"sensor_combined", "sensor_gyro", "vehicle_imu"}) {
+    if (const UlogTopic* topic = ulog.FindTopic(imu, 0)) {
+      if (topic->timestamps_us.size() >= 2) return topic;
+    }
+  }
+  return nullptr;
+}
+
 LogSummary SummarizeUlog(const UlogData& ulog) {
   LogSummary summary;
   summary.format = "ulog";
@@ -169,17 +180,12 @@ LogSummary SummarizeUlog(const UlogData& ulog) {
     }
   }
   summary.duration_s = last - first;
-  for (const char* imu : {"sensor_combined", "sensor_gyro", "vehicle_imu"}) {
-    if (const UlogTopic* topic = ulog.FindTopic(imu, 0)) {
-      if (topic->timestamps_us.size() >= 2) {
-        // Spans end with the IMU data: stray topics (mission) can carry
-        // timestamps far outside the flight.
-        last = static_cast<double>(topic->timestamps_us.back()) * 1e-6;
-        summary.duration_s =
-            last - static_cast<double>(topic->timestamps_us.front()) * 1e-6;
-        break;
-      }
-    }
+  if (const UlogTopic* imu = UlogImuTopic(ulog)) {
+    // Spans end with the IMU data: stray topics (mission) can carry
+    // timestamps far outside the flight.
+    last = static_cast<double>(imu->timestamps_us.back()) * 1e-6;
+    summary.duration_s =
+        last - static_cast<double>(imu->timestamps_us.front()) * 1e-6;
   }
   summary.dropouts = ulog.dropout_count;
   summary.dropout_total_ms = ulog.dropout_total_ms;
@@ -354,4 +360,51 @@ StatusOr<LogSummary> SummarizeLog(const std::string& path) {
   return SummarizeLogBytes(*bytes, path);
 }
 
+namespace internal {
+
+std::vector<LogSegment> UlogArmedSpans(const UlogData& ulog) {
+  LogSummary summary;
+  if (const UlogTopic* imu = UlogImuTopic(ulog)) {
+    AppendUlogStatusSpans(
+        ulog, static_cast<double>(imu->timestamps_us.back()) * 1e-6, &summary);
+  } else {
+    // As SummarizeUlog: the last time any topic holds.
+    double last = 0;
+    bool any = false;
+    for (const UlogTopic& topic : ulog.topics) {
+      const std::vector<double> t = TopicSeconds(topic);
+      if (t.empty()) continue;
+      last = any ? std::max(last, t.back()) : t.back();
+      any = true;
+    }
+    AppendUlogStatusSpans(ulog, last, &summary);
+  }
+  return summary.armed;
+}
+
+std::vector<LogSegment> DataFlashArmedSpans(const DataFlashLog& log) {
+  // As SummarizeDataFlash: the spans end with the IMU data, else with the
+  // last time any message holds.
+  double last = 0;
+  bool any = false;
+  const DataFlashMessage* imu = log.FindMessage("IMU");
+  const std::vector<double> imu_t =
+      imu == nullptr ? std::vector<double>() : MessageSeconds(*imu);
+  if (imu_t.size() >= 2) {
+    last = imu_t.back();
+  } else {
+    for (const DataFlashMessage& message : log.messages) {
+      if (message.size() == 0) continue;
+      const std::vector<double> t = MessageSeconds(message);
+      if (t.empty()) continue;
+      last = any ? std::max(last, t.back()) : t.back();
+      any = true;
+    }
+  }
+  std::vector<LogSegment> armed;
+  AppendSpans(DataFlashArmedChanges(log), last, &armed);
+  return armed;
+}
+
+}  // namespace internal
 }  // namespace imusysid

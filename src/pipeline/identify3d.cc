@@ -98,19 +98,6 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       }
     }
   }
-  Preprocess3dOptions po = options.preprocess3d;
-  // The autopilot's arming record, where the log has one (and the caller
-  // has not read it already).
-  if (input.is_log() && po.armed.empty() &&
-      DetectLogFormat(bytes) != LogFormat::kCsv) {
-    StatusOr<LogSummary> log_summary = SummarizeLogBytes(bytes, input.source());
-    if (log_summary.ok()) {
-      for (const LogSegment& a : log_summary->armed) {
-        po.armed.emplace_back(a.start_s, a.end_s);
-      }
-    }
-  }
-
   const std::vector<int> instances =
       input.is_log() ? Instances(bytes, options.imu) : std::vector<int>{0};
   // A binary log is parsed once, whatever the number of instances.
@@ -119,6 +106,14 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     StatusOr<ParsedFlightLog> p = ParsedFlightLog::Parse(bytes, input.source());
     if (!p.ok()) return p.status();
     parsed = std::move(p).value();
+  }
+  Preprocess3dOptions po = options.preprocess3d;
+  // The autopilot's arming record, where the log has one (and the caller
+  // has not given it already), from the same parse.
+  if (parsed.has_value() && po.armed.empty()) {
+    for (const LogSegment& a : parsed->ArmedSpans()) {
+      po.armed.emplace_back(a.start_s, a.end_s);
+    }
   }
   // With several instances, one that cannot be fitted (logged too slowly,
   // or its own failure) is recorded and the others go on; asked for one, its
