@@ -84,9 +84,10 @@ TEST(BinaryLogFit, UlogFitsSensorCombinedAndSkipsTheSlowTopics) {
   ASSERT_TRUE(s.ok()) << s.status().ToString();
   ASSERT_EQ(s->imus.size(), 1u);
   EXPECT_EQ(s->imus[0].instance, 0);
-  // σ̂ bound: the slow forces (0.03 m/s² below 1 Hz) leave 5–7 mm on x and
-  // y of this gentle figure-eight; 10 mm flags a loss of precision.
-  ExpectAtTruth(s->imus[0], f.options.imus[0].p_frd_m, 10e-3);
+  // Every axis given, σ̂ at most 3 mm: over 12 seeds of this flight σ̂ is
+  // 0.4–1.9 mm (the slow forces, 0.03 m/s² below 1 Hz, are most of it).
+  ExpectAtTruth(s->imus[0], f.options.imus[0].p_frd_m, 3e-3);
+  for (bool determined : s->imus[0].determined) EXPECT_TRUE(determined);
   ASSERT_EQ(s->skipped_imus.size(), 2u);
   for (const auto& skipped : s->skipped_imus) {
     EXPECT_THAT(skipped.reason, HasSubstr("sensor_accel+sensor_gyro"));
@@ -95,6 +96,46 @@ TEST(BinaryLogFit, UlogFitsSensorCombinedAndSkipsTheSlowTopics) {
   }
   EXPECT_EQ(s->skipped_imus[0].instance, 1);
   EXPECT_EQ(s->skipped_imus[1].instance, 2);
+}
+
+// The estimator's delay across its range, and a sensor mounted 1° off in
+// roll and pitch, as PX4 logs them: the accuracy the CSV tests ask for
+// (Rigid3d.RatesAndDelaysAcrossTheRange, MisalignmentIsSeparatedFromThe-
+// Position) through the ULog at realistic vibration.
+TEST(BinaryLogFit, UlogDelaysAndMisalignment) {
+  struct Case {
+    double delay_s, roll_deg, pitch_deg;
+  };
+  for (const Case& c :
+       {Case{0.0, 0.0, 0.0}, Case{0.04, 0.0, 0.0}, Case{0.02, 1.0, -1.0}}) {
+    SCOPED_TRACE(c.delay_s);
+    Simulator3dOptions o = Realistic("figure8_3d");
+    o.estimator_delay_s = c.delay_s;
+    o.imus.resize(1);
+    o.imus[0].roll_deg = c.roll_deg;
+    o.imus[0].pitch_deg = c.pitch_deg;
+    StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+    ASSERT_TRUE(flight.ok()) << flight.status().ToString();
+    StatusOr<std::string> ulog = FormatSimulated3dUlog(o, *flight);
+    ASSERT_TRUE(ulog.ok()) << ulog.status().ToString();
+    IdentifyOptions options;
+    options.model = kRigid3dModelName;
+    StatusOr<IdentifySummary> s =
+        Identify(IdentifyInput::LogBytes(*ulog, "F.ulg"), options);
+    ASSERT_TRUE(s.ok()) << s.status().ToString();
+    ASSERT_EQ(s->imus.size(), 1u);
+    const ImuPosition3d& imu = s->imus[0];
+    ExpectAtTruth(imu, o.imus[0].p_frd_m, 3e-3);
+    for (bool determined : imu.determined) EXPECT_TRUE(determined);
+    // The delay within 10 ms: PX4's sensor_combined is the mean of four raw
+    // samples stamped at the last, and the delay found runs 8 ms short of
+    // the truth on this log (0 → 0, 20 → 12, 40 → 32 ms).
+    EXPECT_NEAR(imu.estimator_delay_s, c.delay_s, 10e-3);
+    // At realistic vibration the tilt is known to about half a degree
+    // (measured errors 0.13° and 0.51°; 0.37° and 0.54° with none mounted).
+    EXPECT_NEAR(imu.misalignment_roll_deg, c.roll_deg, 0.7);
+    EXPECT_NEAR(imu.misalignment_pitch_deg, c.pitch_deg, 0.7);
+  }
 }
 
 // Asked for the slow instance alone, the answer is its refusal.
