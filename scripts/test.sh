@@ -25,6 +25,12 @@ done
 
 bash scripts/setup.sh
 jobs=$(nproc)
+# Ninja where the build folder is new (an existing one keeps its generator):
+# it compiles the tool's and the tests' sources while the library's last ones
+# still compile, where make waits for each library before the next target.
+if command -v ninja >/dev/null; then
+  export CMAKE_GENERATOR=Ninja
+fi
 
 # phase NAME: prints how long the phase since the last call took, in wall
 # and CPU (user + system of the commands run) seconds.
