@@ -5,9 +5,10 @@
 #      (package), benchmark smoke runs (benchmark_smoke);
 #   2. the input-facing unit tests again under AddressSanitizer +
 #      UndefinedBehaviorSanitizer (IMUSYSID_SANITIZED_TESTS in tests/CMakeLists.txt).
-# Both builds compile the library as a few large sources (IMUSYSID_UNITY_BUILD):
-# on a clean build that takes about a third less CPU. Each test binary runs
-# as four gtest shards (IMUSYSID_TEST_SHARDS), not one process per case.
+# Both builds compile the library and the unit tests as a few large sources
+# (IMUSYSID_UNITY_BUILD): on a clean build that takes about a third less CPU.
+# Each test binary runs as four gtest shards (IMUSYSID_TEST_SHARDS), not one
+# process per case.
 # The peer comparison (label "peers": GNU Octave, SciPy) is not part of it:
 #   ctest --test-dir build -L peers   after scripts/setup.sh --with-peers
 # Usage: scripts/test.sh [--no-sanitizers]
