@@ -1,11 +1,13 @@
 // The scaling benchmarks' 1e6- and 1e7-sample cases take seconds to minutes
 // and gigabytes: a benchmark binary registers them only when its
-// --benchmark_filter mentions "Large". Header-only: each *_benchmark.cc is
-// its own binary, linked to the library alone.
+// --benchmark_filter mentions "Large". And in the ctest smoke runs the cases
+// built on minutes of flight shrink (SmokeRun). Header-only: each
+// *_benchmark.cc is its own binary, linked to the library alone.
 
 #ifndef IMUSYSID_BENCHMARKS_LARGE_CASES_H_
 #define IMUSYSID_BENCHMARKS_LARGE_CASES_H_
 
+#include <cstdlib>
 #include <cstring>
 
 namespace imusysid {
@@ -20,6 +22,15 @@ inline bool FilterAsksForLargeCases(int argc, char** argv) {
     }
   }
   return false;
+}
+
+// True in the ctest smoke runs (benchmarks/CMakeLists.txt sets
+// IMUSYSID_BENCHMARK_SMOKE=1): they check that every case still runs, not
+// what it measures, so a case over a ten-minute flight or a million rows
+// runs on a tenth of it there, through the same code.
+inline bool SmokeRun() {
+  const char* value = std::getenv("IMUSYSID_BENCHMARK_SMOKE");
+  return value != nullptr && value[0] != '\0' && std::strcmp(value, "0") != 0;
 }
 
 }  // namespace imusysid

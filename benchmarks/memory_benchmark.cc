@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "benchmark/benchmark.h"
+#include "benchmarks/large_cases.h"
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/model.h"
 #include "imusysid/extend/problem.h"
@@ -119,7 +120,8 @@ const TestFile* CachedFile(const std::string& key) {
 }
 
 // The paper_test1 flight at `rate_hz`; with `long_flight`, its maneuver
-// repeated to 600 s in all (at 4 kHz about 2.4e6 samples, 200 MB).
+// repeated to 600 s in all (at 4 kHz about 2.4e6 samples, 200 MB; in a smoke
+// run a tenth of the laps).
 TestFile LogAtRate(int rate_hz, bool long_flight = false) {
   const std::string key =
       std::to_string(rate_hz) + (long_flight ? "_600s" : "");
@@ -128,8 +130,9 @@ TestFile LogAtRate(int rate_hz, bool long_flight = false) {
   if (!options.ok()) return TestFile{};
   options->rate_hz = rate_hz;
   if (long_flight) {
-    options->maneuver_s = 52.0 * 11.25;
-    options->laps = 90;
+    const int laps = SmokeRun() ? 9 : 90;
+    options->maneuver_s = 6.5 * laps;
+    options->laps = laps;
   }
   StatusOr<SimulatedFlight> flight = Simulate(*options);
   if (!flight.ok()) return TestFile{};
@@ -139,10 +142,11 @@ TestFile LogAtRate(int rate_hz, bool long_flight = false) {
   return WriteTestFile(key, FormatCsvLog(log).value(), columns);
 }
 
-// A problem file of `rows` rows: the 4 kHz paper_test1 flight's fit segment
-// (about 2e5 samples) repeated end to end, shifted in time, as
-// `export-problem` writes it.
+// A problem file of `rows` rows (in a smoke run a tenth): the 4 kHz
+// paper_test1 flight's fit segment (about 2e5 samples) repeated end to end,
+// shifted in time, as `export-problem` writes it.
 TestFile ProblemFileOfRows(std::size_t rows) {
+  if (SmokeRun()) rows /= 10;
   const std::string key = "problem_" + std::to_string(rows);
   if (const TestFile* cached = CachedFile(key)) return *cached;
   StatusOr<SimulatorOptions> options = ScenarioOptions("paper_test1");

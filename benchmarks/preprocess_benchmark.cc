@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "benchmark/benchmark.h"
+#include "benchmarks/large_cases.h"
 #include "imusysid/log.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/simulate.h"
@@ -21,14 +22,16 @@ namespace {
 
 constexpr double kRateHz = 4000.0;
 
-// Built once per process (the simulation takes a few seconds, not timed).
+// Built once per process (the simulation takes a few seconds, not timed). In
+// a smoke run (SmokeRun) a tenth of the laps.
 const SimulatedFlight* LongFlight() {
   static const SimulatedFlight* const flight = [] {
     StatusOr<SimulatorOptions> options = ScenarioOptions("paper_test1");
     if (!options.ok()) return static_cast<SimulatedFlight*>(nullptr);
     options->rate_hz = kRateHz;
-    options->maneuver_s = 52.0 * 11.25;  // 600 s in all
-    options->laps = 90;
+    const int laps = SmokeRun() ? 9 : 90;
+    options->maneuver_s = 6.5 * laps;  // 90 laps: 600 s in all
+    options->laps = laps;
     StatusOr<SimulatedFlight> simulated = Simulate(*options);
     if (!simulated.ok()) return static_cast<SimulatedFlight*>(nullptr);
     return new SimulatedFlight(std::move(simulated).value());

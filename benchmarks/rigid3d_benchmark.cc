@@ -31,14 +31,23 @@
 namespace imusysid {
 namespace {
 
+// The figure-eight flown for 10 minutes in all; in a smoke run
+// (SmokeRun) the scenario's own flight, about a tenth of it.
+StatusOr<Simulator3dOptions> TenMinuteFigureEight() {
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+  if (o.ok() && !SmokeRun()) {
+    o->maneuver_s = 600.0 - (o->motors_off_start_s + o->idle_s + o->hover_s +
+                             o->landing_s + o->motors_off_end_s);
+  }
+  return o;
+}
+
 // The three CSV logs, written once per process (not timed).
 const std::vector<std::string>* Logs() {
   static const std::vector<std::string>* const logs = [] {
     auto* paths = new std::vector<std::string>;
-    StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+    StatusOr<Simulator3dOptions> o = TenMinuteFigureEight();
     if (!o.ok()) return paths;
-    o->maneuver_s = 600.0 - (o->motors_off_start_s + o->idle_s + o->hover_s +
-                             o->landing_s + o->motors_off_end_s);
     StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
     if (!flight.ok()) return paths;
     char dir[] = "/tmp/imusysid-rigid3d-bench-XXXXXX";
@@ -107,12 +116,10 @@ const std::string* TenMinuteUlog(int profile) {
   std::string*& image = images[profile];
   if (image != nullptr) return image;
   image = new std::string;
-  StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+  StatusOr<Simulator3dOptions> o = TenMinuteFigureEight();
   if (!o.ok()) return image;
   o->sensor_profile = "realistic";
   o->rate_hz = profile == 2 ? 250.0 : 1000.0;
-  o->maneuver_s = 600.0 - (o->motors_off_start_s + o->idle_s + o->hover_s +
-                           o->landing_s + o->motors_off_end_s);
   StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
   if (!flight.ok()) return image;
   Sim3dLogOptions log_options;

@@ -8,7 +8,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake git
+  build-essential cmake git ninja-build
   libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   gnuplot-nox
