@@ -21,6 +21,7 @@
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d.h"
 #include "imusysid/simulate3d.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
@@ -114,14 +115,7 @@ TEST(BinaryLogFit, UlogDelaysAndMisalignment) {
     o.imus.resize(1);
     o.imus[0].roll_deg = c.roll_deg;
     o.imus[0].pitch_deg = c.pitch_deg;
-    StatusOr<Simulated3dFlight> flight = Simulate3d(o);
-    ASSERT_TRUE(flight.ok()) << flight.status().ToString();
-    StatusOr<std::string> ulog = FormatSimulated3dUlog(o, *flight);
-    ASSERT_TRUE(ulog.ok()) << ulog.status().ToString();
-    IdentifyOptions options;
-    options.model = kRigid3dModelName;
-    StatusOr<IdentifySummary> s =
-        Identify(IdentifyInput::LogBytes(*ulog, "F.ulg"), options);
+    StatusOr<IdentifySummary> s = testing::FitSimulatedUlog(o);
     ASSERT_TRUE(s.ok()) << s.status().ToString();
     ASSERT_EQ(s->imus.size(), 1u);
     const ImuPosition3d& imu = s->imus[0];

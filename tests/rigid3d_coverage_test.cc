@@ -20,6 +20,7 @@
 #include "imusysid/rigid3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
@@ -71,14 +72,7 @@ TEST(Rigid3dCoverage, TwoSigmaCoversTheTruthThroughARealisticUlog) {
     o->seed = static_cast<std::uint64_t>(seed);
     o->sensor_profile = "realistic";
     o->rate_hz = 1000.0;  // raw; sensor_combined is logged at 250 Hz
-    StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
-    ASSERT_TRUE(flight.ok());
-    StatusOr<std::string> ulog = FormatSimulated3dUlog(*o, *flight);
-    ASSERT_TRUE(ulog.ok()) << ulog.status().ToString();
-    IdentifyOptions options;
-    options.model = kRigid3dModelName;
-    StatusOr<IdentifySummary> s =
-        Identify(IdentifyInput::LogBytes(*ulog, "F.ulg"), options);
+    StatusOr<IdentifySummary> s = testing::FitSimulatedUlog(*o);
     ASSERT_TRUE(s.ok()) << s.status().ToString();
     ASSERT_FALSE(s->imus.empty());
     const ImuPosition3d& report = s->imus.front();

@@ -16,6 +16,7 @@
 #include "glog/logging.h"
 #include "gtest/gtest.h"
 #include "imusysid/parameters.h"
+#include "imusysid/rigid3d.h"
 #include "nlohmann/json.hpp"
 #include "src/models/paper_model.h"
 
@@ -297,6 +298,16 @@ std::uint64_t Bits(double value) {
   std::uint64_t bits = 0;
   std::memcpy(&bits, &value, sizeof(bits));
   return bits;
+}
+
+StatusOr<IdentifySummary> FitSimulatedUlog(const Simulator3dOptions& options) {
+  StatusOr<Simulated3dFlight> flight = Simulate3d(options);
+  if (!flight.ok()) return flight.status();
+  StatusOr<std::string> ulog = FormatSimulated3dUlog(options, *flight);
+  if (!ulog.ok()) return ulog.status();
+  IdentifyOptions identify;
+  identify.model = kRigid3dModelName;
+  return Identify(IdentifyInput::LogBytes(*ulog, "F.ulg"), identify);
 }
 
 }  // namespace testing

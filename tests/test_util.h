@@ -11,7 +11,9 @@
 #include "Eigen/Core"
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/problem.h"
+#include "imusysid/identify.h"
 #include "imusysid/paper_reference.h"
+#include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
 #include "src/sim/synthetic_flight.h"
 
@@ -119,6 +121,11 @@ std::shared_ptr<ProblemData> WithMotion3d(std::shared_ptr<ProblemData> data);
 // The bits of a double (so -0.0 ≠ 0.0 and NaNs are told apart), which
 // EXPECT_EQ on doubles does not check.
 std::uint64_t Bits(double value);
+
+// `fit --log=F.ulg --model=rigid3d` with no other flags (Identify on the
+// file image) on the flight `options` simulates, written as PX4's logger
+// writes it; the simulator's or the writer's error otherwise.
+StatusOr<IdentifySummary> FitSimulatedUlog(const Simulator3dOptions& options);
 
 }  // namespace testing
 }  // namespace imusysid
