@@ -21,11 +21,28 @@ if("thread" IN_LIST IMUSYSID_SANITIZERS AND "address" IN_LIST IMUSYSID_SANITIZER
   message(FATAL_ERROR "IMUSYSID_SANITIZERS: 'thread' and 'address' cannot be combined")
 endif()
 
+# With "undefined", three of its checks are left out and one is added:
+# - null and object-size where AddressSanitizer runs too, which reports the
+#   same faults (a null dereference as a SEGV with its stack, an access past
+#   an object as an overflow); alignment, since the binary readers never
+#   view a byte buffer through a wider type (they cast to char types only
+#   and assemble fields from bytes). These checks on every dereference were
+#   three quarters of UBSan's compile time: 48 s against 31 s of CPU for the
+#   largest unity source (25 s with AddressSanitizer alone, 16 s plain);
+# - float-cast-overflow, not in GCC's "undefined" group: a time stamp or
+#   count from a damaged log converted to an integer out of its range.
 function(imusysid_set_sanitizers target)
   if(IMUSYSID_SANITIZERS)
     string(REPLACE ";" "," _list "${IMUSYSID_SANITIZERS}")
-    target_compile_options(${target} PRIVATE -fsanitize=${_list} -fno-omit-frame-pointer -fno-sanitize-recover=all)
-    target_link_options(${target} PRIVATE -fsanitize=${_list})
+    set(_flags -fsanitize=${_list})
+    if("undefined" IN_LIST IMUSYSID_SANITIZERS)
+      list(APPEND _flags -fsanitize=float-cast-overflow -fno-sanitize=alignment)
+      if("address" IN_LIST IMUSYSID_SANITIZERS)
+        list(APPEND _flags -fno-sanitize=null,object-size)
+      endif()
+    endif()
+    target_compile_options(${target} PRIVATE ${_flags} -fno-omit-frame-pointer -fno-sanitize-recover=all)
+    target_link_options(${target} PRIVATE ${_flags})
   endif()
 endfunction()
 
