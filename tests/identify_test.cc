@@ -140,35 +140,6 @@ TEST(Identify, ThreeImusShareTheFlightsDelayAndWind) {
   }
 }
 
-TEST(Identify, ALogWithoutEstimatorChannelsFallsBackToTheImuOnlyModel) {
-  FlightLog log = FigureEight().logs[0];
-  log.extra.clear();
-  std::vector<std::string> notes;
-  IdentifyOptions options = Rigid3d();
-  options.on_note = [&notes](const std::string& n) { notes.push_back(n); };
-  // The jackknife refits the IMU-only model once per block; three blocks
-  // (the fewest that give a σ̂) run the same code as the default ten, and
-  // nothing below reads the σ̂. Under the sanitizers ten took 33 s, the
-  // slowest case there; three take 15 s.
-  options.report3d.jackknife_blocks = 3;
-  StatusOr<IdentifySummary> s = Identify(
-      IdentifyInput::LogBytes(FormatSimulated3dCsv(log).value(), "imu-only"),
-      options);
-  ASSERT_TRUE(s.ok()) << s.status().ToString();
-  StatusOr<ModelDescription> rigid3d = BuiltinModels().Describe(s->model);
-  ASSERT_TRUE(rigid3d.ok());
-  EXPECT_FALSE(rigid3d->needs_estimator_channels);
-  EXPECT_NE(s->model, kRigid3dModelName);
-  ASSERT_FALSE(notes.empty());
-  EXPECT_THAT(notes[0], HasSubstr("no attitude and velocity estimate"));
-  ASSERT_EQ(s->imus.size(), 1u);
-  // The IMU-only model is cm-grade (rigid3d_test: 10 mm).
-  const Simulator3dOptions o = FigureEightOptions();
-  for (int a = 0; a < 3; ++a) {
-    EXPECT_NEAR(s->imus[0].position_m[a], o.imus[0].p_frd_m[a], 10e-3) << a;
-  }
-}
-
 TEST(Identify, WindowsStageListsTheWindowsWithoutFitting) {
   IdentifyOptions options = Rigid3d();
   options.stop_after = IdentifyStage::kWindows;

@@ -18,6 +18,7 @@
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
+#include "imusysid/identify.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
@@ -597,6 +598,40 @@ TEST(Rigid3dImu, FigureEightFromTheImuAlone) {
       problem.CostToRmse(problem.Cost(problem.initial_guess().data()));
   EXPECT_LT(ga->rmse, 0.5 * start_rmse);
   EXPECT_GE(ga->rmse, results[0].rmse * (1 - 1e-9));
+}
+
+// The library's entry point picks the IMU-only model by itself for a log
+// without the estimator's channels, says so, and fits it. (An estimator
+// behaviour test, so it runs in the Release build only: under the
+// sanitizers this one case took 30 s, the longest of the sanitized set.)
+TEST(Rigid3dImu, IdentifyFallsBackToItWithoutTheEstimatorsChannels) {
+  const Simulator3dOptions o = Scenario("figure8_3d");  // the truth
+  FlightLog log = OneImuLog("figure8_3d");
+  log.extra.clear();
+  std::vector<std::string> notes;
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  options.on_note = [&notes](const std::string& n) { notes.push_back(n); };
+  // Three jackknife blocks (the fewest that give a σ̂) run the same code as
+  // the default ten, and nothing below reads the σ̂.
+  options.report3d.jackknife_blocks = 3;
+  StatusOr<IdentifySummary> s = Identify(
+      IdentifyInput::LogBytes(FormatSimulated3dCsv(log).value(), "imu-only"),
+      options);
+  ASSERT_TRUE(s.ok()) << s.status().ToString();
+  StatusOr<ModelDescription> chosen = BuiltinModels().Describe(s->model);
+  ASSERT_TRUE(chosen.ok());
+  EXPECT_FALSE(chosen->needs_estimator_channels);
+  EXPECT_NE(s->model, kRigid3dModelName);
+  ASSERT_FALSE(notes.empty());
+  EXPECT_THAT(notes[0],
+              ::testing::HasSubstr("no attitude and velocity estimate"));
+  ASSERT_EQ(s->imus.size(), 1u);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(
+        s->imus[0].position_m[a], o.imus[0].p_frd_m[a], kImuOnlyToleranceM)
+        << a;
+  }
 }
 
 }  // namespace

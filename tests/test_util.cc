@@ -310,5 +310,38 @@ StatusOr<IdentifySummary> FitSimulatedUlog(const Simulator3dOptions& options) {
   return Identify(IdentifyInput::LogBytes(*ulog, "F.ulg"), identify);
 }
 
+Simulator3dOptions RealisticScenario3d(const std::string& scenario) {
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions(scenario);
+  EXPECT_TRUE(o.ok()) << o.status().ToString();
+  if (!o.ok()) return Simulator3dOptions();
+  o->sensor_profile = "realistic";
+  o->rate_hz = 1000.0;
+  return *o;
+}
+
+const Flown3d& RealisticFigureEight() {
+  static const Flown3d* const flown = [] {
+    auto* f = new Flown3d{RealisticScenario3d("figure8_3d"), {}};
+    StatusOr<Simulated3dFlight> flight = Simulate3d(f->options);
+    EXPECT_TRUE(flight.ok()) << flight.status().ToString();
+    if (flight.ok()) f->flight = std::move(flight).value();
+    return f;
+  }();
+  return *flown;
+}
+
+void ExpectImuAtTruth(const ImuPosition3d& imu,
+                      const Eigen::Vector3d& truth,
+                      double max_stderr_m) {
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(imu.position_m[a], truth[a], 3 * imu.stderr_m[a])
+        << "IMU " << imu.instance << " axis " << a;
+    if (imu.determined[static_cast<std::size_t>(a)]) {
+      EXPECT_LE(imu.stderr_m[a], max_stderr_m)
+          << "IMU " << imu.instance << " axis " << a;
+    }
+  }
+}
+
 }  // namespace testing
 }  // namespace imusysid

@@ -13,6 +13,7 @@
 #include "imusysid/extend/problem.h"
 #include "imusysid/identify.h"
 #include "imusysid/paper_reference.h"
+#include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
 #include "src/sim/synthetic_flight.h"
@@ -126,6 +127,27 @@ std::uint64_t Bits(double value);
 // file image) on the flight `options` simulates, written as PX4's logger
 // writes it; the simulator's or the writer's error otherwise.
 StatusOr<IdentifySummary> FitSimulatedUlog(const Simulator3dOptions& options);
+
+// The named 3-D scenario at the simulator's realistic sensor profile
+// (broadband vibration and rotor harmonics, slow unmodelled forces, time
+// stamp jitter) with the raw IMU at 1 kHz: the ULog's sensor_combined is
+// then 250 Hz, as PX4 logs it.
+Simulator3dOptions RealisticScenario3d(const std::string& scenario);
+
+struct Flown3d {
+  Simulator3dOptions options;
+  Simulated3dFlight flight;
+};
+// The realistic figure-eight (RealisticScenario3d), flown once per test
+// binary.
+const Flown3d& RealisticFigureEight();
+
+// Within 3σ̂ of the truth on every axis, and σ̂ no larger than
+// `max_stderr_m` on each determined one: a given axis must be both right and
+// precise.
+void ExpectImuAtTruth(const ImuPosition3d& imu,
+                      const Eigen::Vector3d& truth,
+                      double max_stderr_m);
 
 }  // namespace testing
 }  // namespace imusysid
