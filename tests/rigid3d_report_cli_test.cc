@@ -32,6 +32,11 @@ std::string ReadReportFile(const std::string& path) {
 }
 
 // The figures every report of a fitted rigid3d flight holds.
+// gnuplot draws the figures (scripts/setup.sh installs it, as for --plot).
+bool HaveGnuplot() {
+  return std::system("command -v gnuplot > /dev/null 2>&1") == 0;
+}
+
 const char* const kFigures[] = {"timeline.svg",
                                 "specific_force.svg",
                                 "residual_spectrum.svg",
@@ -97,6 +102,7 @@ nlohmann::json CellAsJson(const Cell& cell) {
 }
 
 TEST(Rigid3dReportCli, PageHasTheFiguresAndTheDecisionTable) {
+  if (!HaveGnuplot()) GTEST_SKIP() << "gnuplot is not installed";
   const ReportRun& f = ShortFlightReport();
   ASSERT_EQ(f.fit.exit_code, 0) << f.fit.err;
   EXPECT_THAT(f.fit.err, HasSubstr("/index.html"));
@@ -170,6 +176,7 @@ TEST(Rigid3dReportCli, PageHasTheFiguresAndTheDecisionTable) {
 // decoded to a non-zero size, and the screenshot is a PNG of the window's
 // size with content (a blank page of that size compresses to a few kB).
 TEST(Rigid3dReportCli, BrowserRendersThePage) {
+  if (!HaveGnuplot()) GTEST_SKIP() << "gnuplot is not installed";
   if (std::system("command -v chromium > /dev/null 2>&1") != 0) {
     GTEST_SKIP() << "chromium is not installed (Debian: chromium; "
                     "scripts/setup.sh installs it)";

@@ -909,11 +909,6 @@ void AddParameterFiles(const std::vector<Rigid3dPageFlight>& flights,
 }  // namespace
 
 Status CheckRigid3dPageFolder(const std::string& dir_in) {
-  if (FindGnuplot().empty()) {
-    return FailedPreconditionError(
-        "gnuplot is not installed (Debian: gnuplot-nox); the report's "
-        "figures need it");
-  }
   const std::string dir = WithoutTrailingSlashes(dir_in);
   if (dir.empty()) return InvalidArgumentError("no folder given");
   std::error_code ec;
@@ -936,6 +931,11 @@ Status CheckRigid3dPageFolder(const std::string& dir_in) {
   if (access(p.c_str(), W_OK | X_OK) != 0) {
     return InvalidArgumentError("cannot write '" + dir + "': '" + p.string() +
                                 "' is not writable");
+  }
+  if (FindGnuplot().empty()) {
+    return FailedPreconditionError(
+        "gnuplot is not installed (Debian: gnuplot-nox); the report's "
+        "figures need it");
   }
   return Status::Ok();
 }

@@ -42,9 +42,9 @@ struct Rigid3dPageOptions {
 };
 
 // What the page needs before a fit is run, so that a bad folder fails in a
-// second rather than after the fit: gnuplot on PATH (FailedPrecondition),
-// and `dir` a folder or creatable as one with its parent writable
-// (InvalidArgument naming it).
+// second rather than after the fit: `dir` a folder or creatable as one with
+// its parent writable (InvalidArgument naming it), and gnuplot on PATH
+// (FailedPrecondition).
 Status CheckRigid3dPageFolder(const std::string& dir);
 
 // Writes dir/index.html and its figures. Everything is written into a new
