@@ -1,14 +1,18 @@
 #include "benchmarks/figures.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <sstream>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "benchmarks/bench_internal.h"
 #include "src/report/gnuplot.h"
+#include "src/report/html.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace bench {
@@ -151,6 +155,79 @@ Status DrawRunnerScaling(const std::string& gnuplot,
   return Status::Ok();
 }
 
+// The numbers the figures show, as tables: each drawn log's fits (what its
+// Fig. 10 and residual figures draw) and the runtime points.
+std::vector<report::HtmlTable> BenchTables(
+    const BenchReport& report, const std::vector<const PreparedLog*>& logs) {
+  std::vector<report::HtmlTable> tables;
+  for (const PreparedLog* pl : logs) {
+    report::HtmlTable t;
+    t.id = "fits_" + pl->name;
+    t.caption = pl->name + ": fits (± is 1σ)";
+    t.header = {"model", "estimator", "OF (m/s²)", "parameters", "time (ms)"};
+    for (const auto& run : report.runs) {
+      if (run.log_path != pl->path || !run.Usable()) continue;
+      const EstimateResult& r = run.result;
+      std::string values;
+      for (Eigen::Index i = 0; i < r.parameters.size(); ++i) {
+        const auto u = static_cast<std::size_t>(i);
+        const std::string name =
+            u < r.parameter_info.size() ? r.parameter_info[u].name : "p";
+        const std::string unit =
+            u < r.parameter_info.size() ? r.parameter_info[u].unit : "";
+        values +=
+            (i ? ", " : "") + name + " = " + FormatNumber(r.parameters[i], 5);
+        if (i < r.standard_errors.size() &&
+            std::isfinite(r.standard_errors[i])) {
+          values += " ± " + FormatNumber(r.standard_errors[i], 2);
+        }
+        if (!unit.empty() && unit != "1") values += " " + unit;
+      }
+      t.rows.push_back(
+          {r.model,
+           r.estimator,
+           report::HtmlCell(FormatNumber(r.rmse, 6), FormatShortest(r.rmse)),
+           values,
+           report::HtmlCell(FormatNumber(r.wall_time_s * 1e3, 4),
+                            FormatShortest(r.wall_time_s * 1e3))});
+    }
+    if (!t.rows.empty()) tables.push_back(std::move(t));
+  }
+  if (!report.gbench.points.empty()) {
+    report::HtmlTable t;
+    t.id = "gbench_runtime";
+    t.caption = "Runtime versus samples, Google Benchmark (paper model)";
+    t.header = {
+        "estimator", "samples", "wall time of one fit (ms)", "OF (m/s²)"};
+    for (const auto& p : report.gbench.points) {
+      t.rows.push_back(
+          {p.estimator,
+           std::to_string(p.samples),
+           report::HtmlCell(FormatNumber(p.real_time_ms, 4),
+                            FormatShortest(p.real_time_ms)),
+           report::HtmlCell(FormatNumber(p.rmse, 6), FormatShortest(p.rmse))});
+    }
+    tables.push_back(std::move(t));
+  }
+  if (!report.scaling.empty()) {
+    report::HtmlTable t;
+    t.id = "runtime";
+    t.caption = "Runtime versus samples on the log (this run)";
+    t.header = {
+        "model", "estimator", "samples", "wall time of one fit (ms)", "data"};
+    for (const auto& p : report.scaling) {
+      t.rows.push_back({p.model,
+                        p.estimator,
+                        std::to_string(p.samples),
+                        report::HtmlCell(FormatNumber(p.wall_ms, 4),
+                                         FormatShortest(p.wall_ms)),
+                        p.source});
+    }
+    tables.push_back(std::move(t));
+  }
+  return tables;
+}
+
 }  // namespace
 
 Status WriteBenchFigures(const BenchReport& report,
@@ -222,8 +299,11 @@ Status WriteBenchFigures(const BenchReport& report,
         has_gbench,
         &drawn));
   }
-  IMUSYSID_RETURN_IF_ERROR(report::WriteIndexHtml(
-      dir, "imusysid bench (" + report.context.preset + ")", drawn));
+  IMUSYSID_RETURN_IF_ERROR(
+      report::WriteIndexHtml(dir,
+                             "imusysid bench (" + report.context.preset + ")",
+                             drawn,
+                             BenchTables(report, logs)));
   if (figures != nullptr) {
     figures->insert(figures->end(), drawn.begin(), drawn.end());
   }

@@ -12,6 +12,8 @@ packages=(
   libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   gnuplot-nox
+  # The report page's test renders it in a real browser (headless).
+  chromium
 )
 for arg in "$@"; do
   case "$arg" in

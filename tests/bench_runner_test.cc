@@ -21,6 +21,7 @@
 #include "nlohmann/json.hpp"
 #include "src/report/figures.h"
 #include "src/report/gnuplot.h"
+#include "src/tools/format.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -366,6 +367,37 @@ TEST(BenchFigures, IndexShowsEveryFigureAndEveryImageExists) {
   }
   EXPECT_EQ(sources.count("runtime_vs_samples.svg"), 1u);
   EXPECT_EQ(sources.size(), 11u);
+  // The figures' numbers as tables: each log's usable fits with their OF
+  // to the bit (data-value), and one row per runtime point.
+  auto rows_of = [&](const std::string& id) {
+    const auto begin = html.find("<table id=\"" + id + "\">");
+    if (begin == std::string::npos) return std::string();
+    return html.substr(begin, html.find("</table>", begin) - begin);
+  };
+  auto count = [](const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos;
+         at = text.find(what, at + 1)) {
+      ++n;
+    }
+    return n;
+  };
+  for (const PreparedLog& pl : report.logs) {
+    const std::string table = rows_of("fits_" + pl.name);
+    std::size_t usable = 0;
+    for (const auto& run : report.runs) {
+      if (run.log_path != pl.path || !run.Usable()) continue;
+      ++usable;
+      EXPECT_NE(
+          table.find("data-value=\"" + FormatShortest(run.result.rmse) + "\""),
+          std::string::npos)
+          << pl.name << " " << run.result.estimator;
+    }
+    EXPECT_GT(usable, 0u);
+    EXPECT_EQ(count(table, "<tr>") - 1, usable) << pl.name;  // less the header
+  }
+  const std::string runtime = rows_of("runtime");
+  EXPECT_EQ(count(runtime, "<tr>") - 1, report.scaling.size());
 }
 
 TEST(BenchFigures, FitFiguresNeedOnlyTheProblemData) {

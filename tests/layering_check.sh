@@ -30,7 +30,7 @@ check "public headers include only public headers, Eigen and nlohmann_json" \
   'src/|estimators/|benchmarks/|tests/|ceres/|glog/|gflags/' "${public[@]}"
 check "the library does not reach up into the apps or the benchmarks" \
   'src/cli/|benchmarks/|tests/|gflags/' $library
-allowed='src/tools/[a-z0-9_]+\.h|src/report/(figures|gnuplot)\.h' check \
+allowed='src/tools/[a-z0-9_]+\.h|src/report/(figures|gnuplot|html)\.h' check \
   "the benchmark library uses the public headers and the tool helpers only" \
   'src/|estimators/|tests/|gflags/' $bench_lib
 check "benchmark binaries include nothing from the CLI or the tests" \

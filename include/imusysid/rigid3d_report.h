@@ -110,6 +110,26 @@ struct ImuPosition3d {
   bool delay_estimated = false;
   std::size_t samples = 0;
   std::vector<Stretch3d> windows;
+  // The stretches of the log not fitted, each with why (Preprocess3dResult::
+  // dropped), for a timeline of the log.
+  std::vector<Stretch3d> dropped;
+  // Every fitted parameter in the model's order (rigid3d.h), for a caller
+  // that evaluates the model at the fit (the report page's prediction);
+  // empty when the fit failed.
+  Eigen::VectorXd parameters;
+  // Each window fitted alone, as the window-agreement check fits it: its
+  // position and the whole fit's σ̂ scaled to the window's share of the
+  // samples, σ̂·sqrt(samples / window samples), which is what the check
+  // compares against. Only where a window can be fitted on its own (a model
+  // linear outright, 200 samples or more); none when the fit failed.
+  struct WindowEstimate {
+    double t0 = 0.0;
+    double t1 = 0.0;
+    std::size_t samples = 0;
+    Eigen::Vector3d position_m;
+    Eigen::Vector3d stderr_m;
+  };
+  std::vector<WindowEstimate> window_estimates;
   std::vector<std::string> warnings;  // prose, one sentence each
   // From CompareInstances: this IMU's position minus another instance's,
   // on the axes both determine (NaN elsewhere), with its 1σ.

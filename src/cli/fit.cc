@@ -348,6 +348,9 @@ int RunFit(const std::vector<std::string>& positional) {
                           description->default_estimator + " is the default)");
   }
 
+  Status report_flag = CheckReportFlag(three_d);
+  if (!report_flag.ok()) return ReportError(cmd, report_flag);
+
   io.estimator = *options;
   if (FLAGS_estimator == "all") {
     io.all_estimators = true;
@@ -419,6 +422,7 @@ const Command& FitCommand() {
                     "covariance",
                     "use_measured_fz",
                     "plot",
+                    "report",
                     "trace",
                     "emit",
                     "emit_out",

@@ -1,17 +1,28 @@
 #include "src/cli/fit3d.h"
 
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "imusysid/rigid3d_report.h"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/report/rigid3d_page.h"
 
 DEFINE_double(estimator_delay_s,
               std::numeric_limits<double>::quiet_NaN(),
               "--model=rigid3d: how late the log's attitude and velocity "
               "describe the state, s. Default: estimated (0-60 ms).");
+DEFINE_string(report,
+              "",
+              "--model=rigid3d (or rigid3d_imu): write a report page, "
+              "DIR/index.html with SVG figures (gnuplot) and tables: the "
+              "log's timeline, the x/y specific force against the model and "
+              "the residual, the residual's spectrum, the estimates per "
+              "window and IMU with 2-sigma bars, each axis's decision and "
+              "the parameter file (docs/model-3d.md).");
 
 namespace imusysid {
 namespace cli {
@@ -72,7 +83,30 @@ int WriteFit3d(const IdentifySummary& summary,
     if (!s.ok()) return ReportError(kCmd, s);
     std::cerr << "wrote " << emit_out << "\n";
   }
+  if (!FLAGS_report.empty()) {
+    report::Rigid3dPageOptions options;
+    options.cutoff_hz = FLAGS_cutoff_hz;
+    std::string label = std::filesystem::path(summary.source).filename();
+    if (label.empty()) label = summary.source;
+    options.title = "imusysid fit --model=" + summary.model + ": " + label;
+    std::vector<report::Figure> figures;
+    s = report::WriteRigid3dPage(
+        FLAGS_report, {{label, &summary}}, options, &figures);
+    if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
+    std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_report
+              << "/index.html\n";
+  }
   return summary.usable() ? kExitOk : kExitBadInput;
+}
+
+Status CheckReportFlag(bool three_d) {
+  if (FLAGS_report.empty()) return Status::Ok();
+  if (!three_d) {
+    return InvalidArgumentError(
+        "--report draws the page of a 3-D fit (--model=rigid3d or "
+        "rigid3d_imu); for a planar model, --plot=DIR draws its figures");
+  }
+  return report::CheckRigid3dPageFolder(FLAGS_report).WithPrefix("--report");
 }
 
 }  // namespace cli

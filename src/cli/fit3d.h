@@ -10,6 +10,7 @@
 #include "imusysid/autopilot.h"
 #include "imusysid/identify.h"
 #include "imusysid/preprocess3d.h"
+#include "imusysid/status.h"
 
 namespace imusysid {
 namespace cli {
@@ -19,11 +20,17 @@ namespace cli {
 // `inspect` both use it, so inspect shows the windows fit will use.
 Preprocess3dOptions Preprocess3dOptionsFromFlags();
 
-// Writes the 3-D `summary` (to --out or standard output) and the parameter
-// file to `emit_out` (may be empty); returns the process exit code.
+// Writes the 3-D `summary` (to --out or standard output), the parameter
+// file to `emit_out` (may be empty) and, with --report=DIR, the report page;
+// returns the process exit code.
 int WriteFit3d(const IdentifySummary& summary,
                EmitFormat emit,
                const std::string& emit_out);
+
+// --report=DIR before the fit: refused (InvalidArgument) unless the model is
+// 3-D, and checked that DIR can be written and gnuplot is there, so that
+// neither fails only after the fit.
+Status CheckReportFlag(bool three_d);
 
 }  // namespace cli
 }  // namespace imusysid

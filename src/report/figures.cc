@@ -24,29 +24,6 @@ namespace {
 // makes the SVG large.
 constexpr std::size_t kMaxPointsPerSeries = 6000;
 
-std::string HtmlEscape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 std::size_t Stride(std::size_t n) {
   return std::max<std::size_t>(
       1, (n + kMaxPointsPerSeries - 1) / kMaxPointsPerSeries);
@@ -351,20 +328,20 @@ Status WriteFitFigures(const std::string& dir,
 
 Status WriteIndexHtml(const std::string& dir,
                       const std::string& title,
-                      const std::vector<Figure>& figures) {
+                      const std::vector<Figure>& figures,
+                      const std::vector<HtmlTable>& tables) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta "
           "charset=\"utf-8\">\n<title>"
-       << HtmlEscape(title)
-       << "</title>\n<style>body{font-family:sans-serif;max-width:1040px;"
-          "margin:auto}figure{margin:2em 0}img{max-width:100%}"
-          "figcaption{color:#333}</style>\n</head>\n<body>\n<h1>"
-       << HtmlEscape(title) << "</h1>\n";
+       << HtmlEscape(title) << "</title>\n<style>" << HtmlStyle()
+       << "</style>\n</head>\n<body>\n<h1>" << HtmlEscape(title) << "</h1>\n";
   for (const Figure& f : figures) {
     html << "<figure>\n<img src=\"" << HtmlEscape(f.file) << "\" alt=\""
          << HtmlEscape(f.file) << "\">\n<figcaption>" << HtmlEscape(f.caption)
          << "</figcaption>\n</figure>\n";
   }
+  if (!tables.empty()) html << "<h2>Results</h2>\n";
+  for (const HtmlTable& t : tables) html << HtmlTableToString(t);
   html << "</body>\n</html>\n";
   return WriteFileAtomically(dir + "/index.html", html.str());
 }

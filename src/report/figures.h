@@ -16,6 +16,7 @@
 #include "imusysid/result.h"
 #include "imusysid/simulate.h"
 #include "imusysid/status.h"
+#include "src/report/html.h"
 
 namespace imusysid {
 namespace report {
@@ -53,10 +54,12 @@ Status WriteFitFigures(const std::string& dir,
                        const FitFigureOptions& options,
                        std::vector<Figure>* figures = nullptr);
 
-// index.html in dir showing every figure (relative paths) with its caption.
+// index.html in dir showing every figure (relative paths) with its caption,
+// then `tables`: the numbers the figures show, as text.
 Status WriteIndexHtml(const std::string& dir,
                       const std::string& title,
-                      const std::vector<Figure>& figures);
+                      const std::vector<Figure>& figures,
+                      const std::vector<HtmlTable>& tables = {});
 
 }  // namespace report
 }  // namespace imusysid

@@ -76,6 +76,7 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   out.delay_estimated = pre.delay_estimated;
   out.samples = pre.data.size();
   out.windows = pre.windows;
+  out.dropped = pre.dropped;
   const Motion3d& m = pre.data.motion;
   out.signal_rms = std::sqrt(0.5 * (std::pow(RmsAboutMean(m.f[0]), 2) +
                                     std::pow(RmsAboutMean(m.f[1]), 2)));
@@ -91,6 +92,7 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     return out;
   }
   const Eigen::VectorXd& x = result.parameters;
+  out.parameters = x;
   out.position_m = x.head<3>();
   if (result.standard_errors.size() == kNumRigid3dParameters) {
     out.stderr_m = result.standard_errors.head<3>();
@@ -175,8 +177,9 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   // the flight is not one rigid body with one set of parameters (a payload
   // shifted, a bad stretch): the axis is withheld. (Only where a window can
   // be fitted on its own, by a model linear outright: the IMU-only model
-  // integrates across the whole span.)
-  if (pre.windows.size() >= 2) {
+  // integrates across the whole span.) Each window's estimate is kept for
+  // the report page, a single window's too (it is the whole fit's data).
+  {
     std::size_t start = 0;
     for (const Stretch3d& w : pre.windows) {
       const std::size_t end = start + w.samples;
@@ -186,6 +189,9 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
         const Eigen::Vector3d pw = PositionOfFactor(r);
         const double share = std::sqrt(static_cast<double>(out.samples) /
                                        static_cast<double>(w.samples));
+        out.window_estimates.push_back(
+            {w.t0, w.t1, w.samples, pw, out.stderr_m * share});
+        if (pre.windows.size() < 2) break;
         for (int a = 0; a < 3; ++a) {
           const auto i = static_cast<std::size_t>(a);
           const double sw = out.stderr_m[a] * share;
