@@ -145,7 +145,7 @@ struct IdentifySummary {
   bool three_d = false;
 
   // Planar models: one result per estimator, what was fitted, the data (a
-  // 3-D model: the first instance's data, ProblemData::motion).
+  // 3-D model: the first fitted instance's data, ProblemData::motion).
   std::vector<EstimateResult> fits;
   FitContext context;
   std::shared_ptr<const ProblemData> data;

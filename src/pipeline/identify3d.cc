@@ -209,11 +209,12 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         BuiltinEstimators().Create(estimator_name);
     if (!estimator.ok()) return estimator.status();
     auto data = std::make_shared<const ProblemData>(pre.data);
-    // The first instance's data, for a caller that refines the fit.
-    if (summary.data == nullptr) summary.data = data;
     StatusOr<ImuPosition3d> report = FitInstance(
         pre, data, model_name, **estimator, estimator_name, instance, options);
     if (!report.ok()) return report.status();
+    // The first fitted instance's data, for a caller that refines the fit
+    // (or draws it): an instance whose fit failed leaves none behind.
+    if (summary.data == nullptr) summary.data = data;
     if (!damage.empty()) report->warnings.push_back("damaged_log: " + damage);
     summary.imus.push_back(std::move(report).value());
     return Status::Ok();
