@@ -19,6 +19,7 @@
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
+#include "src/io/staging_folder.h"
 
 namespace imusysid {
 namespace cli {
@@ -90,53 +91,7 @@ std::string DataDir() {
 }
 
 // --out without trailing slashes ("out/" and "out" are one folder).
-std::string OutFolder() {
-  std::string out = FLAGS_out;
-  while (out.size() > 1 && out.back() == '/') out.pop_back();
-  return out;
-}
-
-// The results are written into a new folder beside --out and moved into
-// place only when every file was written, so a failing bench leaves the
-// previous results (or nothing), never a partial set. A new --out is the
-// staging folder renamed; into an existing folder the files are moved one
-// by one (each rename atomic), leaving other files there alone.
-StatusOr<std::string> MakeStagingFolder(const std::string& out) {
-  std::error_code ec;
-  const std::filesystem::path parent = std::filesystem::path(out).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (ec) {
-    return InvalidArgumentError("--out: cannot create '" + parent.string() +
-                                "': " + ec.message());
-  }
-  std::string staging = out + ".tmp.XXXXXX";
-  if (mkdtemp(staging.data()) == nullptr) {
-    return InvalidArgumentError("--out: cannot create a folder beside '" + out +
-                                "': " + std::strerror(errno));
-  }
-  return staging;
-}
-
-Status CommitStagingFolder(const std::string& staging, const std::string& out) {
-  std::error_code ec;
-  if (!std::filesystem::exists(out, ec)) {
-    if (std::rename(staging.c_str(), out.c_str()) == 0) return Status::Ok();
-    return IoError("cannot move the results into '" + out +
-                   "': " + std::strerror(errno));
-  }
-  for (const auto& entry : std::filesystem::directory_iterator(staging, ec)) {
-    const std::filesystem::path to =
-        std::filesystem::path(out) / entry.path().filename();
-    std::filesystem::rename(entry.path(), to, ec);
-    if (ec) {
-      return IoError("cannot move '" + entry.path().string() + "' to '" +
-                     to.string() + "': " + ec.message());
-    }
-  }
-  if (ec) return IoError("cannot list '" + staging + "': " + ec.message());
-  std::filesystem::remove_all(staging, ec);
-  return Status::Ok();
-}
+std::string OutFolder() { return internal::WithoutTrailingSlashes(FLAGS_out); }
 
 int RunBench(const std::vector<std::string>& positional) {
   const std::string cmd = "bench";
@@ -230,8 +185,11 @@ int RunBench(const std::vector<std::string>& positional) {
 
   if (!FLAGS_out.empty()) {
     const std::string out = OutFolder();
-    StatusOr<std::string> staging = MakeStagingFolder(out);
-    if (!staging.ok()) return ReportError(cmd, staging.status());
+    // Written beside --out and moved into place only when complete.
+    StatusOr<std::string> staging = internal::MakeStagingFolder(out);
+    if (!staging.ok()) {
+      return ReportError(cmd, staging.status().WithPrefix("--out"));
+    }
     auto fail = [&](const Status& status) {
       std::error_code ec;
       std::filesystem::remove_all(*staging, ec);
@@ -250,7 +208,7 @@ int RunBench(const std::vector<std::string>& positional) {
       }
       figure_count = figures.size();
     }
-    s = CommitStagingFolder(*staging, out);
+    s = internal::CommitStagingFolder(*staging, out);
     if (!s.ok()) return fail(s);
     if (figure_count > 0) {
       std::cerr << "wrote " << figure_count << " figures and " << FLAGS_out

@@ -21,6 +21,7 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/rigid3d_report.h"
+#include "src/io/staging_folder.h"
 #include "src/report/gnuplot.h"
 #include "src/report/html.h"
 #include "src/tools/format.h"
@@ -42,61 +43,6 @@ HtmlCell MmCell(double metres) {
 HtmlCell NumberCell(double value, int digits) {
   if (!std::isfinite(value)) return HtmlCell("–", "null");
   return HtmlCell(FormatNumber(value, digits), FormatShortest(value));
-}
-
-// --- Staging: the page is written into a folder beside `dir`, then moved.
-
-std::string WithoutTrailingSlashes(std::string dir) {
-  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
-  return dir;
-}
-
-StatusOr<std::string> MakeStaging(const std::string& out) {
-  std::error_code ec;
-  const std::filesystem::path parent = std::filesystem::path(out).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-  if (ec) {
-    return InvalidArgumentError("cannot create '" + parent.string() +
-                                "': " + ec.message());
-  }
-  std::string staging = out + ".tmp.XXXXXX";
-  if (mkdtemp(staging.data()) == nullptr) {
-    return InvalidArgumentError("cannot create a folder beside '" + out +
-                                "': " + std::strerror(errno));
-  }
-  // mkdtemp's 0700 would become the page's folder: readable by all, as a
-  // folder made by mkdir is under the usual umask.
-  using std::filesystem::perms;
-  std::filesystem::permissions(staging,
-                               perms::owner_all | perms::group_read |
-                                   perms::group_exec | perms::others_read |
-                                   perms::others_exec,
-                               ec);
-  return staging;
-}
-
-Status CommitStaging(const std::string& staging, const std::string& out) {
-  std::error_code ec;
-  if (!std::filesystem::exists(out, ec)) {
-    std::filesystem::rename(staging, out, ec);
-    if (ec) {
-      return IoError("cannot move the report into '" + out +
-                     "': " + ec.message());
-    }
-    return Status::Ok();
-  }
-  for (const auto& entry : std::filesystem::directory_iterator(staging, ec)) {
-    const std::filesystem::path to =
-        std::filesystem::path(out) / entry.path().filename();
-    std::filesystem::rename(entry.path(), to, ec);
-    if (ec) {
-      return IoError("cannot move '" + entry.path().string() + "' to '" +
-                     to.string() + "': " + ec.message());
-    }
-  }
-  if (ec) return IoError("cannot list '" + staging + "': " + ec.message());
-  std::filesystem::remove_all(staging, ec);
-  return Status::Ok();
 }
 
 // --- The fitted samples of a flight's data and the model at the fit.
@@ -909,7 +855,7 @@ void AddParameterFiles(const std::vector<Rigid3dPageFlight>& flights,
 }  // namespace
 
 Status CheckRigid3dPageFolder(const std::string& dir_in) {
-  const std::string dir = WithoutTrailingSlashes(dir_in);
+  const std::string dir = internal::WithoutTrailingSlashes(dir_in);
   if (dir.empty()) return InvalidArgumentError("no folder given");
   std::error_code ec;
   const auto type = std::filesystem::status(dir, ec).type();
@@ -962,8 +908,8 @@ Status WriteRigid3dPage(const std::string& dir_in,
   }
   const std::size_t max_points =
       std::max<std::size_t>(options.max_points_per_line, 100);
-  const std::string out = WithoutTrailingSlashes(dir_in);
-  StatusOr<std::string> staging = MakeStaging(out);
+  const std::string out = internal::WithoutTrailingSlashes(dir_in);
+  StatusOr<std::string> staging = internal::MakeStagingFolder(out);
   if (!staging.ok()) return staging.status();
   const std::string& dir = *staging;
   auto fail = [&](const Status& status) {
@@ -1053,7 +999,7 @@ Status WriteRigid3dPage(const std::string& dir_in,
   if (!st.ok()) return fail(st);
   // The gnuplot scripts and data stay beside the figures (as --plot leaves
   // them), so a figure can be redrawn or restyled.
-  st = CommitStaging(dir, out);
+  st = internal::CommitStagingFolder(dir, out);
   if (!st.ok()) return fail(st);
   if (figures != nullptr) {
     figures->insert(figures->end(), page.figures.begin(), page.figures.end());
