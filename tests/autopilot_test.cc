@@ -9,10 +9,13 @@
 #include <ostream>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gtest/gtest.h"
 #include "imusysid/parameters.h"
 #include "imusysid/result.h"
+#include "imusysid/rigid3d_report.h"
 #include "src/models/paper_model.h"
 
 namespace imusysid {
@@ -276,6 +279,87 @@ TEST(Autopilot, RefusesWhatItCannotMap) {
   EXPECT_EQ(EmitFormatFromString("px4").value(), EmitFormat::kPx4);
   EXPECT_EQ(EmitFormatFromString("ardupilot").value(), EmitFormat::kArduPilot);
   EXPECT_FALSE(EmitFormatFromString("PX4").ok());
+}
+
+// The 3-D emit (Rigid3dAutopilotParameters) name by name: three IMUs at
+// distinct positions, with IMU 1's y withheld. ArduPilot numbers INS_POSn
+// from 1, so instance k is INS_POS{k+1}; PX4 has one EKF2_IMU_POS_* set,
+// for the IMU its estimator uses (instance 0). Values are the reports' FRD
+// positions as they are, in m; the file rounds them to 0.1 mm.
+std::vector<ImuPosition3d> ThreeImus() {
+  std::vector<ImuPosition3d> imus(3);
+  for (int k = 0; k < 3; ++k) {
+    ImuPosition3d& r = imus[static_cast<std::size_t>(k)];
+    r.instance = k;
+    r.source = "three.bin";
+    r.estimator = "linear";
+    r.usable = true;
+    r.determined = {true, true, true};
+    // x = 10k + 1 mm, y = −(10k + 2) mm, z = 10k + 3 mm.
+    r.position_m =
+        Eigen::Vector3d(10 * k + 1, -(10 * k + 2), 10 * k + 3) * 1e-3;
+    r.stderr_m = Eigen::Vector3d(1, 2, 3) * 1e-4 * (k + 1);
+  }
+  imus[1].determined[1] = false;
+  imus[1].advice[1] = "y is not determined";
+  return imus;
+}
+
+TEST(Autopilot3d, ArduPilotNamesEveryInstanceFromOne) {
+  const std::vector<ImuPosition3d> imus = ThreeImus();
+  const auto p = Rigid3dAutopilotParameters(imus, EmitFormat::kArduPilot);
+  ASSERT_TRUE(p.ok()) << p.status().ToString();
+  std::vector<std::pair<std::string, double>> expected;
+  for (int k = 0; k < 3; ++k) {
+    for (int a = 0; a < 3; ++a) {
+      if (k == 1 && a == 1) continue;
+      expected.emplace_back(
+          "INS_POS" + std::to_string(k + 1) + "_" + static_cast<char>('X' + a),
+          imus[static_cast<std::size_t>(k)].position_m[a]);
+    }
+  }
+  ASSERT_EQ(p->params.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(p->params[i].first, expected[i].first);
+    EXPECT_EQ(p->params[i].second, expected[i].second) << expected[i].first;
+    EXPECT_EQ(p->stderrs[i].first, expected[i].first);
+  }
+  EXPECT_DOUBLE_EQ(p->stderrs[0].second, 1e-4);      // INS_POS1_X
+  EXPECT_DOUBLE_EQ(p->stderrs.back().second, 9e-4);  // INS_POS3_Z
+  EXPECT_EQ(p->omitted_axis, "INS_POS2_Y");
+  EXPECT_NE(p->snippet.find("\nINS_POS1_X,0.0010\n"), std::string::npos)
+      << p->snippet;
+  EXPECT_NE(p->snippet.find("\nINS_POS2_Z,0.0130\n"), std::string::npos);
+  EXPECT_NE(p->snippet.find("\nINS_POS3_Y,-0.0220\n"), std::string::npos);
+  EXPECT_NE(p->snippet.find("#   INS_POS2_Y not written: y is not determined"),
+            std::string::npos);
+  EXPECT_EQ(p->snippet.find("INS_POS0"), std::string::npos);
+  EXPECT_EQ(p->snippet.find("INS_POS4"), std::string::npos);
+}
+
+TEST(Autopilot3d, Px4WritesTheFirstInstanceOnly) {
+  const std::vector<ImuPosition3d> imus = ThreeImus();
+  const auto p = Rigid3dAutopilotParameters(imus, EmitFormat::kPx4);
+  ASSERT_TRUE(p.ok()) << p.status().ToString();
+  ASSERT_EQ(p->params.size(), 3u);
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    EXPECT_EQ(p->params[i].first,
+              std::string("EKF2_IMU_POS_") + static_cast<char>('X' + a));
+    EXPECT_EQ(p->params[i].second, imus[0].position_m[a]);
+  }
+  EXPECT_NE(p->snippet.find("1\t1\tEKF2_IMU_POS_Y\t-0.0020\t9\n"),
+            std::string::npos)
+      << p->snippet;
+  EXPECT_TRUE(p->omitted_axis.empty()) << p->omitted_axis;
+  // Instance 0 withheld on y: PX4's y is not written, whatever the others.
+  std::vector<ImuPosition3d> first_withheld = imus;
+  first_withheld[0].determined[1] = false;
+  const auto q = Rigid3dAutopilotParameters(first_withheld, EmitFormat::kPx4);
+  ASSERT_TRUE(q.ok());
+  ASSERT_EQ(q->params.size(), 2u);
+  EXPECT_EQ(q->params[1].first, "EKF2_IMU_POS_Z");
+  EXPECT_EQ(q->omitted_axis, "EKF2_IMU_POS_Y");
 }
 
 }  // namespace

@@ -84,6 +84,29 @@ TEST(Calibration3d, FindsTheWindTheFlightWasFlownIn) {
   EXPECT_NEAR(d.calibration.wind_e, 2.1, kToleranceMps);
 }
 
+// The delay is at the limit (no position will be given) when the best fit
+// lies at the longest delay searched: a 37 ms delay searched up to 40 ms is
+// found inside the range, searched up to 30 ms it is at the limit. (The
+// wind is given, as the flight's, so only the delay is searched.)
+TEST(Calibration3d, DelayBeyondTheRangeSearchedIsAtTheLimit) {
+  const FlightLog log = FigureEight(0.037, -1.2, 2.1);
+  for (const double longest : {0.04, 0.03}) {
+    Preprocess3dOptions options;
+    options.max_estimator_delay_s = longest;
+    options.quadratic_wind_n = -1.2;
+    options.quadratic_wind_e = 2.1;
+    const Calibrated c = Calibrate(log, options);
+    EXPECT_TRUE(c.calibration.delay_estimated);
+    EXPECT_NEAR(c.calibration.longest_delay_searched_s, longest, 1e-12);
+    const bool at_limit = longest < 0.037;
+    EXPECT_EQ(c.calibration.delay_at_limit, at_limit) << longest;
+    EXPECT_NEAR(c.calibration.estimator_delay_s,
+                at_limit ? longest : 0.037,
+                at_limit ? 1e-12 : 1.0 / 400)
+        << longest;
+  }
+}
+
 // A delay and wind given pass through untouched, and Preprocess3d then
 // builds exactly the data Condition3d does (nothing is fitted).
 TEST(Calibration3d, GivenDelayAndWindPassThrough) {

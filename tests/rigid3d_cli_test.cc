@@ -3,7 +3,10 @@
 // standard errors, warnings as strings), --imu=all, refusals with exit 2,
 // and the real logs with no window flags.
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 
@@ -50,6 +53,50 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
   }
   EXPECT_THAT(r.err, HasSubstr("flight window"));
   EXPECT_THAT(r.err, HasSubstr("estimator delay"));
+  // Per axis the decision, its reason and evidence beside the raw estimate
+  // and σ̂ in its two parts (docs/model-3d.md, "The decisions in JSON").
+  ASSERT_EQ(j["decisions"].size(), 3u);
+  const double signal = j["signal_rms_m_s2"].get<double>();
+  for (int a = 0; a < 3; ++a) {
+    const nlohmann::json& d = j["decisions"][a];
+    EXPECT_EQ(d["axis"], std::string(1, static_cast<char>('x' + a)));
+    EXPECT_EQ(d["decision"], "given");
+    EXPECT_EQ(d["reason"], "given");
+    EXPECT_EQ(d["advice"], "");
+    EXPECT_EQ(d["fitted_m"], j["fitted_position_frd_m"][a]);
+    EXPECT_EQ(d["fitted_m"], j["imu_position_frd_m"][a]);
+    EXPECT_EQ(d["stderr_m"], j["imu_position_frd_stderr_m"][a]);
+    const double statistical = d["stderr_statistical_m"].get<double>();
+    EXPECT_EQ(d["stderr_systematic_m"].get<double>(), 0.25e-3);
+    EXPECT_GT(statistical, 0.0);
+    EXPECT_NEAR(
+        std::hypot(statistical, 0.25e-3), d["stderr_m"].get<double>(), 1e-15);
+    // The gates in the order they apply, every one passed, each with the
+    // number it judged and its limit.
+    const nlohmann::json& e = d["evidence"];
+    ASSERT_GE(e.size(), 4u);
+    const char* const gates[] = {"delay_at_limit",
+                                 "unexplained_fraction",
+                                 "stderr",
+                                 "abs_position",
+                                 "window_agreement"};
+    for (std::size_t g = 0; g < e.size(); ++g) {
+      EXPECT_EQ(e[g]["gate"], gates[g]);
+      EXPECT_EQ(e[g]["passed"], true) << e[g];
+    }
+    EXPECT_EQ(e[0]["statistic"], j["estimator_delay_s"]);
+    EXPECT_NEAR(e[0]["threshold"].get<double>(), 0.06, 1e-12);
+    EXPECT_NEAR(e[1]["statistic"].get<double>(),
+                j["rmse_m_s2"].get<double>() / signal,
+                1e-12);
+    EXPECT_EQ(e[1]["threshold"].get<double>(), 0.3);
+    EXPECT_EQ(e[2]["statistic"], j["imu_position_frd_stderr_m"][a]);
+    EXPECT_EQ(e[2]["threshold"].get<double>(), 0.005);
+    EXPECT_NEAR(e[3]["statistic"].get<double>(),
+                std::abs(j["fitted_position_frd_m"][a].get<double>()),
+                1e-15);
+    EXPECT_EQ(e[3]["threshold"].get<double>(), 0.5);
+  }
 }
 
 TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
@@ -70,6 +117,119 @@ TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
     advised = advised || w.get<std::string>().find("roll") != std::string::npos;
   }
   EXPECT_TRUE(advised) << r.out;
+  // The withheld y: its reason, the σ̂ beyond its limit, and the value it
+  // was fitted at all the same.
+  const nlohmann::json& y = j["decisions"][1];
+  EXPECT_EQ(y["decision"], "withheld");
+  EXPECT_EQ(y["reason"], "stderr");
+  EXPECT_EQ(y["advice"], j["advice"][1]);
+  EXPECT_TRUE(y["fitted_m"].is_number());
+  EXPECT_EQ(y["fitted_m"], j["fitted_position_frd_m"][1]);
+  const nlohmann::json& gate = y["evidence"][2];
+  EXPECT_EQ(gate["gate"], "stderr");
+  EXPECT_EQ(gate["passed"], false);
+  EXPECT_GT(gate["statistic"].get<double>(), 0.005);
+  EXPECT_EQ(j["decisions"][0]["decision"], "given");
+}
+
+// The emitted parameters of a log with three IMUs, name by name: each
+// instance's JSON entry carries the one emit object, whose values are each
+// instance's imu_position_frd_m (FRD, m, as the autopilots take them), and
+// the file's rows say the same to 0.1 mm. `names(k, a)` is the parameter
+// of instance k's axis a, "" for none.
+void ExpectEmitMatchesPositions(
+    const nlohmann::json& j,
+    const std::function<std::string(int, int)>& names,
+    const std::function<std::string(const std::string&, double)>& row) {
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 3u);
+  const nlohmann::json& emit = j[0]["emit"];
+  std::size_t written = 0;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(j[k]["instance"], k);
+    EXPECT_EQ(j[k]["emit"], emit) << k;
+    for (int a = 0; a < 3; ++a) {
+      const std::string name = names(k, a);
+      if (name.empty()) continue;
+      ASSERT_TRUE(j[k]["imu_position_frd_m"][a].is_number()) << name;
+      ASSERT_TRUE(emit["params"].contains(name)) << name << emit;
+      EXPECT_EQ(emit["params"][name], j[k]["imu_position_frd_m"][a]) << name;
+      EXPECT_EQ(emit["stderr"][name], j[k]["imu_position_frd_stderr_m"][a]);
+      EXPECT_THAT(emit["snippet"].get<std::string>(),
+                  HasSubstr(row(name, emit["params"][name].get<double>())));
+      ++written;
+    }
+  }
+  EXPECT_EQ(emit["params"].size(), written) << emit["params"];
+}
+
+std::string Fixed4(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.4f", v);
+  return text;
+}
+
+// ArduPilot DataFlash, every IMU at 400 Hz: INS_POS1..3 for instances 0..2,
+// every axis determined, each value within 1.5 mm (rigid3d_test.cc's
+// tolerance) of the simulator's truth for that instance.
+TEST(Rigid3dCli, ArduPilotEmitNamesEveryInstance) {
+  const std::string dir = testing::MakeTempDir();
+  ASSERT_EQ(RunCli("simulate --scenario=figure8_3d --out=" + dir + "/F.bin")
+                .exit_code,
+            0);
+  const auto r = RunCli("fit --log=" + dir +
+                        "/F.bin --model=rigid3d --emit=ardupilot "
+                        "--format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ExpectEmitMatchesPositions(
+      j,
+      [](int k, int a) {
+        return "INS_POS" + std::to_string(k + 1) + "_" +
+               static_cast<char>('X' + a);
+      },
+      [](const std::string& name, double v) {
+        return "\n" + name + "," + Fixed4(v) + "\n";
+      });
+  // Simulator3dOptions::DefaultImus.
+  const double truth[3][3] = {
+      {0.05, -0.02, -0.03}, {-0.04, 0.03, 0.02}, {0.01, 0.06, -0.05}};
+  for (int k = 0; k < 3; ++k) {
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(
+          j[k]["imu_position_frd_m"][a].get<double>(), truth[k][a], 1.5e-3)
+          << k << "/" << a;
+    }
+  }
+}
+
+// PX4 ULog as PX4's default profile logs it: IMU 0 fitted, 1 and 2 skipped
+// (1 Hz); EKF2_IMU_POS_X/Y/Z are IMU 0's, and nothing else is written.
+TEST(Rigid3dCli, Px4EmitIsTheFirstInstance) {
+  const std::string dir = testing::MakeTempDir();
+  ASSERT_EQ(RunCli("simulate --scenario=figure8_3d --out=" + dir + "/F.ulg")
+                .exit_code,
+            0);
+  const auto r = RunCli("fit --log=" + dir +
+                        "/F.ulg --model=rigid3d --emit=px4 --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 3u);
+  EXPECT_EQ(j[1]["fitted"], false);
+  EXPECT_EQ(j[2]["fitted"], false);
+  const nlohmann::json& emit = j[0]["emit"];
+  ASSERT_EQ(emit["params"].size(), 3u) << emit["params"];
+  for (int a = 0; a < 3; ++a) {
+    const std::string name =
+        std::string("EKF2_IMU_POS_") + static_cast<char>('X' + a);
+    ASSERT_TRUE(j[0]["imu_position_frd_m"][a].is_number()) << name;
+    EXPECT_EQ(emit["params"][name], j[0]["imu_position_frd_m"][a]) << name;
+    EXPECT_THAT(
+        emit["snippet"].get<std::string>(),
+        HasSubstr("1\t1\t" + name + "\t" +
+                  Fixed4(emit["params"][name].get<double>()) + "\t9\n"));
+  }
 }
 
 TEST(Rigid3dCli, HoverIsRefusedWithExitTwo) {

@@ -7,6 +7,7 @@
 #include "imusysid/rigid3d.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -23,6 +24,7 @@
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
+#include "src/report/uncertainty3d.h"
 
 namespace imusysid {
 namespace {
@@ -347,6 +349,285 @@ TEST(Rigid3d, WindIsReportedOnlyWhereTheDragDeterminesIt) {
   EXPECT_TRUE(Rigid3dToJson(far)["wind_ne_m_s"][0].is_null());
   EXPECT_TRUE(report(0.0009, 1.8).wind_ne_m_s.array().isNaN().all());
   EXPECT_TRUE(report(-0.09, 1.8).wind_ne_m_s.array().isNaN().all());
+}
+
+// The figure-eight's one-IMU data as Preprocess3d makes them, once per
+// binary: what the gate tests below judge hand-made fits on.
+const Preprocess3dResult& FigureEightData() {
+  static const Preprocess3dResult* const pre = [] {
+    StatusOr<Preprocess3dResult> p =
+        Preprocess3d(OneImuLog("figure8_3d"), Preprocess3dOptions());
+    EXPECT_TRUE(p.ok()) << p.status().ToString();
+    return new Preprocess3dResult(p.ok() ? *p : Preprocess3dResult());
+  }();
+  return *pre;
+}
+
+// A converged rigid3d fit at position `p` with HAC σ̂ `se` and RMSE `rmse`
+// (the nuisance terms zero): the numbers each gate judges, set outright.
+EstimateResult GateFit(const Eigen::Vector3d& p,
+                       const Eigen::Vector3d& se,
+                       double rmse) {
+  EstimateResult fit;
+  fit.estimator = "linear";
+  fit.model = kRigid3dModelName;
+  fit.termination = Termination::kConverged;
+  fit.parameters = Eigen::VectorXd::Zero(kNumRigid3dParameters);
+  fit.parameters.head<3>() = p;
+  fit.standard_errors = Eigen::VectorXd::Constant(kNumRigid3dParameters, 1e-3);
+  fit.standard_errors.head<3>() = se;
+  fit.rmse = rmse;
+  return fit;
+}
+
+// The evidence of gate `name` on `axis`; fails the test when there is none.
+Rigid3dGate GateOf(const ImuPosition3d& r, int axis, const std::string& name) {
+  for (const Rigid3dGate& g :
+       r.decisions[static_cast<std::size_t>(axis)].evidence) {
+    if (g.gate == name) return g;
+  }
+  ADD_FAILURE() << "no " << name << " gate on axis " << axis;
+  return Rigid3dGate();
+}
+
+// The truth of the figure-eight's IMU 1, where the hand-made fits sit.
+const Eigen::Vector3d kGateTruthM(0.05, -0.02, -0.03);
+
+// The RMSE a hand-made fit needs to leave `fraction` of the data's x/y
+// signal unexplained.
+double RmseForFraction(const Preprocess3dResult& pre, double fraction) {
+  const ImuPosition3d probe = Rigid3dReport(
+      GateFit(kGateTruthM, Eigen::Vector3d::Constant(1e-3), 0.0), pre, 0);
+  EXPECT_GT(probe.signal_rms, 0.1);  // m/s²: the figure-eight moves
+  return fraction * probe.signal_rms;
+}
+
+// σ̂ of 4.5 mm gives the axis, 5.5 mm withholds it (max_stderr_m 5 mm);
+// σ̂ is the HAC's (or the larger jackknife's) with the 0.25 mm floor in
+// quadrature, shown apart as the statistical and systematic parts.
+TEST(Rigid3dGates, StderrGateIsAtFiveMillimetres) {
+  const Preprocess3dResult& pre = FigureEightData();
+  const Rigid3dReportOptions defaults;
+  ASSERT_EQ(defaults.max_stderr_m, 0.005);
+  const double floor = defaults.model_error_floor_m;
+  const double rmse = RmseForFraction(pre, 0.1);
+  for (const double total : {0.0045, 0.0055}) {
+    const double hac = std::sqrt(total * total - floor * floor);
+    const ImuPosition3d r = Rigid3dReport(
+        GateFit(kGateTruthM, Eigen::Vector3d::Constant(hac), rmse),
+        pre,
+        0,
+        defaults);
+    const bool inside = total < defaults.max_stderr_m;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      EXPECT_EQ(r.determined[i], inside) << total << " axis " << a;
+      EXPECT_EQ(r.decisions[i].reason, inside ? "given" : "stderr");
+      EXPECT_NEAR(r.stderr_m[a], total, 1e-15);
+      EXPECT_NEAR(r.decisions[i].stderr_statistical_m, hac, 1e-15);
+      EXPECT_EQ(r.decisions[i].stderr_systematic_m, floor);
+      const Rigid3dGate g = GateOf(r, a, "stderr");
+      EXPECT_NEAR(g.statistic, total, 1e-15);
+      EXPECT_EQ(g.threshold, 0.005);
+      EXPECT_EQ(g.passed, inside);
+    }
+    EXPECT_EQ(Rigid3dToJson(r)["imu_position_frd_m"][0].is_null(), !inside);
+  }
+  // The jackknife's σ̂ where it is the larger: 4 mm of HAC widened to
+  // 5.2 mm withholds; a jackknife smaller than the HAC changes nothing.
+  Rigid3dReportOptions widened;
+  widened.jackknife_stderr_m = Eigen::Vector3d(0.0052, 0.001, 0.0052);
+  const ImuPosition3d r = Rigid3dReport(
+      GateFit(kGateTruthM, Eigen::Vector3d::Constant(0.004), rmse),
+      pre,
+      0,
+      widened);
+  EXPECT_FALSE(r.determined[0]);
+  EXPECT_TRUE(r.determined[1]);
+  EXPECT_EQ(r.decisions[0].stderr_statistical_m, 0.0052);
+  EXPECT_EQ(r.decisions[1].stderr_statistical_m, 0.004);
+  EXPECT_NEAR(r.stderr_m[0], std::hypot(0.0052, floor), 1e-15);
+}
+
+// RMSE at 27 % of the x/y signal gives every axis, at 33 % none
+// (max_unexplained_fraction 0.3), with one warning for the log.
+TEST(Rigid3dGates, UnexplainedFractionGateIsAtThirtyPercent) {
+  const Preprocess3dResult& pre = FigureEightData();
+  ASSERT_EQ(Rigid3dReportOptions().max_unexplained_fraction, 0.3);
+  for (const double fraction : {0.27, 0.33}) {
+    const ImuPosition3d r =
+        Rigid3dReport(GateFit(kGateTruthM,
+                              Eigen::Vector3d::Constant(1e-3),
+                              RmseForFraction(pre, fraction)),
+                      pre,
+                      0);
+    const bool inside = fraction < 0.3;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      EXPECT_EQ(r.determined[i], inside) << fraction << " axis " << a;
+      EXPECT_EQ(r.decisions[i].reason,
+                inside ? "given" : "unexplained_fraction");
+      const Rigid3dGate g = GateOf(r, a, "unexplained_fraction");
+      EXPECT_NEAR(g.statistic, fraction, 1e-12);
+      EXPECT_EQ(g.threshold, 0.3);
+      EXPECT_EQ(g.passed, inside);
+    }
+    EXPECT_EQ(r.warnings.size(), inside ? 0u : 1u);
+  }
+}
+
+// |p| of 0.45 m is given, 0.55 m withheld (max_abs_position_m 0.5), on
+// either side of the centre of mass.
+TEST(Rigid3dGates, AbsPositionGateIsAtHalfAMetre) {
+  const Preprocess3dResult& pre = FigureEightData();
+  ASSERT_EQ(Rigid3dReportOptions().max_abs_position_m, 0.5);
+  const double rmse = RmseForFraction(pre, 0.1);
+  for (const double size : {0.45, 0.55}) {
+    const ImuPosition3d r =
+        Rigid3dReport(GateFit(Eigen::Vector3d(size, -size, size),
+                              Eigen::Vector3d::Constant(1e-3),
+                              rmse),
+                      pre,
+                      0);
+    const bool inside = size < 0.5;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      EXPECT_EQ(r.determined[i], inside) << size << " axis " << a;
+      EXPECT_EQ(r.decisions[i].reason, inside ? "given" : "abs_position");
+      const Rigid3dGate g = GateOf(r, a, "abs_position");
+      EXPECT_NEAR(g.statistic, size, 1e-15);
+      EXPECT_EQ(g.threshold, 0.5);
+      EXPECT_EQ(g.passed, inside);
+    }
+  }
+}
+
+// A delay at the end of the range searched withholds every axis of a fit
+// that passes every other gate; the evidence is the delay against the
+// longest searched (60 ms by default).
+TEST(Rigid3dGates, DelayAtTheLimitWithholdsEveryAxis) {
+  Preprocess3dResult pre = FigureEightData();
+  ASSERT_TRUE(pre.delay_estimated);
+  EXPECT_NEAR(pre.longest_delay_searched_s, 0.06, 1e-12);
+  const double rmse = RmseForFraction(pre, 0.1);
+  for (const bool at_limit : {false, true}) {
+    pre.delay_at_limit = at_limit;
+    const ImuPosition3d r = Rigid3dReport(
+        GateFit(kGateTruthM, Eigen::Vector3d::Constant(1e-3), rmse), pre, 0);
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      EXPECT_EQ(r.determined[i], !at_limit) << a;
+      EXPECT_EQ(r.decisions[i].reason, at_limit ? "delay_at_limit" : "given");
+      const Rigid3dGate g = GateOf(r, a, "delay_at_limit");
+      EXPECT_EQ(g.statistic, pre.estimator_delay_s);
+      EXPECT_EQ(g.threshold, pre.longest_delay_searched_s);
+      EXPECT_EQ(g.passed, !at_limit);
+    }
+  }
+}
+
+// The figure-eight's flight cut into two windows of equal length, each
+// fitted alone: an axis is withheld when a window's own fit is further from
+// the whole's than 4σ̂ (scaled to its share of the samples) and 5 mm. The
+// whole flight's position is set so the further window sits at 0.9 and 1.1
+// times each limit in turn.
+TEST(Rigid3dGates, WindowAgreementGateIsAtFourSigmaAndFiveMillimetres) {
+  Preprocess3dResult pre = FigureEightData();
+  const std::size_t n = pre.data.size() / 2 * 2;
+  pre.data = SelectSamples(pre.data, 0, n).value();
+  const std::size_t half = n / 2;
+  Stretch3d first, second;
+  first.t0 = pre.data.t_s.front();
+  first.t1 = pre.data.t_s[half - 1];
+  first.samples = half;
+  second.t0 = pre.data.t_s[half];
+  second.t1 = pre.data.t_s.back();
+  second.samples = half;
+  pre.windows = {first, second};
+  // Each half's own position, as the report fits it.
+  std::array<Eigen::Vector3d, 2> own;
+  for (std::size_t k = 0; k < 2; ++k) {
+    Eigen::MatrixXd r;
+    ASSERT_TRUE(internal::SliceFactor(
+        kRigid3dModelName, pre.data, k * half, (k + 1) * half, &r));
+    const Eigen::Index m = r.cols() - 1;
+    own[k] = r.topLeftCorner(m, m)
+                 .colPivHouseholderQr()
+                 .solve(r.col(m).head(m))
+                 .head<3>();
+    // Half a flight, the first without the doublets: 4.0 mm off on x.
+    EXPECT_NEAR(own[k][0], kGateTruthM[0], 6e-3) << k;
+  }
+  const double rmse = RmseForFraction(pre, 0.1);
+  const double share = std::sqrt(2.0);  // each window holds half the samples
+  const std::size_t further = own[1][0] > own[0][0] ? 1 : 0;
+  Rigid3dReportOptions options;
+  options.model_error_floor_m = 0.0;  // σ̂ as set
+  // {σ̂ of the whole, difference of the further window}: the σ̂ limit (4σ̂
+  // scaled = 12 mm, beyond 5 mm) and then the 5 mm one (4σ̂ scaled 2 mm).
+  struct Case {
+    double sw;
+    double difference;
+    bool inside;
+  };
+  for (const Case c : {Case{0.003, 0.9 * 0.012, true},
+                       Case{0.003, 1.1 * 0.012, false},
+                       Case{0.0005, 0.9 * 0.005, true},
+                       Case{0.0005, 1.1 * 0.005, false}}) {
+    // x below both windows, so the further one differs by `difference`;
+    // y and z at the windows' mean.
+    Eigen::Vector3d p = 0.5 * (own[0] + own[1]);
+    p[0] = own[further][0] - c.difference;
+    const double se = c.sw / share;
+    const ImuPosition3d r = Rigid3dReport(
+        GateFit(p, Eigen::Vector3d::Constant(se), rmse), pre, 0, options);
+    SCOPED_TRACE(::testing::Message()
+                 << "sigma " << c.sw << " difference " << c.difference);
+    EXPECT_EQ(r.determined[0], c.inside);
+    EXPECT_EQ(r.decisions[0].reason, c.inside ? "given" : "window_agreement");
+    EXPECT_TRUE(r.determined[1] && r.determined[2]);
+    const Rigid3dGate g = GateOf(r, 0, "window_agreement");
+    EXPECT_NEAR(g.difference_m, c.difference, 1e-12);
+    EXPECT_NEAR(g.statistic, c.difference / c.sw, 1e-9);
+    EXPECT_EQ(g.threshold, 4.0);
+    EXPECT_EQ(g.min_difference_m, 0.005);
+    EXPECT_EQ(g.window_t0_s, pre.windows[further].t0);
+    EXPECT_EQ(g.passed, c.inside);
+    if (!c.inside) {
+      EXPECT_THAT(r.advice[0], ::testing::HasSubstr("is withheld: the window"));
+    }
+  }
+}
+
+// One estimator publishes for every IMU of a log, so a delay found at the
+// limit on the first instance withholds every instance, each with that
+// limit as its evidence. The figure-eight's DataFlash log (three IMUs)
+// lines up best at a 4.2 ms delay (its ATT and XKF1 carry the estimator's
+// own times); searched only up to 2.5 ms, the best is at the limit.
+TEST(Rigid3dGates, DelayAtTheLimitOnTheFirstInstanceWithholdsEveryInstance) {
+  const Simulator3dOptions o = Scenario("figure8_3d");
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok()) << flight.status().ToString();
+  StatusOr<std::string> bin = FormatSimulated3dDataFlash(o, *flight);
+  ASSERT_TRUE(bin.ok()) << bin.status().ToString();
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  options.preprocess3d.max_estimator_delay_s = 0.0025;
+  StatusOr<IdentifySummary> summary =
+      Identify(IdentifyInput::LogBytes(*bin, "F.bin"), options);
+  ASSERT_TRUE(summary.ok()) << summary.status().ToString();
+  ASSERT_EQ(summary->imus.size(), 3u);
+  for (const ImuPosition3d& r : summary->imus) {
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      EXPECT_FALSE(r.determined[i]) << r.instance << "/" << a;
+      EXPECT_EQ(r.decisions[i].reason, "delay_at_limit") << r.instance;
+      const Rigid3dGate g = GateOf(r, a, "delay_at_limit");
+      EXPECT_NEAR(g.statistic, 0.0025, 1e-12) << r.instance;
+      EXPECT_NEAR(g.threshold, 0.0025, 1e-12) << r.instance;
+      EXPECT_FALSE(g.passed);
+    }
+  }
 }
 
 TEST(Rigid3d, JackknifeFromFactorsIsTheFitsWithoutEachBlock) {

@@ -94,6 +94,9 @@ struct Preprocess3dResult {
   // channels do not line up with the IMU in any delay tried (or the flight
   // does not tell), so no position from them can be trusted.
   bool delay_at_limit = false;
+  // The longest delay tried, s (NaN when the delay was given): the limit
+  // delay_at_limit speaks of.
+  double longest_delay_searched_s = std::numeric_limits<double>::quiet_NaN();
   // RMS of the fit residual at the delay used and with none (how much the
   // delay matters on this log), m/s²; NaN when not estimated.
   double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();

@@ -80,6 +80,50 @@ std::vector<std::vector<unsigned char>> LeaveBlockOutMasks(
 Eigen::Vector3d JackknifeFromEstimates(
     const std::vector<Eigen::Vector3d>& estimates);
 
+// One test an axis's position has to pass to be given (Rigid3dReport), with
+// the number it judged and the limit it was held to, so that a reader can see
+// how near the decision was.
+struct Rigid3dGate {
+  // "delay_at_limit": the estimator delay used against the longest delay
+  //   searched (s; NaN when none was searched); fails when the best delay is
+  //   the longest.
+  // "unexplained_fraction": fit RMSE over the x/y signal RMS against
+  //   max_unexplained_fraction; fails above.
+  // "stderr": σ̂ (m, statistical and systematic together) against
+  //   max_stderr_m; fails above, or when σ̂ is not finite.
+  // "abs_position": |p| (m) against max_abs_position_m; fails above.
+  // "window_agreement": the window whose own fit is furthest from the whole
+  //   flight's, |window − whole| over its σ̂ scaled to the window's share of
+  //   the samples, against 4; fails when above and the difference
+  //   (difference_m) also exceeds min_difference_m (5 mm).
+  std::string gate;
+  double statistic = std::numeric_limits<double>::quiet_NaN();
+  double threshold = std::numeric_limits<double>::quiet_NaN();
+  bool passed = false;
+  // window_agreement only (NaN otherwise): that window and its difference.
+  double difference_m = std::numeric_limits<double>::quiet_NaN();
+  double min_difference_m = std::numeric_limits<double>::quiet_NaN();
+  double window_t0_s = std::numeric_limits<double>::quiet_NaN();
+  double window_t1_s = std::numeric_limits<double>::quiet_NaN();
+};
+
+// Why one axis is given or withheld.
+struct Rigid3dAxisDecision {
+  // A stable code: "given", or why withheld: "fit_failed", "delay_at_limit",
+  // "unexplained_fraction", "stderr", "abs_position", "window_agreement"
+  // (the first gate that failed, in the order of `evidence`).
+  std::string reason = "fit_failed";
+  // Every gate that could be judged (none when the fit failed;
+  // window_agreement only where two or more windows were fitted alone),
+  // whether or not an earlier one already withheld the axis.
+  std::vector<Rigid3dGate> evidence;
+  // σ̂ in its two parts, m: statistical, from this flight's residuals (the
+  // HAC σ̂ or the jackknife's where larger), and systematic (today the
+  // model_error_floor_m); the reported σ̂ is their root sum of squares.
+  double stderr_statistical_m = std::numeric_limits<double>::quiet_NaN();
+  double stderr_systematic_m = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct ImuPosition3d {
   int instance = 0;  // the log's IMU instance (0-based)
   std::string source;
@@ -93,6 +137,8 @@ struct ImuPosition3d {
   std::array<bool, 3> determined = {false, false, false};
   // Per axis: why it is withheld and what to fly ("" when determined).
   std::array<std::string, 3> advice;
+  // Per axis: the same decision as a code, with its evidence.
+  std::array<Rigid3dAxisDecision, 3> decisions;
   // The position's covariance (diagonal, from the widened σ̂), for baselines.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   // Nuisance terms, for the curious and for plausibility.
@@ -157,8 +203,10 @@ void CompareInstances(std::vector<ImuPosition3d>* reports);
 
 // The JSON object of `fit --model=rigid3d --format=json`:
 // imu_position_frd_m (3 numbers or null), imu_position_frd_stderr_m,
-// warnings (strings), then instance, determined, advice, windows, delay and
-// the nuisance terms.
+// warnings (strings), then instance, determined, advice, windows, delay, the
+// nuisance terms, baselines and, last, decisions (per axis: the decision,
+// its reason code and advice, the fitted value, σ̂ in its two parts and
+// each gate's evidence).
 nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& report);
 
 // Human-readable lines for one IMU.

@@ -208,6 +208,7 @@ Status FindDelay(const Conditioned3d& thin,
   }
   out->estimator_delay_s = delay;
   out->delay_estimated = true;
+  out->longest_delay_searched_s = delays.back();
   if (best == 0 || best + 1 == delays.size()) {
     out->delay_at_limit = best + 1 == delays.size();
     out->notes.push_back(

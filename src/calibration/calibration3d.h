@@ -76,6 +76,8 @@ struct Calibration3d {
   double estimator_delay_s = 0.0;
   bool delay_estimated = false;
   bool delay_at_limit = false;  // as Preprocess3dResult's
+  double longest_delay_searched_s =
+      std::numeric_limits<double>::quiet_NaN();  // as Preprocess3dResult's
   // The fit's RMSE with no delay (NaN when the delay was given).
   double rmse_without_delay = std::numeric_limits<double>::quiet_NaN();
   double wind_n = 0.0;

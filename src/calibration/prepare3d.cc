@@ -19,6 +19,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   if (!calibration.ok()) return calibration.status();
   out.delay_estimated = calibration->delay_estimated;
   out.delay_at_limit = calibration->delay_at_limit;
+  out.longest_delay_searched_s = calibration->longest_delay_searched_s;
   out.rmse_without_delay = calibration->rmse_without_delay;
   out.notes.insert(
       out.notes.end(), calibration->notes.begin(), calibration->notes.end());

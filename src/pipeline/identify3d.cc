@@ -4,6 +4,7 @@
 // lacks the estimator's channels, the per-axis report and the comparison
 // between instances.
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -120,6 +121,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   // failure is the answer.
   const bool several = instances.size() > 1;
   bool delay_at_limit = false;
+  double longest_delay_searched_s = std::numeric_limits<double>::quiet_NaN();
   bool log_ended = false;
   Status first_failure = Status::Ok();
   auto fit_instance = [&](int instance) -> Status {
@@ -193,6 +195,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     }
     if (summary.imus.empty()) {
       delay_at_limit = pre.delay_at_limit;
+      longest_delay_searched_s = pre.longest_delay_searched_s;
       for (const auto& note : pre.notes) Note(options, note);
       // One estimator publishes for every IMU: its delay is the log's, and
       // so is the flight's wind.
@@ -204,6 +207,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       summary.quadratic_wind_e = po.quadratic_wind_e;
     } else {
       pre.delay_at_limit = delay_at_limit;  // the log's, found on the first
+      pre.longest_delay_searched_s = longest_delay_searched_s;
     }
     StatusOr<std::unique_ptr<Estimator>> estimator =
         BuiltinEstimators().Create(estimator_name);

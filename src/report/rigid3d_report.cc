@@ -1,6 +1,7 @@
 #include "imusysid/rigid3d_report.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -88,6 +89,7 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
                            " fit failed: " + result.message);
     for (int a = 0; a < 3; ++a) {
       out.advice[static_cast<std::size_t>(a)] = "the fit failed";
+      out.decisions[static_cast<std::size_t>(a)].reason = "fit_failed";
     }
     return out;
   }
@@ -105,6 +107,9 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     if (std::isfinite(jackknife[a]) && !(out.stderr_m[a] >= jackknife[a])) {
       out.stderr_m[a] = jackknife[a];
     }
+    Rigid3dAxisDecision& decision = out.decisions[static_cast<std::size_t>(a)];
+    decision.stderr_statistical_m = out.stderr_m[a];
+    decision.stderr_systematic_m = options.model_error_floor_m;
     out.stderr_m[a] = std::hypot(out.stderr_m[a], options.model_error_floor_m);
   }
   out.covariance = out.stderr_m.array().square().matrix().asDiagonal();
@@ -126,7 +131,14 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     out.wind_ne_m_s.setConstant(std::numeric_limits<double>::quiet_NaN());
   }
 
-  const bool aligned = !pre.delay_at_limit;
+  // Each gate is one comparison, whose outcome both decides and is shown
+  // as evidence (Rigid3dGate). The log-wide ones are the same on every axis.
+  Rigid3dGate delay_gate;
+  delay_gate.gate = "delay_at_limit";
+  delay_gate.statistic = pre.estimator_delay_s;
+  delay_gate.threshold = pre.longest_delay_searched_s;
+  delay_gate.passed = !pre.delay_at_limit;
+  const bool aligned = delay_gate.passed;
   if (!aligned) {
     out.warnings.push_back(
         "the estimator's delay is not determined: the fit is best at the "
@@ -134,9 +146,15 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
         "up with this IMU; no position is given (check the log's time "
         "stamps, or give --estimator_delay_s if it is known)");
   }
-  const bool explains = aligned && std::isfinite(out.rmse) &&
-                        out.rmse <= options.max_unexplained_fraction *
-                                        std::max(out.signal_rms, 1e-12);
+  const double signal_floor = std::max(out.signal_rms, 1e-12);
+  Rigid3dGate explains_gate;
+  explains_gate.gate = "unexplained_fraction";
+  explains_gate.statistic = out.rmse / signal_floor;
+  explains_gate.threshold = options.max_unexplained_fraction;
+  explains_gate.passed =
+      std::isfinite(out.rmse) &&
+      out.rmse <= options.max_unexplained_fraction * signal_floor;
+  const bool explains = aligned && explains_gate.passed;
   if (aligned && !explains) {
     out.warnings.push_back(
         "the model explains little of the signal (fit RMSE " +
@@ -150,20 +168,37 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     const auto i = static_cast<std::size_t>(a);
     const double se = out.stderr_m[a];
     const double p = out.position_m[a];
+    Rigid3dGate stderr_gate;
+    stderr_gate.gate = "stderr";
+    stderr_gate.statistic = se;
+    stderr_gate.threshold = options.max_stderr_m;
+    stderr_gate.passed = std::isfinite(se) && !(se > options.max_stderr_m);
+    Rigid3dGate position_gate;
+    position_gate.gate = "abs_position";
+    position_gate.statistic = std::abs(p);
+    position_gate.threshold = options.max_abs_position_m;
+    position_gate.passed = !(std::abs(p) > options.max_abs_position_m);
+    Rigid3dAxisDecision& decision = out.decisions[i];
+    decision.evidence = {delay_gate, explains_gate, stderr_gate, position_gate};
     if (!aligned) {
+      decision.reason = delay_gate.gate;
       out.advice[i] = "the estimator's delay is not determined";
     } else if (!explains) {
+      decision.reason = explains_gate.gate;
       out.advice[i] = "the model does not explain this log";
-    } else if (!std::isfinite(se) || se > options.max_stderr_m) {
+    } else if (!stderr_gate.passed) {
+      decision.reason = stderr_gate.gate;
       out.advice[i] = std::string(kAxisNames[a]) +
                       " is not determined (1-sigma " + Mm(se) +
                       " mm): the log has little " + kAxisMotion[a];
-    } else if (std::abs(p) > options.max_abs_position_m) {
+    } else if (!position_gate.passed) {
+      decision.reason = position_gate.gate;
       out.advice[i] = std::string(kAxisNames[a]) + " = " +
                       FormatNumber(p, 3, kQuoted) +
                       " m is further from the centre of mass than any "
                       "flight controller sits: the fit is not credible";
     } else {
+      decision.reason = "given";
       out.determined[i] = true;
     }
     // (A log-wide reason is one warning above, not one per axis.)
@@ -177,8 +212,15 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   // the flight is not one rigid body with one set of parameters (a payload
   // shifted, a bad stretch): the axis is withheld. (Only where a window can
   // be fitted on its own, by a model linear outright: the IMU-only model
-  // integrates across the whole span.) Each window's estimate is kept for
-  // the report page, a single window's too (it is the whole fit's data).
+  // integrates across the whole span.) The evidence is the window nearest
+  // to (or furthest beyond) that limit, on every axis. Each window's
+  // estimate is kept for the report page, a single window's too (it is the
+  // whole fit's data).
+  constexpr double kWindowSigmas = 4.0;
+  constexpr double kWindowMinDifferenceM = 0.005;
+  std::array<Rigid3dGate, 3> window_gates;
+  std::array<double, 3> worst_margin;
+  worst_margin.fill(-1.0);
   {
     std::size_t start = 0;
     for (const Stretch3d& w : pre.windows) {
@@ -196,9 +238,25 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
           const auto i = static_cast<std::size_t>(a);
           const double sw = out.stderr_m[a] * share;
           const double d = pw[a] - out.position_m[a];
-          if (out.determined[i] && std::isfinite(d) &&
-              std::abs(d) > std::max(4 * sw, 0.005)) {
+          const double limit =
+              std::max(kWindowSigmas * sw, kWindowMinDifferenceM);
+          const bool disagrees = std::isfinite(d) && std::abs(d) > limit;
+          // How far toward the limit this window's difference goes.
+          const double margin = std::abs(d) / limit;
+          if (std::isfinite(margin) && margin > worst_margin[i]) {
+            worst_margin[i] = margin;
+            Rigid3dGate& g = window_gates[i];
+            g.statistic = std::abs(d) / sw;
+            g.threshold = kWindowSigmas;
+            g.passed = !disagrees;
+            g.difference_m = std::abs(d);
+            g.min_difference_m = kWindowMinDifferenceM;
+            g.window_t0_s = w.t0;
+            g.window_t1_s = w.t1;
+          }
+          if (out.determined[i] && disagrees) {
             out.determined[i] = false;
+            out.decisions[i].reason = "window_agreement";
             out.advice[i] =
                 std::string(kAxisNames[a]) + " is withheld: the window " +
                 FormatNumber(w.t0, 5) + "-" + FormatNumber(w.t1, 5) +
@@ -212,6 +270,11 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       }
       start = end;
     }
+  }
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (worst_margin[i] < 0) continue;  // no window fitted alone
+    window_gates[i].gate = "window_agreement";
+    out.decisions[i].evidence.push_back(window_gates[i]);
   }
   for (const Warning& w : result.warnings) {
     if (w.code == "ill_conditioned" || w.code == "at_bound") continue;
@@ -320,6 +383,40 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
           {Num(b.stderr_m[0]), Num(b.stderr_m[1]), Num(b.stderr_m[2])}}});
   }
   j["baselines"] = baselines;
+  // Per axis, why it is given or withheld, with each gate's number and
+  // limit: the decisions above restated for a reader who wants to see how
+  // near they were.
+  nlohmann::ordered_json decisions = nlohmann::ordered_json::array();
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    const Rigid3dAxisDecision& d = r.decisions[i];
+    nlohmann::ordered_json evidence = nlohmann::ordered_json::array();
+    for (const Rigid3dGate& g : d.evidence) {
+      nlohmann::ordered_json e;
+      e["gate"] = g.gate;
+      e["statistic"] = Num(g.statistic);
+      e["threshold"] = Num(g.threshold);
+      e["passed"] = g.passed;
+      if (g.gate == "window_agreement") {
+        e["difference_m"] = Num(g.difference_m);
+        e["min_difference_m"] = Num(g.min_difference_m);
+        e["window_s"] = {Num(g.window_t0_s), Num(g.window_t1_s)};
+      }
+      evidence.push_back(std::move(e));
+    }
+    nlohmann::ordered_json one;
+    one["axis"] = kAxisNames[a];
+    one["decision"] = r.determined[i] ? "given" : "withheld";
+    one["reason"] = d.reason;
+    one["advice"] = r.advice[i];
+    one["fitted_m"] = Num(r.position_m[a]);
+    one["stderr_m"] = Num(r.stderr_m[a]);
+    one["stderr_statistical_m"] = Num(d.stderr_statistical_m);
+    one["stderr_systematic_m"] = Num(d.stderr_systematic_m);
+    one["evidence"] = std::move(evidence);
+    decisions.push_back(std::move(one));
+  }
+  j["decisions"] = decisions;
   return j;
 }
 
