@@ -75,7 +75,9 @@ git ls-files -co --exclude-standard -z | while IFS= read -r -d '' f; do
   [ -f "$f" ] || continue
   if ! cmp -s "$f" "$scratch/src/$f" 2>/dev/null; then
     mkdir -p "$scratch/src/$(dirname "$f")"
-    cp -p "$f" "$scratch/src/$f"
+    # A new time stamp, not the original's: a file edited while an earlier
+    # run was building could otherwise look older than its objects there.
+    cp "$f" "$scratch/src/$f"
   fi
 done
 src=$scratch/src

@@ -337,6 +337,22 @@ TEST(Autopilot3d, ArduPilotNamesEveryInstanceFromOne) {
   EXPECT_EQ(p->snippet.find("INS_POS4"), std::string::npos);
 }
 
+// ArduPilot has position parameters for three IMUs: a fourth instance is
+// named in a comment and written nowhere (never as INS_POS4_*).
+TEST(Autopilot3d, ArduPilotWritesNoFourthInstance) {
+  std::vector<ImuPosition3d> imus = ThreeImus();
+  imus.push_back(imus[0]);
+  imus.back().instance = 3;
+  const auto p = Rigid3dAutopilotParameters(imus, EmitFormat::kArduPilot);
+  ASSERT_TRUE(p.ok()) << p.status().ToString();
+  const auto three =
+      Rigid3dAutopilotParameters(ThreeImus(), EmitFormat::kArduPilot);
+  ASSERT_TRUE(three.ok());
+  EXPECT_EQ(p->params, three->params);
+  EXPECT_EQ(p->snippet.find("INS_POS4"), std::string::npos) << p->snippet;
+  EXPECT_NE(p->snippet.find("# IMU 3 not written"), std::string::npos);
+}
+
 TEST(Autopilot3d, Px4WritesTheFirstInstanceOnly) {
   const std::vector<ImuPosition3d> imus = ThreeImus();
   const auto p = Rigid3dAutopilotParameters(imus, EmitFormat::kPx4);

@@ -488,6 +488,12 @@ StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
   for (const ImuPosition3d& r : reports) {
     // PX4's EKF fuses one IMU and has one position parameter set.
     if (px4 && r.instance != 0) continue;
+    // ArduPilot has INS_POS1..3 for its first three IMUs and none beyond.
+    if (!px4 && r.instance > 2) {
+      s << "# IMU " << r.instance
+        << " not written: ArduPilot has INS_POSn_* for IMUs 0 to 2 only\n";
+      continue;
+    }
     const std::string prefix =
         px4 ? "EKF2_IMU_POS_"
             : "INS_POS" + std::to_string(r.instance + 1) + "_";
