@@ -76,13 +76,13 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   const int half = std::max(
       o.derivative_degree,
       static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
+  StatusOr<std::vector<std::vector<double>>> d = SavitzkyGolayDerivativeEach(
+      t, {&g[0], &g[1], &g[2]}, half, o.derivative_degree);
+  if (!d.ok()) return d.status();
   for (std::size_t a = 0; a < 3; ++a) {
-    StatusOr<std::vector<double>> d =
-        SavitzkyGolayDerivative(t, g[a], half, o.derivative_degree);
-    if (!d.ok()) return d.status();
     out.f[a] = cut(f[a]);
     out.omega[a] = cut(g[a]);
-    out.omega_dot[a] = cut(*d);
+    out.omega_dot[a] = cut((*d)[a]);
   }
   // The rate products, low-passed as f is. The rates are first cleared of
   // the motor vibration (tens of Hz and up), whose square would add a

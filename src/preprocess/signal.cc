@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <sstream>
+#include <utility>
 
 #include "Eigen/Dense"
 #include "glog/logging.h"
@@ -234,18 +235,26 @@ namespace {
 using SgMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
 using SgVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
 
-// The slope at t[k] of the least-squares polynomial of `degree` through the
-// samples [lo, hi): the general solve, for any spacing.
-double SavitzkyGolaySlopeAt(const std::vector<double>& t,
-                            const std::vector<double>& x,
-                            std::size_t k,
-                            std::size_t lo,
-                            std::size_t hi,
-                            int degree) {
+// The slopes at t[k] of the least-squares polynomials of `degree` through
+// the samples [lo, hi) of each series xs[c], into (*dxs)[c][k]: the general
+// solve, for any spacing. The normal equations' matrix depends on the times
+// alone, so it is built and factored once for all the series; each series'
+// right-hand side, solve and slope are the arithmetic of a fit of that
+// series alone, bit for bit.
+void SavitzkyGolaySlopesAt(const std::vector<double>& t,
+                           const std::vector<const std::vector<double>*>& xs,
+                           std::size_t k,
+                           std::size_t lo,
+                           std::size_t hi,
+                           int degree,
+                           std::vector<SgVector>* rhs,
+                           std::vector<std::vector<double>>* dxs) {
   const auto coeffs = static_cast<std::size_t>(degree) + 1;
-  SgMatrix gram = SgMatrix::Zero(static_cast<Eigen::Index>(coeffs),
-                                 static_cast<Eigen::Index>(coeffs));
-  SgVector rhs = SgVector::Zero(static_cast<Eigen::Index>(coeffs));
+  const std::size_t channels = xs.size();
+  for (SgVector& r : *rhs) r.setZero(static_cast<Eigen::Index>(coeffs));
+  // The Gram matrix is a Hankel matrix: entry (r, c) is the sum over the
+  // window of τ^(r+c), accumulated in window order.
+  double power_sums[9] = {};
   double powers[9];
   // Local abscissa scaled to about [−1, 1] keeps the normal equations
   // well conditioned whatever the sample rate.
@@ -256,16 +265,30 @@ double SavitzkyGolaySlopeAt(const std::vector<double>& t,
     for (std::size_t p = 1; p < 2 * coeffs - 1; ++p) {
       powers[p] = powers[p - 1] * tau;
     }
-    for (std::size_t r = 0; r < coeffs; ++r) {
-      rhs(static_cast<Eigen::Index>(r)) += powers[r] * x[j];
-      for (std::size_t c = 0; c < coeffs; ++c) {
-        gram(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) +=
-            powers[r + c];
+    for (std::size_t p = 0; p < 2 * coeffs - 1; ++p) {
+      power_sums[p] += powers[p];
+    }
+    for (std::size_t c = 0; c < channels; ++c) {
+      const double x = (*xs[c])[j];
+      SgVector& r = (*rhs)[c];
+      for (std::size_t i = 0; i < coeffs; ++i) {
+        r(static_cast<Eigen::Index>(i)) += powers[i] * x;
       }
     }
   }
-  const SgVector c = gram.ldlt().solve(rhs);
-  return c(1) / scale;
+  SgMatrix gram(static_cast<Eigen::Index>(coeffs),
+                static_cast<Eigen::Index>(coeffs));
+  for (std::size_t r = 0; r < coeffs; ++r) {
+    for (std::size_t c = 0; c < coeffs; ++c) {
+      gram(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
+          power_sums[r + c];
+    }
+  }
+  const Eigen::LDLT<SgMatrix> ldlt(gram);
+  for (std::size_t c = 0; c < channels; ++c) {
+    const SgVector solution = ldlt.solve((*rhs)[c]);
+    (*dxs)[c][k] = solution(1) / scale;
+  }
 }
 
 // True, with the mean interval in *dt, when every interval is within
@@ -368,17 +391,19 @@ std::vector<double> SavitzkyGolayCentredWeights(int half_width, int degree) {
 
 namespace {
 
-StatusOr<std::vector<double>> SavitzkyGolayDerivativeImpl(
+StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
     const std::vector<double>& t,
-    const std::vector<double>& x,
+    const std::vector<const std::vector<double>*>& xs,
     int half_width,
     int degree,
     bool allow_fir) {
-  if (t.size() != x.size()) {
-    std::ostringstream msg;
-    msg << "Savitzky-Golay: t has " << t.size() << " samples, x has "
-        << x.size();
-    return InvalidArgumentError(msg.str());
+  for (const std::vector<double>* x : xs) {
+    if (t.size() != x->size()) {
+      std::ostringstream msg;
+      msg << "Savitzky-Golay: t has " << t.size() << " samples, x has "
+          << x->size();
+      return InvalidArgumentError(msg.str());
+    }
   }
   if (degree < 1 || degree > 4) {
     std::ostringstream msg;
@@ -402,7 +427,7 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivativeImpl(
   const std::size_t width =
       std::min(n, 2 * static_cast<std::size_t>(half_width) + 1);
   const std::size_t half = static_cast<std::size_t>(half_width);
-  std::vector<double> dx(n);
+  std::vector<std::vector<double>> dxs(xs.size(), std::vector<double>(n));
   // On a uniform grid every full centred window sees the same abscissae, so
   // the fit's slope is one fixed-weight FIR over the interior; the edge
   // windows (shifted inward) keep the general solve.
@@ -413,18 +438,33 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivativeImpl(
       n > 2 * half && UniformGrid(t, &dt)) {
     const std::vector<double> w =
         internal::SavitzkyGolayCentredWeights(half_width, degree);
-    SavitzkyGolayFir(x, w, dt, half, n - half, &dx);
+    for (std::size_t c = 0; c < xs.size(); ++c) {
+      SavitzkyGolayFir(*xs[c], w, dt, half, n - half, &dxs[c]);
+    }
     general_lo = half;
     general_hi = n - half;
   }
+  std::vector<SgVector> rhs(xs.size());
   for (std::size_t k = 0; k < n; ++k) {
     if (k == general_lo) k = general_hi;
     if (k >= n) break;
     std::size_t lo = k > half ? k - half : 0;
     if (lo + width > n) lo = n - width;
-    dx[k] = SavitzkyGolaySlopeAt(t, x, k, lo, lo + width, degree);
+    SavitzkyGolaySlopesAt(t, xs, k, lo, lo + width, degree, &rhs, &dxs);
   }
-  return dx;
+  return dxs;
+}
+
+StatusOr<std::vector<double>> SavitzkyGolayDerivativeOne(
+    const std::vector<double>& t,
+    const std::vector<double>& x,
+    int half_width,
+    int degree,
+    bool allow_fir) {
+  StatusOr<std::vector<std::vector<double>>> dxs =
+      SavitzkyGolayDerivativeImpl(t, {&x}, half_width, degree, allow_fir);
+  if (!dxs.ok()) return dxs.status();
+  return std::move(dxs->front());
 }
 
 }  // namespace
@@ -434,7 +474,15 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivative(
     const std::vector<double>& x,
     int half_width,
     int degree) {
-  return SavitzkyGolayDerivativeImpl(t, x, half_width, degree, true);
+  return SavitzkyGolayDerivativeOne(t, x, half_width, degree, true);
+}
+
+StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEach(
+    const std::vector<double>& t,
+    const std::vector<const std::vector<double>*>& xs,
+    int half_width,
+    int degree) {
+  return SavitzkyGolayDerivativeImpl(t, xs, half_width, degree, true);
 }
 
 namespace internal {
@@ -443,7 +491,7 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivativeGeneral(
     const std::vector<double>& x,
     int half_width,
     int degree) {
-  return SavitzkyGolayDerivativeImpl(t, x, half_width, degree, false);
+  return SavitzkyGolayDerivativeOne(t, x, half_width, degree, false);
 }
 }  // namespace internal
 

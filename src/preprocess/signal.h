@@ -114,6 +114,17 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivative(
     int half_width,
     int degree);
 
+// SavitzkyGolayDerivative of several series on the same times t: the
+// window fits of one sample share their abscissae, so the normal equations
+// are built and factored once for every series (a gyro's three axes cost
+// little more than one). Each result is SavitzkyGolayDerivative's of that
+// series, bit for bit; InvalidArgument as there, for any series.
+StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEach(
+    const std::vector<double>& t,
+    const std::vector<const std::vector<double>*>& xs,
+    int half_width,
+    int degree);
+
 namespace internal {
 // The FIR weights of SavitzkyGolayDerivative's centred window on a uniform
 // grid of step dt: the slope at sample k is Σ_{j=1..h} w[j] (x[k+j] − x[k−j])
