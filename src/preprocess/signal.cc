@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include "Eigen/Dense"
@@ -138,6 +139,114 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
   return y;
 }
 
+namespace {
+
+// Series filtered in lockstep by ZeroPhaseLowPassEachOnTimes: a biquad's
+// recursion is one long dependency chain per series, so several series side
+// by side (and the cascade's sections fused into one sweep) keep the
+// floating-point units busy where one series leaves them waiting.
+constexpr std::size_t kMaxLanes = 4;
+
+// One biquad step of transposed direct form II: FilterCascade's arithmetic.
+inline double BiquadStep(const Biquad& s, double in, double* z1, double* z2) {
+  const double out = s.b0 * in + *z1;
+  *z1 = s.b1 * in - s.a1 * out + *z2;
+  *z2 = s.b2 * in - s.a2 * out;
+  return out;
+}
+
+// FilterCascade over kLanes interleaved series y[k·kLanes + lane], k in
+// [0, len), forward (k increasing) or backward, in place. Each series sees
+// exactly FilterCascade's operations in FilterCascade's order (a section's
+// state started from its own first input), so the results are its bits; the
+// sections run in one sweep, section s at sample k right after section
+// s − 1.
+template <int kSections, int kLanes>
+void CascadeInterleaved(const Biquad* sections,
+                        double* y,
+                        std::size_t len,
+                        bool forward) {
+  Biquad s[kSections];
+  for (int i = 0; i < kSections; ++i) s[i] = sections[i];
+  double z1[kSections][kLanes];
+  double z2[kSections][kLanes];
+  const std::ptrdiff_t step = forward ? kLanes : -kLanes;
+  double* v = forward ? y : y + (len - 1) * kLanes;
+  // The first sample starts every section in the steady state of its input.
+  for (int l = 0; l < kLanes; ++l) {
+    double in = v[l];
+    for (int i = 0; i < kSections; ++i) {
+      const double c = in;
+      z1[i][l] = (1.0 - s[i].b0) * c;
+      z2[i][l] = (s[i].b2 - s[i].a2) * c;
+      in = BiquadStep(s[i], in, &z1[i][l], &z2[i][l]);
+    }
+    v[l] = in;
+  }
+  for (std::size_t k = 1; k < len; ++k) {
+    v += step;
+    for (int i = 0; i < kSections; ++i) {
+      for (int l = 0; l < kLanes; ++l) {
+        v[l] = BiquadStep(s[i], v[l], &z1[i][l], &z2[i][l]);
+      }
+    }
+  }
+}
+
+template <int kLanes>
+void FiltFiltInterleavedLanes(const std::vector<Biquad>& sections,
+                              double* y,
+                              std::size_t len) {
+  auto run = [&](auto sections_constant) {
+    constexpr int kSections = decltype(sections_constant)::value;
+    CascadeInterleaved<kSections, kLanes>(sections.data(), y, len, true);
+    CascadeInterleaved<kSections, kLanes>(sections.data(), y, len, false);
+  };
+  switch (sections.size()) {
+    case 1:
+      run(std::integral_constant<int, 1>());
+      break;
+    case 2:
+      run(std::integral_constant<int, 2>());
+      break;
+    case 3:
+      run(std::integral_constant<int, 3>());
+      break;
+    case 4:
+      run(std::integral_constant<int, 4>());
+      break;
+    default:
+      LOG(FATAL) << "a Butterworth design has 1 to 4 sections, not "
+                 << sections.size();
+  }
+}
+
+// FiltFilt's two passes over `lanes` interleaved series of `len` samples
+// (the padding included).
+void FiltFiltInterleaved(const std::vector<Biquad>& sections,
+                         std::size_t lanes,
+                         double* y,
+                         std::size_t len) {
+  switch (lanes) {
+    case 1:
+      FiltFiltInterleavedLanes<1>(sections, y, len);
+      break;
+    case 2:
+      FiltFiltInterleavedLanes<2>(sections, y, len);
+      break;
+    case 3:
+      FiltFiltInterleavedLanes<3>(sections, y, len);
+      break;
+    case 4:
+      FiltFiltInterleavedLanes<4>(sections, y, len);
+      break;
+    default:
+      LOG(FATAL) << "at most " << kMaxLanes << " lanes, not " << lanes;
+  }
+}
+
+}  // namespace
+
 Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
                                    const std::vector<std::vector<double>*>& xs,
                                    double cutoff_hz,
@@ -163,68 +272,102 @@ Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
   for (std::size_t i = 1; i < n && uniform; ++i) {
     uniform = std::abs(t[i] - t[i - 1] - dt) <= 1e-6 * dt;
   }
-  if (uniform) {
-    for (std::vector<double>* x : xs) {
-      StatusOr<std::vector<double>> y =
-          ZeroPhaseLowPass(*x, cutoff_hz, 1.0 / dt, order);
-      if (!y.ok()) return y.status();
-      *x = std::move(y).value();
-    }
-    return Status::Ok();
-  }
-  // The grid spans the whole time range at the median interval, so one
-  // corrupt time stamp (days ahead, in a damaged binary log) asked for
-  // billions of points and tens of GB. Holes real logs have (the logger
-  // pausing for minutes) stay well within this bound.
-  const double span_intervals = (t.back() - t.front()) / dt;
-  const double max_grid = 10.0 * static_cast<double>(n) + 1e6;
-  if (!(span_intervals < max_grid)) {
-    std::ostringstream msg;
-    msg << "low-pass: the samples span " << t.back() - t.front()
-        << " s at a median interval of " << dt << " s, more than " << max_grid
-        << " intervals for " << n
-        << " samples: the time stamps have a hole no resampling can bridge "
-           "(a corrupt time stamp?); choose a segment with "
-           "--t_start/--t_end";
-    return InvalidArgumentError(msg.str());
-  }
   // Where each grid point falls among the samples, and each sample among the
-  // grid points: the same for every channel.
-  const std::size_t m =
-      static_cast<std::size_t>(std::floor(span_intervals)) + 1;
-  std::vector<std::size_t> below(m);
-  std::vector<double> weight(m);
-  std::size_t k = 0;
-  for (std::size_t j = 0; j < m; ++j) {
-    const double u = t.front() + static_cast<double>(j) * dt;
-    while (k + 2 < n && t[k + 1] < u) ++k;
-    below[j] = k;
-    weight[j] = std::clamp((u - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0);
-  }
-  std::vector<std::size_t> cell(n);
-  std::vector<double> offset(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double pos = (t[i] - t.front()) / dt;
-    std::size_t j = static_cast<std::size_t>(std::max(0.0, std::floor(pos)));
-    j = m < 2 ? 0 : std::min(j, m - 2);
-    cell[i] = j;
-    // Past the last grid point (less than one interval) the last segment
-    // is extended.
-    offset[i] = m < 2 ? 0.0 : pos - static_cast<double>(j);
-  }
-  std::vector<double> grid(m);
-  for (std::vector<double>* x : xs) {
-    for (std::size_t j = 0; j < m; ++j) {
-      const std::size_t b = below[j];
-      grid[j] = (*x)[b] + weight[j] * ((*x)[b + 1] - (*x)[b]);
+  // grid points: the same for every channel. A uniform log is filtered as it
+  // is (m = n, no resampling).
+  std::size_t m = n;
+  std::vector<std::size_t> below;
+  std::vector<double> weight;
+  std::vector<std::size_t> cell;
+  std::vector<double> offset;
+  if (!uniform) {
+    // The grid spans the whole time range at the median interval, so one
+    // corrupt time stamp (days ahead, in a damaged binary log) asked for
+    // billions of points and tens of GB. Holes real logs have (the logger
+    // pausing for minutes) stay well within this bound.
+    const double span_intervals = (t.back() - t.front()) / dt;
+    const double max_grid = 10.0 * static_cast<double>(n) + 1e6;
+    if (!(span_intervals < max_grid)) {
+      std::ostringstream msg;
+      msg << "low-pass: the samples span " << t.back() - t.front()
+          << " s at a median interval of " << dt << " s, more than " << max_grid
+          << " intervals for " << n
+          << " samples: the time stamps have a hole no resampling can bridge "
+             "(a corrupt time stamp?); choose a segment with "
+             "--t_start/--t_end";
+      return InvalidArgumentError(msg.str());
     }
-    StatusOr<std::vector<double>> filtered =
-        ZeroPhaseLowPass(grid, cutoff_hz, 1.0 / dt, order);
-    if (!filtered.ok()) return filtered.status();
-    const std::vector<double>& f = *filtered;
+    m = static_cast<std::size_t>(std::floor(span_intervals)) + 1;
+    below.resize(m);
+    weight.resize(m);
+    std::size_t k = 0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const double u = t.front() + static_cast<double>(j) * dt;
+      while (k + 2 < n && t[k + 1] < u) ++k;
+      below[j] = k;
+      weight[j] = std::clamp((u - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0);
+    }
+    cell.resize(n);
+    offset.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t j = cell[i];
-      (*x)[i] = m < 2 ? f[0] : f[j] + offset[i] * (f[j + 1] - f[j]);
+      const double pos = (t[i] - t.front()) / dt;
+      std::size_t j = static_cast<std::size_t>(std::max(0.0, std::floor(pos)));
+      j = m < 2 ? 0 : std::min(j, m - 2);
+      cell[i] = j;
+      // Past the last grid point (less than one interval) the last segment
+      // is extended.
+      offset[i] = m < 2 ? 0.0 : pos - static_cast<double>(j);
+    }
+  }
+  if (xs.empty()) return Status::Ok();
+  const double sample_rate_hz = 1.0 / dt;
+  StatusOr<std::vector<Biquad>> sections =
+      DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
+  if (!sections.ok()) return sections.status();
+  // FiltFilt's padding: odd reflection about each end (a one-sample series
+  // passes unchanged).
+  const std::size_t pad =
+      m < 2 ? 0
+            : std::min(ButterworthPadLength(cutoff_hz, sample_rate_hz), m - 1);
+  const std::size_t len = m + 2 * pad;
+  std::vector<double> buffer(len * std::min(kMaxLanes, xs.size()));
+  for (std::size_t first = 0; first < xs.size(); first += kMaxLanes) {
+    const std::size_t lanes = std::min(kMaxLanes, xs.size() - first);
+    double* y = buffer.data();
+    auto at = [&](std::size_t k, std::size_t lane) -> double& {
+      return y[k * lanes + lane];
+    };
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::vector<double>& x = *xs[first + l];
+      if (uniform) {
+        for (std::size_t k = 0; k < n; ++k) at(pad + k, l) = x[k];
+      } else {
+        for (std::size_t j = 0; j < m; ++j) {
+          const std::size_t b = below[j];
+          at(pad + j, l) = x[b] + weight[j] * (x[b + 1] - x[b]);
+        }
+      }
+      const double x0 = at(pad, l);
+      const double x1 = at(pad + m - 1, l);
+      for (std::size_t i = pad; i >= 1; --i) {
+        at(pad - i, l) = 2.0 * x0 - at(pad + i, l);
+      }
+      for (std::size_t i = 1; i <= pad; ++i) {
+        at(pad + m - 1 + i, l) = 2.0 * x1 - at(pad + m - 1 - i, l);
+      }
+    }
+    if (m >= 2) FiltFiltInterleaved(*sections, lanes, y, len);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      std::vector<double>& x = *xs[first + l];
+      if (uniform) {
+        for (std::size_t k = 0; k < n; ++k) x[k] = at(pad + k, l);
+      } else {
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::size_t j = cell[i];
+          const double* f = &at(pad + j, l);
+          x[i] = m < 2 ? f[0] : f[0] + offset[i] * (f[lanes] - f[0]);
+        }
+      }
     }
   }
   return Status::Ok();
