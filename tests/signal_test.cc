@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "Eigen/Dense"
 #include "gtest/gtest.h"
 #include "imusysid/parameters.h"
 
@@ -439,6 +440,37 @@ TEST(SavitzkyGolayDerivative, JitteredGridIsNotTreatedAsUniform) {
   EXPECT_EQ(*dx, *general);
 }
 
+// The general solve, written plainly: the normal equations of the window's
+// polynomial built entry by entry and solved by LDLT, as the derivative was
+// first written. The shared-factor, Hankel-summed form must give its bits.
+double TextbookSlope(const std::vector<double>& t,
+                     const std::vector<double>& x,
+                     std::size_t k,
+                     std::size_t lo,
+                     std::size_t hi,
+                     int degree) {
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+  const Eigen::Index coeffs = degree + 1;
+  Matrix gram = Matrix::Zero(coeffs, coeffs);
+  Vector rhs = Vector::Zero(coeffs);
+  const double scale = 0.5 * (t[hi - 1] - t[lo]);
+  for (std::size_t j = lo; j < hi; ++j) {
+    const double tau = (t[j] - t[k]) / scale;
+    double powers[9];
+    powers[0] = 1.0;
+    for (Eigen::Index p = 1; p < 2 * coeffs - 1; ++p) {
+      powers[p] = powers[p - 1] * tau;
+    }
+    for (Eigen::Index r = 0; r < coeffs; ++r) {
+      rhs(r) += powers[r] * x[j];
+      for (Eigen::Index c = 0; c < coeffs; ++c) gram(r, c) += powers[r + c];
+    }
+  }
+  const Vector c = gram.ldlt().solve(rhs);
+  return c(1) / scale;
+}
+
 // The batch form shares each window's factorisation between the series; its
 // results must be the single-series ones exactly, on jittered times (the
 // general solve) and on a uniform grid (the FIR inside, the solve at the
@@ -450,24 +482,38 @@ TEST(SavitzkyGolayDerivativeEach, EqualsTheSingleSeriesResultBitForBit) {
   for (std::size_t k = 0; k < jittered.size(); ++k) {
     jittered[k] = (static_cast<double>(k) + jitter(rng)) / 250.0;
   }
-  for (const std::vector<double>& t : {jittered, Grid(0.0, 1000.0, 800)}) {
-    const std::vector<double> a = Sine(t, 1.0, 3.0);
-    const std::vector<double> b = Sine(t, -0.4, 11.0);
-    std::vector<double> c(t.size());
-    for (std::size_t k = 0; k < t.size(); ++k) c[k] = 9.8 + t[k] * t[k];
+  const std::vector<double> uniform = Grid(0.0, 1000.0, 800);
+  for (const std::vector<double>* t :
+       std::vector<const std::vector<double>*>{&jittered, &uniform}) {
+    const std::vector<double> a = Sine(*t, 1.0, 3.0);
+    const std::vector<double> b = Sine(*t, -0.4, 11.0);
+    std::vector<double> c(t->size());
+    for (std::size_t k = 0; k < t->size(); ++k) c[k] = 9.8 + (*t)[k] * (*t)[k];
     for (int degree = 1; degree <= 4; ++degree) {
       for (int half_width : {2, 13, 20}) {
         StatusOr<std::vector<std::vector<double>>> each =
-            SavitzkyGolayDerivativeEach(t, {&a, &b, &c}, half_width, degree);
+            SavitzkyGolayDerivativeEach(*t, {&a, &b, &c}, half_width, degree);
         ASSERT_TRUE(each.ok()) << each.status().ToString();
         ASSERT_EQ(each->size(), 3u);
         const std::vector<const std::vector<double>*> series = {&a, &b, &c};
         for (std::size_t i = 0; i < 3; ++i) {
           StatusOr<std::vector<double>> one =
-              SavitzkyGolayDerivative(t, *series[i], half_width, degree);
+              SavitzkyGolayDerivative(*t, *series[i], half_width, degree);
           ASSERT_TRUE(one.ok());
           EXPECT_EQ((*each)[i], *one) << "series " << i << " degree " << degree
                                       << " half width " << half_width;
+          // On the jittered times every sample is the general solve.
+          if (t == &jittered) {
+            const auto h = static_cast<std::size_t>(half_width);
+            for (std::size_t k = 0; k < t->size(); ++k) {
+              std::size_t lo = k > h ? k - h : 0;
+              lo = std::min(lo, t->size() - (2 * h + 1));
+              ASSERT_EQ(
+                  (*one)[k],
+                  TextbookSlope(*t, *series[i], k, lo, lo + 2 * h + 1, degree))
+                  << "sample " << k << " degree " << degree;
+            }
+          }
         }
       }
     }

@@ -378,58 +378,52 @@ namespace {
 using SgMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
 using SgVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
 
-// The slopes at t[k] of the least-squares polynomials of `degree` through
-// the samples [lo, hi) of each series xs[c], into (*dxs)[c][k]: the general
-// solve, for any spacing. The normal equations' matrix depends on the times
-// alone, so it is built and factored once for all the series; each series'
-// right-hand side, solve and slope are the arithmetic of a fit of that
-// series alone, bit for bit.
+// The slopes at t[k] of the least-squares polynomials of degree kCoeffs − 1
+// through the samples [lo, hi) of each series xs[c], into (*dxs)[c][k]: the
+// general solve, for any spacing. The normal equations' matrix depends on
+// the times alone, so it is built and factored once for all the series;
+// each series' right-hand side, solve and slope are the arithmetic of a fit
+// of that series alone, bit for bit. `powers` is scratch space.
+template <int kCoeffs>
 void SavitzkyGolaySlopesAt(const std::vector<double>& t,
                            const std::vector<const std::vector<double>*>& xs,
                            std::size_t k,
                            std::size_t lo,
                            std::size_t hi,
-                           int degree,
-                           std::vector<SgVector>* rhs,
+                           std::vector<double>* powers,
                            std::vector<std::vector<double>>* dxs) {
-  const auto coeffs = static_cast<std::size_t>(degree) + 1;
-  const std::size_t channels = xs.size();
-  for (SgVector& r : *rhs) r.setZero(static_cast<Eigen::Index>(coeffs));
+  constexpr int kPowers = 2 * kCoeffs - 1;
+  powers->resize((hi - lo) * kCoeffs);
+  double* window_powers = powers->data();
   // The Gram matrix is a Hankel matrix: entry (r, c) is the sum over the
   // window of τ^(r+c), accumulated in window order.
-  double power_sums[9] = {};
-  double powers[9];
+  double power_sums[kPowers] = {};
   // Local abscissa scaled to about [−1, 1] keeps the normal equations
   // well conditioned whatever the sample rate.
   const double scale = 0.5 * (t[hi - 1] - t[lo]);
   for (std::size_t j = lo; j < hi; ++j) {
     const double tau = (t[j] - t[k]) / scale;
-    powers[0] = 1.0;
-    for (std::size_t p = 1; p < 2 * coeffs - 1; ++p) {
-      powers[p] = powers[p - 1] * tau;
-    }
-    for (std::size_t p = 0; p < 2 * coeffs - 1; ++p) {
-      power_sums[p] += powers[p];
-    }
-    for (std::size_t c = 0; c < channels; ++c) {
-      const double x = (*xs[c])[j];
-      SgVector& r = (*rhs)[c];
-      for (std::size_t i = 0; i < coeffs; ++i) {
-        r(static_cast<Eigen::Index>(i)) += powers[i] * x;
-      }
-    }
+    double p[kPowers];
+    p[0] = 1.0;
+    for (int i = 1; i < kPowers; ++i) p[i] = p[i - 1] * tau;
+    for (int i = 0; i < kPowers; ++i) power_sums[i] += p[i];
+    for (int i = 0; i < kCoeffs; ++i) *window_powers++ = p[i];
   }
-  SgMatrix gram(static_cast<Eigen::Index>(coeffs),
-                static_cast<Eigen::Index>(coeffs));
-  for (std::size_t r = 0; r < coeffs; ++r) {
-    for (std::size_t c = 0; c < coeffs; ++c) {
-      gram(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) =
-          power_sums[r + c];
-    }
+  SgMatrix gram(kCoeffs, kCoeffs);
+  for (int r = 0; r < kCoeffs; ++r) {
+    for (int c = 0; c < kCoeffs; ++c) gram(r, c) = power_sums[r + c];
   }
   const Eigen::LDLT<SgMatrix> ldlt(gram);
-  for (std::size_t c = 0; c < channels; ++c) {
-    const SgVector solution = ldlt.solve((*rhs)[c]);
+  for (std::size_t c = 0; c < xs.size(); ++c) {
+    const double* x = xs[c]->data();
+    const double* pw = powers->data();
+    double sums[kCoeffs] = {};
+    for (std::size_t j = lo; j < hi; ++j, pw += kCoeffs) {
+      for (int i = 0; i < kCoeffs; ++i) sums[i] += pw[i] * x[j];
+    }
+    SgVector rhs(kCoeffs);
+    for (int i = 0; i < kCoeffs; ++i) rhs(i) = sums[i];
+    const SgVector solution = ldlt.solve(rhs);
     (*dxs)[c][k] = solution(1) / scale;
   }
 }
@@ -587,13 +581,30 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
     general_lo = half;
     general_hi = n - half;
   }
-  std::vector<SgVector> rhs(xs.size());
-  for (std::size_t k = 0; k < n; ++k) {
-    if (k == general_lo) k = general_hi;
-    if (k >= n) break;
-    std::size_t lo = k > half ? k - half : 0;
-    if (lo + width > n) lo = n - width;
-    SavitzkyGolaySlopesAt(t, xs, k, lo, lo + width, degree, &rhs, &dxs);
+  std::vector<double> powers;
+  auto solve_each = [&](auto coeffs_constant) {
+    constexpr int kCoeffs = decltype(coeffs_constant)::value;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k == general_lo) k = general_hi;
+      if (k >= n) break;
+      std::size_t lo = k > half ? k - half : 0;
+      if (lo + width > n) lo = n - width;
+      SavitzkyGolaySlopesAt<kCoeffs>(t, xs, k, lo, lo + width, &powers, &dxs);
+    }
+  };
+  switch (degree) {
+    case 1:
+      solve_each(std::integral_constant<int, 2>());
+      break;
+    case 2:
+      solve_each(std::integral_constant<int, 3>());
+      break;
+    case 3:
+      solve_each(std::integral_constant<int, 4>());
+      break;
+    default:
+      solve_each(std::integral_constant<int, 5>());
+      break;
   }
   return dxs;
 }
