@@ -32,8 +32,10 @@ Status NotFiniteError(const char* what,
 // Centred scores g_k = J_kᵀ r_k − ḡ, computed on the fly from the Jacobian
 // rows: storing them would be another n × p buffer, and on a virtual machine
 // faulting in a fresh buffer costs more than the arithmetic. The two passes
-// below are plain loops over a compile-time width P when p is 4 or 6 (the two
-// models), so that they unroll; P = 0 reads the width at run time.
+// below are plain loops over a compile-time width P when p is 4, 6 or 11
+// (the planar models and rigid3d), so that they unroll; P = 0 reads the
+// width at run time. The width changes only the code, not the order of any
+// sum, so every width gives the same bits.
 constexpr int kMaxWidth = 16;
 
 template <int P>
@@ -195,6 +197,8 @@ double Alpha(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
       return AlphaFor<4>(jacobian, residuals, mean);
     case 6:
       return AlphaFor<6>(jacobian, residuals, mean);
+    case 11:
+      return AlphaFor<11>(jacobian, residuals, mean);
     default:
       return AlphaFor<0>(jacobian, residuals, mean);
   }
@@ -209,6 +213,8 @@ Eigen::MatrixXd Meat(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
       return MeatFor<4>(jacobian, residuals, mean, bandwidth);
     case 6:
       return MeatFor<6>(jacobian, residuals, mean, bandwidth);
+    case 11:
+      return MeatFor<11>(jacobian, residuals, mean, bandwidth);
     default:
       return MeatFor<0>(jacobian, residuals, mean, bandwidth);
   }
