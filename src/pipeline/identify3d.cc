@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -84,17 +85,26 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         "default is its closed form)");
   }
 
-  std::string bytes;
+  // The log's bytes: the caller's own when it passes them (a 10-minute
+  // high-rate ULog is 50-200 MB, not copied), else those read.
+  std::string owned;
+  std::string_view bytes;
   if (input.is_log()) {
-    StatusOr<std::string> read = InputBytes(input);
-    if (!read.ok()) return read.status();
-    bytes = std::move(read).value();
+    if (input.kind() == IdentifyInput::Kind::kLogBytes) {
+      bytes = input.bytes();
+    } else {
+      StatusOr<std::string> read = InputBytes(input);
+      if (!read.ok()) return read.status();
+      owned = std::move(read).value();
+      bytes = owned;
+    }
     // Several recordings in one CSV: the longest ordered one, said so.
     if (DetectLogFormat(bytes) == LogFormat::kCsv) {
       OrderedPiece piece = LongestOrderedCsvPiece(bytes, input.source());
       if (!piece.note.empty()) {
         Note(options, piece.note);
-        bytes = std::move(piece.text);
+        owned = std::move(piece.text);
+        bytes = owned;
       }
     }
   }
