@@ -281,6 +281,40 @@ TEST(ZeroPhaseLowPassEachOnTimes, EachSeriesIsFiltFiltsResultBitForBit) {
   }
 }
 
+// One time base serves several filterings: each is the single-series
+// ZeroPhaseLowPassOnTimes, bit for bit, at any cutoff; and it refuses what
+// ZeroPhaseLowPassEachOnTimes refuses.
+TEST(LowPassTimeBase, FiltersAsZeroPhaseLowPassOnTimesAtEveryCutoff) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> jitter(-0.25, 0.25);
+  std::vector<double> t(900);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    t[k] = (static_cast<double>(k) + jitter(rng)) / 250.0;
+  }
+  StatusOr<LowPassTimeBase> base = LowPassTimeBase::Create(t);
+  ASSERT_TRUE(base.ok()) << base.status().ToString();
+  for (double cutoff_hz : {5.0, 20.0}) {
+    std::vector<double> a = Sine(t, 1.0, 2.0);
+    std::vector<double> b = Sine(t, 0.5, 30.0, 1.0);
+    StatusOr<std::vector<double>> a_alone =
+        ZeroPhaseLowPassOnTimes(t, a, cutoff_hz);
+    StatusOr<std::vector<double>> b_alone =
+        ZeroPhaseLowPassOnTimes(t, b, cutoff_hz);
+    ASSERT_TRUE(a_alone.ok() && b_alone.ok());
+    ASSERT_TRUE(base->Filter({&a, &b}, cutoff_hz).ok());
+    EXPECT_EQ(a, *a_alone) << cutoff_hz;
+    EXPECT_EQ(b, *b_alone) << cutoff_hz;
+  }
+  std::vector<double> short_x(10, 1.0);
+  EXPECT_EQ(base->Filter({&short_x}, 5.0).code(), StatusCode::kInvalidArgument);
+  std::vector<double> x(t.size(), 1.0);
+  EXPECT_EQ(base->Filter({&x}, 200.0).code(), StatusCode::kInvalidArgument);
+  std::vector<double> backwards = t;
+  std::swap(backwards[3], backwards[4]);
+  EXPECT_EQ(LowPassTimeBase::Create(backwards).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
 TEST(FiltFilt, HandlesTinyInputs) {
   StatusOr<std::vector<Biquad>> s = DesignButterworthLowPass(4, 5.0, 100.0);
   ASSERT_TRUE(s.ok());

@@ -247,19 +247,12 @@ void FiltFiltInterleaved(const std::vector<Biquad>& sections,
 
 }  // namespace
 
-Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
-                                   const std::vector<std::vector<double>*>& xs,
-                                   double cutoff_hz,
-                                   int order) {
-  for (const std::vector<double>* x : xs) {
-    if (t.size() != x->size()) {
-      std::ostringstream msg;
-      msg << "low-pass: t has " << t.size() << " samples, x has " << x->size();
-      return InvalidArgumentError(msg.str());
-    }
-  }
+StatusOr<LowPassTimeBase> LowPassTimeBase::Create(
+    const std::vector<double>& t) {
+  LowPassTimeBase base;
   const std::size_t n = t.size();
-  if (n < 2) return Status::Ok();
+  base.n_ = n;
+  if (n < 2) return base;
   for (std::size_t i = 1; i < n; ++i) {
     if (!(t[i] > t[i - 1])) {
       std::ostringstream msg;
@@ -268,59 +261,72 @@ Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
     }
   }
   const double dt = MedianInterval(t);
+  base.dt_ = dt;
   bool uniform = true;
   for (std::size_t i = 1; i < n && uniform; ++i) {
     uniform = std::abs(t[i] - t[i - 1] - dt) <= 1e-6 * dt;
   }
+  base.uniform_ = uniform;
+  base.m_ = n;
+  if (uniform) return base;
+  // The grid spans the whole time range at the median interval, so one
+  // corrupt time stamp (days ahead, in a damaged binary log) asked for
+  // billions of points and tens of GB. Holes real logs have (the logger
+  // pausing for minutes) stay well within this bound.
+  const double span_intervals = (t.back() - t.front()) / dt;
+  const double max_grid = 10.0 * static_cast<double>(n) + 1e6;
+  if (!(span_intervals < max_grid)) {
+    std::ostringstream msg;
+    msg << "low-pass: the samples span " << t.back() - t.front()
+        << " s at a median interval of " << dt << " s, more than " << max_grid
+        << " intervals for " << n
+        << " samples: the time stamps have a hole no resampling can bridge "
+           "(a corrupt time stamp?); choose a segment with "
+           "--t_start/--t_end";
+    return InvalidArgumentError(msg.str());
+  }
   // Where each grid point falls among the samples, and each sample among the
-  // grid points: the same for every channel. A uniform log is filtered as it
-  // is (m = n, no resampling).
-  std::size_t m = n;
-  std::vector<std::size_t> below;
-  std::vector<double> weight;
-  std::vector<std::size_t> cell;
-  std::vector<double> offset;
-  if (!uniform) {
-    // The grid spans the whole time range at the median interval, so one
-    // corrupt time stamp (days ahead, in a damaged binary log) asked for
-    // billions of points and tens of GB. Holes real logs have (the logger
-    // pausing for minutes) stay well within this bound.
-    const double span_intervals = (t.back() - t.front()) / dt;
-    const double max_grid = 10.0 * static_cast<double>(n) + 1e6;
-    if (!(span_intervals < max_grid)) {
+  // grid points: the same for every series.
+  const std::size_t m =
+      static_cast<std::size_t>(std::floor(span_intervals)) + 1;
+  base.m_ = m;
+  base.below_.resize(m);
+  base.weight_.resize(m);
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < m; ++j) {
+    const double u = t.front() + static_cast<double>(j) * dt;
+    while (k + 2 < n && t[k + 1] < u) ++k;
+    base.below_[j] = k;
+    base.weight_[j] = std::clamp((u - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0);
+  }
+  base.cell_.resize(n);
+  base.offset_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double pos = (t[i] - t.front()) / dt;
+    std::size_t j = static_cast<std::size_t>(std::max(0.0, std::floor(pos)));
+    j = m < 2 ? 0 : std::min(j, m - 2);
+    base.cell_[i] = j;
+    // Past the last grid point (less than one interval) the last segment
+    // is extended.
+    base.offset_[i] = m < 2 ? 0.0 : pos - static_cast<double>(j);
+  }
+  return base;
+}
+
+Status LowPassTimeBase::Filter(const std::vector<std::vector<double>*>& xs,
+                               double cutoff_hz,
+                               int order) const {
+  for (const std::vector<double>* x : xs) {
+    if (x->size() != n_) {
       std::ostringstream msg;
-      msg << "low-pass: the samples span " << t.back() - t.front()
-          << " s at a median interval of " << dt << " s, more than " << max_grid
-          << " intervals for " << n
-          << " samples: the time stamps have a hole no resampling can bridge "
-             "(a corrupt time stamp?); choose a segment with "
-             "--t_start/--t_end";
+      msg << "low-pass: t has " << n_ << " samples, x has " << x->size();
       return InvalidArgumentError(msg.str());
     }
-    m = static_cast<std::size_t>(std::floor(span_intervals)) + 1;
-    below.resize(m);
-    weight.resize(m);
-    std::size_t k = 0;
-    for (std::size_t j = 0; j < m; ++j) {
-      const double u = t.front() + static_cast<double>(j) * dt;
-      while (k + 2 < n && t[k + 1] < u) ++k;
-      below[j] = k;
-      weight[j] = std::clamp((u - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0);
-    }
-    cell.resize(n);
-    offset.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double pos = (t[i] - t.front()) / dt;
-      std::size_t j = static_cast<std::size_t>(std::max(0.0, std::floor(pos)));
-      j = m < 2 ? 0 : std::min(j, m - 2);
-      cell[i] = j;
-      // Past the last grid point (less than one interval) the last segment
-      // is extended.
-      offset[i] = m < 2 ? 0.0 : pos - static_cast<double>(j);
-    }
   }
-  if (xs.empty()) return Status::Ok();
-  const double sample_rate_hz = 1.0 / dt;
+  if (n_ < 2 || xs.empty()) return Status::Ok();
+  const std::size_t n = n_;
+  const std::size_t m = m_;
+  const double sample_rate_hz = 1.0 / dt_;
   StatusOr<std::vector<Biquad>> sections =
       DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
   if (!sections.ok()) return sections.status();
@@ -339,12 +345,12 @@ Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
     };
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::vector<double>& x = *xs[first + l];
-      if (uniform) {
+      if (uniform_) {
         for (std::size_t k = 0; k < n; ++k) at(pad + k, l) = x[k];
       } else {
         for (std::size_t j = 0; j < m; ++j) {
-          const std::size_t b = below[j];
-          at(pad + j, l) = x[b] + weight[j] * (x[b + 1] - x[b]);
+          const std::size_t b = below_[j];
+          at(pad + j, l) = x[b] + weight_[j] * (x[b + 1] - x[b]);
         }
       }
       const double x0 = at(pad, l);
@@ -359,18 +365,34 @@ Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
     if (m >= 2) FiltFiltInterleaved(*sections, lanes, y, len);
     for (std::size_t l = 0; l < lanes; ++l) {
       std::vector<double>& x = *xs[first + l];
-      if (uniform) {
+      if (uniform_) {
         for (std::size_t k = 0; k < n; ++k) x[k] = at(pad + k, l);
       } else {
         for (std::size_t i = 0; i < n; ++i) {
-          const std::size_t j = cell[i];
+          const std::size_t j = cell_[i];
           const double* f = &at(pad + j, l);
-          x[i] = m < 2 ? f[0] : f[0] + offset[i] * (f[lanes] - f[0]);
+          x[i] = m < 2 ? f[0] : f[0] + offset_[i] * (f[lanes] - f[0]);
         }
       }
     }
   }
   return Status::Ok();
+}
+
+Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
+                                   const std::vector<std::vector<double>*>& xs,
+                                   double cutoff_hz,
+                                   int order) {
+  for (const std::vector<double>* x : xs) {
+    if (t.size() != x->size()) {
+      std::ostringstream msg;
+      msg << "low-pass: t has " << t.size() << " samples, x has " << x->size();
+      return InvalidArgumentError(msg.str());
+    }
+  }
+  StatusOr<LowPassTimeBase> base = LowPassTimeBase::Create(t);
+  if (!base.ok()) return base.status();
+  return base->Filter(xs, cutoff_hz, order);
 }
 
 namespace {

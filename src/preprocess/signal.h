@@ -84,12 +84,44 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
     int order = 4);
 // The same for several series on the times t, in place: the median
 // interval and the resampling are worked out once for all of them (a
-// sort of t and two searches per series otherwise). On error the series
+// sort of t and two searches per series otherwise), the Butterworth
+// designed once, and up to four series filtered side by side (a biquad's
+// recursion is one dependency chain per series); each series comes out
+// exactly as ZeroPhaseLowPassOnTimes makes it alone. On error the series
 // may be partly filtered.
 Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
                                    const std::vector<std::vector<double>*>& xs,
                                    double cutoff_hz,
                                    int order = 4);
+
+// ZeroPhaseLowPassEachOnTimes's time base, worked out once for several
+// filterings on the same times (the 3-D conditioning filters a window's
+// series at two cutoffs, and their products after them): the median
+// interval, whether the times are uniform, and the resampling grid.
+class LowPassTimeBase {
+ public:
+  // InvalidArgument, as ZeroPhaseLowPassEachOnTimes, when t is not
+  // increasing or spans more intervals than any resampling can bridge.
+  static StatusOr<LowPassTimeBase> Create(const std::vector<double>& t);
+  // ZeroPhaseLowPassEachOnTimes(t, xs, cutoff_hz, order) for the t this was
+  // created on: the same bits.
+  Status Filter(const std::vector<std::vector<double>*>& xs,
+                double cutoff_hz,
+                int order = 4) const;
+
+ private:
+  std::size_t n_ = 0;  // samples of t
+  double dt_ = 0.0;    // median interval
+  bool uniform_ = true;
+  std::size_t m_ = 0;  // grid points (n_ when uniform)
+  // Grid point j interpolates samples below_[j] and below_[j] + 1 at
+  // weight_[j]; sample i lies offset_[i] of the way from grid point
+  // cell_[i] to the next. Empty when uniform.
+  std::vector<std::size_t> below_;
+  std::vector<double> weight_;
+  std::vector<std::size_t> cell_;
+  std::vector<double> offset_;
+};
 
 // Savitzky–Golay derivative: at each sample k, the least-squares polynomial of
 // `degree` (1 to 4) through the window of 2·half_width + 1 samples centred on
