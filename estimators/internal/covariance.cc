@@ -126,13 +126,16 @@ Eigen::MatrixXd BartlettLongRunCovariance(const Scores<P>& g,
       g.Row(leaving, row);
       for (int a = 0; a < p; ++a) window[a] -= row[a];
     }
+    // The upper triangle: W_t W_tᵀ is symmetric, and the products are the
+    // same numbers either way round, so the lower one is its mirror bit for
+    // bit.
     for (int a = 0; a < p; ++a) {
-      for (int c = 0; c < p; ++c) sum[a][c] += window[a] * window[c];
+      for (int c = a; c < p; ++c) sum[a][c] += window[a] * window[c];
     }
   }
   Eigen::MatrixXd s(p, p);
   for (int a = 0; a < p; ++a) {
-    for (int c = 0; c < p; ++c) s(a, c) = sum[a][c];
+    for (int c = 0; c < p; ++c) s(a, c) = a <= c ? sum[a][c] : sum[c][a];
   }
   return s / static_cast<double>(bandwidth);
 }
