@@ -33,6 +33,21 @@ Eigen::Matrix<double, kM, kM> CoefficientJacobian(const double* x) {
   return d;
 }
 
+// One residual's Jacobian row −a ∂c/∂x, written out: ∂c/∂x is the identity
+// but for the wind products, so each entry is a single product but ∂/∂k's,
+// (a_k + a_wN w_N) + a_wE w_E. These are the sums Eigen's product of the row
+// and the 11 × 11 matrix forms (its other terms are products with zero,
+// which add nothing; a zero entry comes out +0 either way, as 0 − v), in
+// the same order, so the bits are the product's (tested), without a
+// matrix-vector product per row.
+inline void RowJacobian(const double* a, const double* x, double* j) {
+  for (int i = 0; i < kM; ++i) j[i] = 0.0 - a[i];
+  j[kRotorDrag] = 0.0 - ((a[kRotorDrag] + a[kWindNorth] * x[kWindNorth]) +
+                         a[kWindEast] * x[kWindEast]);
+  j[kWindNorth] = 0.0 - a[kWindNorth] * x[kRotorDrag];
+  j[kWindEast] = 0.0 - a[kWindEast] * x[kRotorDrag];
+}
+
 bool AllFinite(const double* x, int n) {
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) return false;
@@ -173,20 +188,28 @@ bool Rigid3dModel::Residuals(const double* x,
                              double* jacobian) const {
   if (!AllFinite(x, kNumRigid3dParameters)) return false;
   const Eigen::Matrix<double, kM, 1> c = Coefficients(x);
-  Eigen::Matrix<double, kM, kM> dc;
-  if (jacobian != nullptr) dc = CoefficientJacobian(x);
   const std::size_t n = data().size();
-  Eigen::Matrix<double, 1, kM> rows[2];
-  double targets[2] = {0.0, 0.0};
-  for (std::size_t k = 0; k < n; ++k) {
-    Rows(k, rows[0].data(), &targets[0], rows[1].data(), &targets[1]);
-    for (std::size_t axis = 0; axis < 2; ++axis) {
-      const std::size_t out = axis * n + k;
-      residuals[out] = targets[axis] - rows[axis].dot(c);
-      if (!std::isfinite(residuals[out])) return false;
-      if (jacobian != nullptr) {
-        Eigen::Map<Eigen::Matrix<double, 1, kM>> j(jacobian + out * kM);
-        j = -rows[axis] * dc;
+  // The rows of a batch of samples are built first and read after: read
+  // back at once, each row's scalar stores stalled the vector loads of its
+  // dot product.
+  constexpr std::size_t kBatch = 64;
+  double batch[kBatch][2][kM];
+  double targets[kBatch][2];
+  Eigen::Matrix<double, 1, kM> row;
+  for (std::size_t start = 0; start < n; start += kBatch) {
+    const std::size_t count = std::min(kBatch, n - start);
+    for (std::size_t i = 0; i < count; ++i) {
+      Rows(start + i, batch[i][0], &targets[i][0], batch[i][1], &targets[i][1]);
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      for (std::size_t axis = 0; axis < 2; ++axis) {
+        const std::size_t out = axis * n + start + i;
+        row = Eigen::Map<const Eigen::Matrix<double, 1, kM>>(batch[i][axis]);
+        residuals[out] = targets[i][axis] - row.dot(c);
+        if (!std::isfinite(residuals[out])) return false;
+        if (jacobian != nullptr) {
+          RowJacobian(batch[i][axis], x, jacobian + out * kM);
+        }
       }
     }
   }
