@@ -92,53 +92,6 @@ std::vector<double> FilterCascade(const std::vector<Biquad>& sections,
   return y;
 }
 
-std::vector<double> FiltFilt(const std::vector<Biquad>& sections,
-                             const std::vector<double>& x,
-                             std::size_t pad) {
-  const std::size_t n = x.size();
-  if (n < 2) return x;
-  pad = std::min(pad, n - 1);
-  std::vector<double> ext;
-  ext.reserve(n + 2 * pad);
-  for (std::size_t i = pad; i >= 1; --i) ext.push_back(2.0 * x[0] - x[i]);
-  ext.insert(ext.end(), x.begin(), x.end());
-  for (std::size_t i = 1; i <= pad; ++i) {
-    ext.push_back(2.0 * x[n - 1] - x[n - 1 - i]);
-  }
-  std::vector<double> y = FilterCascade(sections, ext);
-  std::reverse(y.begin(), y.end());
-  y = FilterCascade(sections, y);
-  std::reverse(y.begin(), y.end());
-  return std::vector<double>(y.begin() + static_cast<std::ptrdiff_t>(pad),
-                             y.begin() + static_cast<std::ptrdiff_t>(pad + n));
-}
-
-std::size_t ButterworthPadLength(double cutoff_hz, double sample_rate_hz) {
-  return static_cast<std::size_t>(std::ceil(4.0 * sample_rate_hz / cutoff_hz));
-}
-
-StatusOr<std::vector<double>> ZeroPhaseLowPass(const std::vector<double>& x,
-                                               double cutoff_hz,
-                                               double sample_rate_hz,
-                                               int order) {
-  StatusOr<std::vector<Biquad>> sections =
-      DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
-  if (!sections.ok()) return sections.status();
-  return FiltFilt(
-      *sections, x, ButterworthPadLength(cutoff_hz, sample_rate_hz));
-}
-
-StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
-    const std::vector<double>& t,
-    const std::vector<double>& x,
-    double cutoff_hz,
-    int order) {
-  std::vector<double> y = x;
-  IMUSYSID_RETURN_IF_ERROR(
-      ZeroPhaseLowPassEachOnTimes(t, {&y}, cutoff_hz, order));
-  return y;
-}
-
 namespace {
 
 // Series filtered in lockstep by ZeroPhaseLowPassEachOnTimes: a biquad's
@@ -245,7 +198,150 @@ void FiltFiltInterleaved(const std::vector<Biquad>& sections,
   }
 }
 
+// FiltFilt of `count` series of m samples each, up to kMaxLanes side by
+// side in `buffer`: load(i, y, stride) writes series i's samples to y[0],
+// y[stride], …; store(i, y, stride) reads its filtered ones back. The
+// padding is FiltFilt's (odd reflection about each end, `pad` ≤ m − 1
+// samples), and so is every operation on each series.
+template <typename Load, typename Store>
+void FiltFiltEach(const std::vector<Biquad>& sections,
+                  std::size_t pad,
+                  std::size_t m,
+                  std::size_t count,
+                  std::vector<double>* buffer,
+                  Load load,
+                  Store store) {
+  const std::size_t len = m + 2 * pad;
+  buffer->resize(len * std::min(kMaxLanes, count));
+  for (std::size_t first = 0; first < count; first += kMaxLanes) {
+    const std::size_t lanes = std::min(kMaxLanes, count - first);
+    double* y = buffer->data();
+    for (std::size_t l = 0; l < lanes; ++l) {
+      double* lane = y + l;
+      load(first + l, lane + pad * lanes, lanes);
+      const double x0 = lane[pad * lanes];
+      const double x1 = lane[(pad + m - 1) * lanes];
+      for (std::size_t i = pad; i >= 1; --i) {
+        lane[(pad - i) * lanes] = 2.0 * x0 - lane[(pad + i) * lanes];
+      }
+      for (std::size_t i = 1; i <= pad; ++i) {
+        lane[(pad + m - 1 + i) * lanes] =
+            2.0 * x1 - lane[(pad + m - 1 - i) * lanes];
+      }
+    }
+    if (m >= 2) FiltFiltInterleaved(sections, lanes, y, len);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      store(first + l, y + l + pad * lanes, lanes);
+    }
+  }
+}
+
 }  // namespace
+
+std::vector<double> FiltFilt(const std::vector<Biquad>& sections,
+                             const std::vector<double>& x,
+                             std::size_t pad) {
+  const std::size_t n = x.size();
+  if (n < 2) return x;
+  pad = std::min(pad, n - 1);
+  if (sections.empty() || sections.size() > 4) {
+    // Not a Butterworth design: the passes one section at a time.
+    std::vector<double> ext;
+    ext.reserve(n + 2 * pad);
+    for (std::size_t i = pad; i >= 1; --i) ext.push_back(2.0 * x[0] - x[i]);
+    ext.insert(ext.end(), x.begin(), x.end());
+    for (std::size_t i = 1; i <= pad; ++i) {
+      ext.push_back(2.0 * x[n - 1] - x[n - 1 - i]);
+    }
+    std::vector<double> y = FilterCascade(sections, ext);
+    std::reverse(y.begin(), y.end());
+    y = FilterCascade(sections, y);
+    std::reverse(y.begin(), y.end());
+    return std::vector<double>(
+        y.begin() + static_cast<std::ptrdiff_t>(pad),
+        y.begin() + static_cast<std::ptrdiff_t>(pad + n));
+  }
+  // The same operations with the sections fused into one sweep each way.
+  std::vector<double> buffer;
+  std::vector<double> y(n);
+  FiltFiltEach(
+      sections,
+      pad,
+      n,
+      1,
+      &buffer,
+      [&](std::size_t, double* to, std::size_t) {
+        std::copy(x.begin(), x.end(), to);
+      },
+      [&](std::size_t, const double* from, std::size_t) {
+        std::copy(from, from + n, y.begin());
+      });
+  return y;
+}
+
+std::size_t ButterworthPadLength(double cutoff_hz, double sample_rate_hz) {
+  return static_cast<std::size_t>(std::ceil(4.0 * sample_rate_hz / cutoff_hz));
+}
+
+StatusOr<std::vector<double>> ZeroPhaseLowPass(const std::vector<double>& x,
+                                               double cutoff_hz,
+                                               double sample_rate_hz,
+                                               int order) {
+  StatusOr<std::vector<Biquad>> sections =
+      DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
+  if (!sections.ok()) return sections.status();
+  return FiltFilt(
+      *sections, x, ButterworthPadLength(cutoff_hz, sample_rate_hz));
+}
+
+Status ZeroPhaseLowPassEach(const std::vector<std::vector<double>*>& xs,
+                            double cutoff_hz,
+                            double sample_rate_hz,
+                            int order) {
+  StatusOr<std::vector<Biquad>> sections =
+      DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
+  if (!sections.ok()) return sections.status();
+  if (xs.empty()) return Status::Ok();
+  const std::size_t n = xs.front()->size();
+  for (const std::vector<double>* x : xs) {
+    if (x->size() != n) {
+      std::ostringstream msg;
+      msg << "low-pass: the series have " << n << " and " << x->size()
+          << " samples";
+      return InvalidArgumentError(msg.str());
+    }
+  }
+  if (n < 2) return Status::Ok();
+  const std::size_t pad =
+      std::min(ButterworthPadLength(cutoff_hz, sample_rate_hz), n - 1);
+  std::vector<double> buffer;
+  FiltFiltEach(
+      *sections,
+      pad,
+      n,
+      xs.size(),
+      &buffer,
+      [&](std::size_t i, double* to, std::size_t stride) {
+        const std::vector<double>& x = *xs[i];
+        for (std::size_t k = 0; k < n; ++k) to[k * stride] = x[k];
+      },
+      [&](std::size_t i, const double* from, std::size_t stride) {
+        std::vector<double>& x = *xs[i];
+        for (std::size_t k = 0; k < n; ++k) x[k] = from[k * stride];
+      });
+  return Status::Ok();
+}
+
+StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
+    const std::vector<double>& t,
+    const std::vector<double>& x,
+    double cutoff_hz,
+    int order) {
+  std::vector<double> y = x;
+  IMUSYSID_RETURN_IF_ERROR(
+      ZeroPhaseLowPassEachOnTimes(t, {&y}, cutoff_hz, order));
+  return y;
+}
 
 StatusOr<LowPassTimeBase> LowPassTimeBase::Create(
     const std::vector<double>& t) {
@@ -330,52 +426,39 @@ Status LowPassTimeBase::Filter(const std::vector<std::vector<double>*>& xs,
   StatusOr<std::vector<Biquad>> sections =
       DesignButterworthLowPass(order, cutoff_hz, sample_rate_hz);
   if (!sections.ok()) return sections.status();
-  // FiltFilt's padding: odd reflection about each end (a one-sample series
-  // passes unchanged).
+  // FiltFilt's padding (a one-point grid passes unchanged).
   const std::size_t pad =
       m < 2 ? 0
             : std::min(ButterworthPadLength(cutoff_hz, sample_rate_hz), m - 1);
-  const std::size_t len = m + 2 * pad;
-  std::vector<double> buffer(len * std::min(kMaxLanes, xs.size()));
-  for (std::size_t first = 0; first < xs.size(); first += kMaxLanes) {
-    const std::size_t lanes = std::min(kMaxLanes, xs.size() - first);
-    double* y = buffer.data();
-    auto at = [&](std::size_t k, std::size_t lane) -> double& {
-      return y[k * lanes + lane];
-    };
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const std::vector<double>& x = *xs[first + l];
-      if (uniform_) {
-        for (std::size_t k = 0; k < n; ++k) at(pad + k, l) = x[k];
-      } else {
+  std::vector<double> buffer;
+  FiltFiltEach(
+      *sections,
+      pad,
+      m,
+      xs.size(),
+      &buffer,
+      [&](std::size_t i, double* to, std::size_t stride) {
+        const std::vector<double>& x = *xs[i];
+        if (uniform_) {
+          for (std::size_t k = 0; k < n; ++k) to[k * stride] = x[k];
+          return;
+        }
         for (std::size_t j = 0; j < m; ++j) {
           const std::size_t b = below_[j];
-          at(pad + j, l) = x[b] + weight_[j] * (x[b + 1] - x[b]);
+          to[j * stride] = x[b] + weight_[j] * (x[b + 1] - x[b]);
         }
-      }
-      const double x0 = at(pad, l);
-      const double x1 = at(pad + m - 1, l);
-      for (std::size_t i = pad; i >= 1; --i) {
-        at(pad - i, l) = 2.0 * x0 - at(pad + i, l);
-      }
-      for (std::size_t i = 1; i <= pad; ++i) {
-        at(pad + m - 1 + i, l) = 2.0 * x1 - at(pad + m - 1 - i, l);
-      }
-    }
-    if (m >= 2) FiltFiltInterleaved(*sections, lanes, y, len);
-    for (std::size_t l = 0; l < lanes; ++l) {
-      std::vector<double>& x = *xs[first + l];
-      if (uniform_) {
-        for (std::size_t k = 0; k < n; ++k) x[k] = at(pad + k, l);
-      } else {
-        for (std::size_t i = 0; i < n; ++i) {
-          const std::size_t j = cell_[i];
-          const double* f = &at(pad + j, l);
-          x[i] = m < 2 ? f[0] : f[0] + offset_[i] * (f[lanes] - f[0]);
+      },
+      [&](std::size_t i, const double* f, std::size_t stride) {
+        std::vector<double>& x = *xs[i];
+        if (uniform_) {
+          for (std::size_t k = 0; k < n; ++k) x[k] = f[k * stride];
+          return;
         }
-      }
-    }
-  }
+        for (std::size_t s = 0; s < n; ++s) {
+          const double* at = f + cell_[s] * stride;
+          x[s] = m < 2 ? at[0] : at[0] + offset_[s] * (at[stride] - at[0]);
+        }
+      });
   return Status::Ok();
 }
 
