@@ -576,6 +576,63 @@ double TextbookSlope(const std::vector<double>& t,
   return c(1) / scale;
 }
 
+// SmallLdlt is Eigen's LDLT written out for the Savitzky–Golay windows'
+// sizes; it must give Eigen's solution bit for bit: on window Gram matrices,
+// on random symmetric ones (positive definite, indefinite, in every pivot
+// order), and on singular ones (a zero pivot after the first, all zero).
+TEST(SmallLdltSolve, IsEigensLdltBitForBit) {
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto check = [](const Matrix& a, const Vector& b) {
+    const int n = static_cast<int>(a.rows());
+    const Vector expected = a.ldlt().solve(b);
+    double rows[16];
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) rows[r * n + c] = a(r, c);
+    }
+    for (int i = 0; i < n; ++i) {
+      const double got = internal::SmallLdltSolve(n, rows, b.data(), i);
+      ASSERT_TRUE(got == expected(i) ||
+                  (std::isnan(got) && std::isnan(expected(i))))
+          << "n " << n << " component " << i << ": " << got << " vs "
+          << expected(i) << "\n"
+          << a;
+      ASSERT_EQ(std::signbit(got), std::signbit(expected(i)));
+    }
+  };
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int n = 1 + trial % 4;
+    Vector b(n);
+    for (int i = 0; i < n; ++i) b(i) = u(rng) * 10.0;
+    // A window's Gram matrix: sums of powers of jittered abscissae.
+    Matrix gram = Matrix::Zero(n, n);
+    for (int j = -13; j <= 13; ++j) {
+      const double tau = (j + 0.3 * u(rng)) / 13.0;
+      for (int r = 0; r < n; ++r) {
+        for (int c = 0; c < n; ++c) gram(r, c) += std::pow(tau, r + c);
+      }
+    }
+    check(gram, b);
+    // Random symmetric, positive definite or not.
+    Matrix m(n, n);
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c <= r; ++c) m(r, c) = m(c, r) = u(rng) * 5.0;
+    }
+    check(m, b);
+    check(m * m.transpose(), b);
+    // Singular: a repeated row and column, and the zero matrix.
+    if (n >= 2) {
+      Matrix s = m * m.transpose();
+      s.row(n - 1) = s.row(0);
+      s.col(n - 1) = s.col(0);
+      check(s, b);
+    }
+    check(Matrix::Zero(n, n), b);
+  }
+}
+
 // The batch form shares each window's factorisation between the series; its
 // results must be the single-series ones exactly, on jittered times (the
 // general solve) and on a uniform grid (the FIR inside, the solve at the

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -489,6 +490,110 @@ using SgVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
 // the times alone, so it is built and factored once for all the series;
 // each series' right-hand side, solve and slope are the arithmetic of a fit
 // of that series alone, bit for bit. `powers` is scratch space.
+// Eigen::LDLT (lower, diagonal pivoting) of an N × N symmetric matrix and
+// its solve, for N ≤ 4, with Eigen's operations in Eigen's order: the pivot
+// search and swaps of ldlt_inplace<Lower>::unblocked, its inner products
+// and column updates summed from the first term on, and the solve's
+// permutation, unit-lower forward pass, pseudo-inverse of D and transposed
+// backward pass (whose sums of at most three terms every packet width adds
+// left to right). A Savitzky–Golay window's 4 × 4 solve through Eigen's
+// dynamic-size machinery cost several times its arithmetic;
+// internal::SmallLdltSolve holds this to Eigen bit for bit in the tests.
+template <int N>
+class SmallLdlt {
+ public:
+  static_assert(N >= 1 && N <= 4, "sums of up to three terms only");
+
+  // `a` is read in its lower triangle, a[r][c] with r ≥ c.
+  explicit SmallLdlt(const double (&a)[N][N]) {
+    for (int r = 0; r < N; ++r) {
+      for (int c = 0; c < N; ++c) m_[r][c] = a[r][c];
+    }
+    for (int k = 0; k < N; ++k) transpositions_[k] = k;
+    if (N <= 1) return;
+    for (int k = 0; k < N; ++k) {
+      int biggest = k;
+      double biggest_abs = std::abs(m_[k][k]);
+      for (int i = k + 1; i < N; ++i) {
+        if (std::abs(m_[i][i]) > biggest_abs) {
+          biggest_abs = std::abs(m_[i][i]);
+          biggest = i;
+        }
+      }
+      transpositions_[k] = biggest;
+      if (k != biggest) {
+        for (int j = 0; j < k; ++j) std::swap(m_[k][j], m_[biggest][j]);
+        for (int i = biggest + 1; i < N; ++i) {
+          std::swap(m_[i][k], m_[i][biggest]);
+        }
+        std::swap(m_[k][k], m_[biggest][biggest]);
+        for (int i = k + 1; i < biggest; ++i) {
+          const double tmp = m_[i][k];
+          m_[i][k] = m_[biggest][i];
+          m_[biggest][i] = tmp;
+        }
+      }
+      if (k > 0) {
+        double temp[N];
+        for (int j = 0; j < k; ++j) temp[j] = m_[j][j] * m_[k][j];
+        double dot = m_[k][0] * temp[0];
+        for (int j = 1; j < k; ++j) dot = dot + m_[k][j] * temp[j];
+        m_[k][k] = m_[k][k] - dot;
+        // A21 −= A20 temp: Eigen's GEMV sums each row from zero; a
+        // single row goes through its inner product, from the first term.
+        for (int i = k + 1; i < N; ++i) {
+          double c =
+              N - k - 1 == 1 ? m_[i][0] * temp[0] : 0.0 + m_[i][0] * temp[0];
+          for (int j = 1; j < k; ++j) c = c + m_[i][j] * temp[j];
+          m_[i][k] = m_[i][k] - c;
+        }
+      }
+      const double pivot = m_[k][k];
+      const bool valid = std::abs(pivot) > 0.0;
+      if (k == 0 && !valid) {
+        // A zero diagonal: Eigen stops here, its permutation the identity.
+        for (int j = 0; j < N; ++j) transpositions_[j] = j;
+        return;
+      }
+      if (valid) {
+        for (int i = k + 1; i < N; ++i) m_[i][k] /= pivot;
+      }
+    }
+  }
+
+  // Component i of the solution of A x = b.
+  double SolveComponent(const double (&b)[N], int i) const {
+    double x[N];
+    for (int k = 0; k < N; ++k) x[k] = b[k];
+    for (int k = 0; k < N; ++k) {
+      if (transpositions_[k] != k) std::swap(x[k], x[transpositions_[k]]);
+    }
+    for (int c = 0; c < N; ++c) {
+      for (int r = c + 1; r < N; ++r) x[r] = x[r] - x[c] * m_[r][c];
+    }
+    for (int k = 0; k < N; ++k) {
+      if (std::abs(m_[k][k]) > std::numeric_limits<double>::min()) {
+        x[k] /= m_[k][k];
+      } else {
+        x[k] = 0.0;
+      }
+    }
+    for (int r = N - 2; r >= 0; --r) {
+      double sum = m_[r + 1][r] * x[r + 1];
+      for (int c = r + 2; c < N; ++c) sum = sum + m_[c][r] * x[c];
+      x[r] = x[r] - sum;
+    }
+    for (int k = N - 1; k >= 0; --k) {
+      if (transpositions_[k] != k) std::swap(x[k], x[transpositions_[k]]);
+    }
+    return x[i];
+  }
+
+ private:
+  double m_[N][N];
+  int transpositions_[N];
+};
+
 template <int kCoeffs>
 void SavitzkyGolaySlopesAt(const std::vector<double>& t,
                            const std::vector<const std::vector<double>*>& xs,
@@ -514,11 +619,28 @@ void SavitzkyGolaySlopesAt(const std::vector<double>& t,
     for (int i = 0; i < kPowers; ++i) power_sums[i] += p[i];
     for (int i = 0; i < kCoeffs; ++i) *window_powers++ = p[i];
   }
-  SgMatrix gram(kCoeffs, kCoeffs);
+  double gram[kCoeffs][kCoeffs];
   for (int r = 0; r < kCoeffs; ++r) {
-    for (int c = 0; c < kCoeffs; ++c) gram(r, c) = power_sums[r + c];
+    for (int c = 0; c < kCoeffs; ++c) gram[r][c] = power_sums[r + c];
   }
-  const Eigen::LDLT<SgMatrix> ldlt(gram);
+  // Up to degree 3 the factorisation and solves are SmallLdlt's (Eigen's
+  // arithmetic without its dynamic-size overhead); degree 4's solve has a
+  // four-term sum whose order depends on Eigen's packet width, so it goes
+  // through Eigen itself.
+  using Factor = std::conditional_t<(kCoeffs <= 4),
+                                    SmallLdlt<std::min(kCoeffs, 4)>,
+                                    Eigen::LDLT<SgMatrix>>;
+  const Factor ldlt = [&] {
+    if constexpr (kCoeffs <= 4) {
+      return Factor(gram);
+    } else {
+      SgMatrix g(kCoeffs, kCoeffs);
+      for (int r = 0; r < kCoeffs; ++r) {
+        for (int c = 0; c < kCoeffs; ++c) g(r, c) = gram[r][c];
+      }
+      return Factor(g);
+    }
+  }();
   for (std::size_t c = 0; c < xs.size(); ++c) {
     const double* x = xs[c]->data();
     const double* pw = powers->data();
@@ -526,10 +648,15 @@ void SavitzkyGolaySlopesAt(const std::vector<double>& t,
     for (std::size_t j = lo; j < hi; ++j, pw += kCoeffs) {
       for (int i = 0; i < kCoeffs; ++i) sums[i] += pw[i] * x[j];
     }
-    SgVector rhs(kCoeffs);
-    for (int i = 0; i < kCoeffs; ++i) rhs(i) = sums[i];
-    const SgVector solution = ldlt.solve(rhs);
-    (*dxs)[c][k] = solution(1) / scale;
+    double slope = 0.0;
+    if constexpr (kCoeffs <= 4) {
+      slope = ldlt.SolveComponent(sums, 1);
+    } else {
+      SgVector rhs(kCoeffs);
+      for (int i = 0; i < kCoeffs; ++i) rhs(i) = sums[i];
+      slope = ldlt.solve(rhs)(1);
+    }
+    (*dxs)[c][k] = slope / scale;
   }
 }
 
@@ -593,6 +720,32 @@ void SavitzkyGolayFir(const std::vector<double>& x,
 }  // namespace
 
 namespace internal {
+
+double SmallLdltSolve(int n, const double* a, const double* b, int i) {
+  auto solve = [&](auto size_constant) {
+    constexpr int kN = decltype(size_constant)::value;
+    double m[kN][kN];
+    double rhs[kN];
+    for (int r = 0; r < kN; ++r) {
+      rhs[r] = b[r];
+      for (int c = 0; c < kN; ++c) m[r][c] = a[r * kN + c];
+    }
+    return SmallLdlt<kN>(m).SolveComponent(rhs, i);
+  };
+  switch (n) {
+    case 1:
+      return solve(std::integral_constant<int, 1>());
+    case 2:
+      return solve(std::integral_constant<int, 2>());
+    case 3:
+      return solve(std::integral_constant<int, 3>());
+    case 4:
+      return solve(std::integral_constant<int, 4>());
+    default:
+      LOG(FATAL) << "SmallLdltSolve: n = " << n << ", required 1 to 4";
+  }
+  return 0.0;
+}
 
 std::vector<double> SavitzkyGolayCentredWeights(int half_width, int degree) {
   CHECK_GE(half_width, 1);

@@ -173,6 +173,11 @@ namespace internal {
 // half_width ≥ 1: its only caller, SavitzkyGolayDerivative, has returned
 // InvalidArgument for them already.
 std::vector<double> SavitzkyGolayCentredWeights(int half_width, int degree);
+// Component i of the solution of A x = b by the general solve's LDLT (A
+// n × n row-major, read in its lower triangle, 1 ≤ n ≤ 4): what
+// Eigen::LDLT gives, bit for bit, without its dynamic-size overhead (the
+// tests hold it to Eigen).
+double SmallLdltSolve(int n, const double* a, const double* b, int i);
 // SavitzkyGolayDerivative with the per-sample solve everywhere, also on a
 // uniform grid (the reference the FIR is tested against).
 StatusOr<std::vector<double>> SavitzkyGolayDerivativeGeneral(
