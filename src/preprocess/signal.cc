@@ -489,7 +489,8 @@ using SgVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
 // general solve, for any spacing. The normal equations' matrix depends on
 // the times alone, so it is built and factored once for all the series;
 // each series' right-hand side, solve and slope are the arithmetic of a fit
-// of that series alone, bit for bit. `powers` is scratch space.
+// of that series alone, bit for bit. `powers` is scratch space (the
+// window's powers, then its abscissae).
 // Eigen::LDLT (lower, diagonal pivoting) of an N × N symmetric matrix and
 // its solve, for N ≤ 4, with Eigen's operations in Eigen's order: the pivot
 // search and swaps of ldlt_inplace<Lower>::unblocked, its inner products
@@ -603,16 +604,22 @@ void SavitzkyGolaySlopesAt(const std::vector<double>& t,
                            std::vector<double>* powers,
                            std::vector<std::vector<double>>* dxs) {
   constexpr int kPowers = 2 * kCoeffs - 1;
-  powers->resize((hi - lo) * kCoeffs);
-  double* window_powers = powers->data();
   // The Gram matrix is a Hankel matrix: entry (r, c) is the sum over the
   // window of τ^(r+c), accumulated in window order.
   double power_sums[kPowers] = {};
   // Local abscissa scaled to about [−1, 1] keeps the normal equations
   // well conditioned whatever the sample rate.
   const double scale = 0.5 * (t[hi - 1] - t[lo]);
+  // The abscissae first, in a loop of their own that the compiler
+  // vectorises (a division each).
+  const std::size_t width = hi - lo;
+  powers->resize(width * (kCoeffs + 1));
+  double* taus = powers->data() + width * kCoeffs;
+  double* window_powers = powers->data();
+  const double t_k = t[k];
+  for (std::size_t j = 0; j < width; ++j) taus[j] = (t[lo + j] - t_k) / scale;
   for (std::size_t j = lo; j < hi; ++j) {
-    const double tau = (t[j] - t[k]) / scale;
+    const double tau = taus[j - lo];
     double p[kPowers];
     p[0] = 1.0;
     for (int i = 1; i < kPowers; ++i) p[i] = p[i - 1] * tau;
