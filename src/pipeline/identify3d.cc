@@ -218,11 +218,20 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     StatusOr<std::unique_ptr<Estimator>> estimator =
         BuiltinEstimators().Create(estimator_name);
     if (!estimator.ok()) return estimator.status();
-    auto data = std::make_shared<const ProblemData>(pre.data);
+    // The fit's data are the preprocessing's own, not a copy (25 MB for
+    // a ten-minute 250 Hz log): `data` shares ownership of `pre`, which
+    // the report reads too.
+    auto owner = std::make_shared<const Preprocess3dResult>(std::move(pre));
+    std::shared_ptr<const ProblemData> data(owner, &owner->data);
     // The first instance's data, for a caller that refines the fit.
     if (summary.data == nullptr) summary.data = data;
-    StatusOr<ImuPosition3d> report = FitInstance(
-        pre, data, model_name, **estimator, estimator_name, instance, options);
+    StatusOr<ImuPosition3d> report = FitInstance(*owner,
+                                                 data,
+                                                 model_name,
+                                                 **estimator,
+                                                 estimator_name,
+                                                 instance,
+                                                 options);
     if (!report.ok()) return report.status();
     if (!damage.empty()) report->warnings.push_back("damaged_log: " + damage);
     summary.imus.push_back(std::move(report).value());
