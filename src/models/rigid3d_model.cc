@@ -192,7 +192,7 @@ bool Rigid3dModel::Residuals(const double* x,
   // The rows of a batch of samples are built first and read after: read
   // back at once, each row's scalar stores stalled the vector loads of its
   // dot product.
-  constexpr std::size_t kBatch = 64;
+  constexpr std::size_t kBatch = 16;
   double batch[kBatch][2][kM];
   double targets[kBatch][2];
   Eigen::Matrix<double, 1, kM> row;
