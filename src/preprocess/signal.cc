@@ -484,13 +484,6 @@ namespace {
 using SgMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
 using SgVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
 
-// The slopes at t[k] of the least-squares polynomials of degree kCoeffs − 1
-// through the samples [lo, hi) of each series xs[c], into (*dxs)[c][k]: the
-// general solve, for any spacing. The normal equations' matrix depends on
-// the times alone, so it is built and factored once for all the series;
-// each series' right-hand side, solve and slope are the arithmetic of a fit
-// of that series alone, bit for bit. `powers` is scratch space (the
-// window's powers, then its abscissae).
 // Eigen::LDLT (lower, diagonal pivoting) of an N × N symmetric matrix and
 // its solve, for N ≤ 4, with Eigen's operations in Eigen's order: the pivot
 // search and swaps of ldlt_inplace<Lower>::unblocked, its inner products
@@ -595,36 +588,48 @@ class SmallLdlt {
   int transpositions_[N];
 };
 
-template <int kCoeffs>
+// The slopes at t[k] of the least-squares polynomials of degree kCoeffs − 1
+// through the samples [lo, hi) of the kSeries series xs[0..kSeries), into
+// dxs[c][k]: the general solve, for any spacing. The normal equations'
+// matrix depends on the times alone, so it is built and factored once for
+// all the series; each series' right-hand side, solve and slope are the
+// arithmetic of a fit of that series alone, bit for bit. The Gram sums and
+// every series' right-hand sides run in one sweep over the window: each sum
+// still adds its terms in window order, but the sums' dependency chains
+// now overlap. `taus` is scratch space.
+template <int kCoeffs, int kSeries>
 void SavitzkyGolaySlopesAt(const std::vector<double>& t,
-                           const std::vector<const std::vector<double>*>& xs,
+                           const std::vector<double>* const* xs,
                            std::size_t k,
                            std::size_t lo,
                            std::size_t hi,
-                           std::vector<double>* powers,
-                           std::vector<std::vector<double>>* dxs) {
+                           std::vector<double>* taus,
+                           std::vector<double>* const* dxs) {
   constexpr int kPowers = 2 * kCoeffs - 1;
-  // The Gram matrix is a Hankel matrix: entry (r, c) is the sum over the
-  // window of τ^(r+c), accumulated in window order.
-  double power_sums[kPowers] = {};
   // Local abscissa scaled to about [−1, 1] keeps the normal equations
   // well conditioned whatever the sample rate.
   const double scale = 0.5 * (t[hi - 1] - t[lo]);
   // The abscissae first, in a loop of their own that the compiler
   // vectorises (a division each).
   const std::size_t width = hi - lo;
-  powers->resize(width * (kCoeffs + 1));
-  double* taus = powers->data() + width * kCoeffs;
-  double* window_powers = powers->data();
+  taus->resize(width);
+  double* tau = taus->data();
   const double t_k = t[k];
-  for (std::size_t j = 0; j < width; ++j) taus[j] = (t[lo + j] - t_k) / scale;
-  for (std::size_t j = lo; j < hi; ++j) {
-    const double tau = taus[j - lo];
+  for (std::size_t j = 0; j < width; ++j) tau[j] = (t[lo + j] - t_k) / scale;
+  const double* x[kSeries];
+  for (int c = 0; c < kSeries; ++c) x[c] = xs[c]->data() + lo;
+  // The Gram matrix is a Hankel matrix: entry (r, c) is the sum over the
+  // window of τ^(r+c), accumulated in window order.
+  double power_sums[kPowers] = {};
+  double sums[kSeries][kCoeffs] = {};
+  for (std::size_t j = 0; j < width; ++j) {
     double p[kPowers];
     p[0] = 1.0;
-    for (int i = 1; i < kPowers; ++i) p[i] = p[i - 1] * tau;
+    for (int i = 1; i < kPowers; ++i) p[i] = p[i - 1] * tau[j];
     for (int i = 0; i < kPowers; ++i) power_sums[i] += p[i];
-    for (int i = 0; i < kCoeffs; ++i) *window_powers++ = p[i];
+    for (int c = 0; c < kSeries; ++c) {
+      for (int i = 0; i < kCoeffs; ++i) sums[c][i] += p[i] * x[c][j];
+    }
   }
   double gram[kCoeffs][kCoeffs];
   for (int r = 0; r < kCoeffs; ++r) {
@@ -648,22 +653,16 @@ void SavitzkyGolaySlopesAt(const std::vector<double>& t,
       return Factor(g);
     }
   }();
-  for (std::size_t c = 0; c < xs.size(); ++c) {
-    const double* x = xs[c]->data();
-    const double* pw = powers->data();
-    double sums[kCoeffs] = {};
-    for (std::size_t j = lo; j < hi; ++j, pw += kCoeffs) {
-      for (int i = 0; i < kCoeffs; ++i) sums[i] += pw[i] * x[j];
-    }
+  for (int c = 0; c < kSeries; ++c) {
     double slope = 0.0;
     if constexpr (kCoeffs <= 4) {
-      slope = ldlt.SolveComponent(sums, 1);
+      slope = ldlt.SolveComponent(sums[c], 1);
     } else {
       SgVector rhs(kCoeffs);
-      for (int i = 0; i < kCoeffs; ++i) rhs(i) = sums[i];
+      for (int i = 0; i < kCoeffs; ++i) rhs(i) = sums[c][i];
       slope = ldlt.solve(rhs)(1);
     }
-    (*dxs)[c][k] = slope / scale;
+    (*dxs[c])[k] = slope / scale;
   }
 }
 
@@ -846,15 +845,31 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
     general_lo = half;
     general_hi = n - half;
   }
-  std::vector<double> powers;
+  std::vector<double> taus;
+  // Series three at a time (a gyro's axes), each group's windows solved
+  // together.
+  constexpr std::size_t kGroup = 3;
   auto solve_each = [&](auto coeffs_constant) {
     constexpr int kCoeffs = decltype(coeffs_constant)::value;
-    for (std::size_t k = 0; k < n; ++k) {
-      if (k == general_lo) k = general_hi;
-      if (k >= n) break;
-      std::size_t lo = k > half ? k - half : 0;
-      if (lo + width > n) lo = n - width;
-      SavitzkyGolaySlopesAt<kCoeffs>(t, xs, k, lo, lo + width, &powers, &dxs);
+    for (std::size_t first = 0; first < xs.size(); first += kGroup) {
+      const std::size_t count = std::min(kGroup, xs.size() - first);
+      std::vector<double>* out[kGroup];
+      for (std::size_t c = 0; c < count; ++c) out[c] = &dxs[first + c];
+      const std::vector<double>* const* in = xs.data() + first;
+      for (std::size_t k = 0; k < n; ++k) {
+        if (k == general_lo) k = general_hi;
+        if (k >= n) break;
+        std::size_t lo = k > half ? k - half : 0;
+        if (lo + width > n) lo = n - width;
+        const std::size_t hi = lo + width;
+        if (count == 3) {
+          SavitzkyGolaySlopesAt<kCoeffs, 3>(t, in, k, lo, hi, &taus, out);
+        } else if (count == 2) {
+          SavitzkyGolaySlopesAt<kCoeffs, 2>(t, in, k, lo, hi, &taus, out);
+        } else {
+          SavitzkyGolaySlopesAt<kCoeffs, 1>(t, in, k, lo, hi, &taus, out);
+        }
+      }
     }
   };
   switch (degree) {
