@@ -425,6 +425,52 @@ TEST_P(ModelContractTest, LinearStructureDerivativesMatchCentralDifferences) {
   }
 }
 
+// rigid3d writes its Jacobian rows out by hand, −a ∂c/∂x with the few
+// non-zero entries of ∂c/∂x; they must be Eigen's product of the row and the
+// 11 × 11 matrix bit for bit (the fit's covariance and its bits rest on
+// them), at points with and without rotor drag and wind, on rows with
+// structural zeros (the bias and thrust columns of the other axis).
+TEST(Rigid3dJacobian, IsTheRowTimesTheCoefficientJacobianBitForBit) {
+  StatusOr<std::unique_ptr<Model>> model =
+      BuiltinModels().Create("rigid3d", ContractData());
+  ASSERT_TRUE(model.ok()) << model.status().ToString();
+  const LinearStructure* structure = (*model)->linear_structure();
+  ASSERT_NE(structure, nullptr);
+  Eigen::MatrixXd a;
+  Eigen::VectorXd target;
+  ASSERT_TRUE(structure->LinearSystem(nullptr, &a, &target));
+  constexpr int kM = 11;
+  ASSERT_EQ(a.cols(), kM);
+  const int n = (*model)->num_residuals();
+  // p, μ, k, b, e, w: k = index 4, w_N and w_E = 9 and 10.
+  const double points[][kM] = {
+      {0.05, -0.02, 0.1, 0.3, 0.41, 0.1, -0.2, 0.01, -0.03, 3.7, -1.3},
+      {-0.3, 0.2, -0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -7.1, 0.0},
+      {0.1, 0.1, 0.1, 0.9, -1.7, 1.0, 1.0, 0.2, 0.2, 0.0, 19.0}};
+  for (const auto& point : points) {
+    const Eigen::Map<const Eigen::Matrix<double, kM, 1>> x(point);
+    Eigen::Matrix<double, kM, kM> dc =
+        Eigen::Matrix<double, kM, kM>::Identity();
+    dc(9, 9) = x[4];
+    dc(9, 4) = x[9];
+    dc(10, 10) = x[4];
+    dc(10, 4) = x[10];
+    Eigen::VectorXd r(n);
+    RowMajorMatrix j(n, kM);
+    ASSERT_TRUE((*model)->Residuals(x.data(), r.data(), j.data()));
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Matrix<double, 1, kM> row = a.row(k);
+      const Eigen::Matrix<double, 1, kM> expected = -row * dc;
+      for (int c = 0; c < kM; ++c) {
+        // Compared as bits: +0 and −0 too.
+        ASSERT_EQ(std::signbit(j(k, c)), std::signbit(expected[c]))
+            << "row " << k << " column " << c;
+        ASSERT_EQ(j(k, c), expected[c]) << "row " << k << " column " << c;
+      }
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Registered,
     ModelContractTest,

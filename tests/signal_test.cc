@@ -3,10 +3,12 @@
 
 #include "src/preprocess/signal.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "Eigen/Dense"
 #include "gtest/gtest.h"
 #include "imusysid/parameters.h"
 
@@ -209,6 +211,181 @@ TEST(ZeroPhaseLowPassOnTimes, FollowsTheActualTimesOfJitteredSamples) {
             StatusCode::kInvalidArgument);
 }
 
+// FiltFilt as its header defines it, from FilterCascade (one section at a
+// time, each a pass of its own) and two reversals: the reference the fused,
+// side-by-side passes must reproduce bit for bit.
+std::vector<double> ReferenceFiltFilt(const std::vector<Biquad>& sections,
+                                      const std::vector<double>& x,
+                                      std::size_t pad) {
+  const std::size_t n = x.size();
+  if (n < 2) return x;
+  pad = std::min(pad, n - 1);
+  std::vector<double> ext;
+  for (std::size_t i = pad; i >= 1; --i) ext.push_back(2.0 * x[0] - x[i]);
+  ext.insert(ext.end(), x.begin(), x.end());
+  for (std::size_t i = 1; i <= pad; ++i) {
+    ext.push_back(2.0 * x[n - 1] - x[n - 1 - i]);
+  }
+  std::vector<double> y = FilterCascade(sections, ext);
+  std::reverse(y.begin(), y.end());
+  y = FilterCascade(sections, y);
+  std::reverse(y.begin(), y.end());
+  return std::vector<double>(y.begin() + static_cast<std::ptrdiff_t>(pad),
+                             y.begin() + static_cast<std::ptrdiff_t>(pad + n));
+}
+
+TEST(FiltFilt, FusedSectionsGiveTheSectionBySectionBits) {
+  const std::vector<double> t = Grid(0.0, 400.0, 1500);
+  std::vector<double> x = Sine(t, 2.0, 1.3);
+  for (std::size_t k = 0; k < x.size(); ++k) x[k] += 0.3 * std::sin(91.0 * k);
+  for (int order : {2, 4, 6, 8}) {
+    StatusOr<std::vector<Biquad>> s =
+        DesignButterworthLowPass(order, 7.0, 400.0);
+    ASSERT_TRUE(s.ok());
+    for (std::size_t pad : {0u, 1u, 229u, 5000u}) {
+      EXPECT_EQ(FiltFilt(*s, x, pad), ReferenceFiltFilt(*s, x, pad))
+          << "order " << order << " pad " << pad;
+    }
+  }
+  // Five sections (no Butterworth design has them) take the other path.
+  StatusOr<std::vector<Biquad>> s = DesignButterworthLowPass(8, 7.0, 400.0);
+  ASSERT_TRUE(s.ok());
+  std::vector<Biquad> five = *s;
+  five.push_back(s->front());
+  EXPECT_EQ(FiltFilt(five, x, 100), ReferenceFiltFilt(five, x, 100));
+}
+
+// The uniform batch: each series is ZeroPhaseLowPass's, bit for bit.
+TEST(ZeroPhaseLowPassEach, EachSeriesIsZeroPhaseLowPassBitForBit) {
+  const std::vector<double> t = Grid(0.0, 250.0, 900);
+  for (std::size_t count = 1; count <= 6; ++count) {
+    std::vector<std::vector<double>> series;
+    for (std::size_t i = 0; i < count; ++i) {
+      series.push_back(Sine(t, 1.0 + i, 0.5 + 7.0 * i, 0.2 * i));
+    }
+    std::vector<std::vector<double>> filtered = series;
+    std::vector<std::vector<double>*> xs;
+    for (auto& x : filtered) xs.push_back(&x);
+    ASSERT_TRUE(ZeroPhaseLowPassEach(xs, 10.0, 250.0, 4).ok());
+    for (std::size_t i = 0; i < count; ++i) {
+      StatusOr<std::vector<double>> alone =
+          ZeroPhaseLowPass(series[i], 10.0, 250.0, 4);
+      ASSERT_TRUE(alone.ok());
+      EXPECT_EQ(filtered[i], *alone) << i << " of " << count;
+    }
+  }
+  std::vector<double> a(10, 1.0), b(9, 1.0);
+  EXPECT_EQ(ZeroPhaseLowPassEach({&a, &b}, 10.0, 250.0).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(ZeroPhaseLowPassEach({&a}, 200.0, 250.0).code(),
+            StatusCode::kInvalidArgument);
+}
+
+// The series are filtered side by side, the cascade's sections fused; each
+// must still come out as FiltFilt makes it alone, bit for bit: on uniform
+// times that is ZeroPhaseLowPass at the median interval's rate, on jittered
+// ones FiltFilt on the series interpolated onto the median-interval grid,
+// interpolated back. Every order, 1 to 9 series (lane groups of every size).
+TEST(ZeroPhaseLowPassEachOnTimes, EachSeriesIsFiltFiltsResultBitForBit) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  std::vector<double> jittered(700);
+  for (std::size_t k = 0; k < jittered.size(); ++k) {
+    jittered[k] = 2.0 + (static_cast<double>(k) + jitter(rng)) / 250.0;
+  }
+  const std::vector<double> uniform = Grid(2.0, 250.0, 700);
+  for (const std::vector<double>* t :
+       std::vector<const std::vector<double>*>{&uniform, &jittered}) {
+    const bool is_uniform = t == &uniform;
+    const double dt = MedianInterval(*t);
+    for (int order : {2, 4, 6, 8}) {
+      for (std::size_t count = 1; count <= 9; ++count) {
+        std::vector<std::vector<double>> series;
+        for (std::size_t i = 0; i < count; ++i) {
+          series.push_back(Sine(*t, 1.0 + i, 0.7 + 3.0 * i, 0.3 * i));
+          for (double& v : series.back()) v += std::sin(9.0 * v) * 0.1;
+        }
+        std::vector<std::vector<double>> filtered = series;
+        std::vector<std::vector<double>*> xs;
+        for (auto& x : filtered) xs.push_back(&x);
+        ASSERT_TRUE(ZeroPhaseLowPassEachOnTimes(*t, xs, 5.0, order).ok());
+        StatusOr<std::vector<Biquad>> sections =
+            DesignButterworthLowPass(order, 5.0, 1.0 / dt);
+        ASSERT_TRUE(sections.ok());
+        const std::size_t pad = ButterworthPadLength(5.0, 1.0 / dt);
+        for (std::size_t i = 0; i < count; ++i) {
+          const std::vector<double>& x = series[i];
+          std::vector<double> expected;
+          if (is_uniform) {
+            expected = ReferenceFiltFilt(*sections, x, pad);
+          } else {
+            // The resampling ZeroPhaseLowPassOnTimes documents.
+            const std::size_t m = static_cast<std::size_t>(std::floor(
+                                      (t->back() - t->front()) / dt)) +
+                                  1;
+            std::vector<double> grid(m);
+            std::size_t k = 0;
+            for (std::size_t j = 0; j < m; ++j) {
+              const double u = t->front() + static_cast<double>(j) * dt;
+              while (k + 2 < t->size() && (*t)[k + 1] < u) ++k;
+              const double w =
+                  std::clamp((u - (*t)[k]) / ((*t)[k + 1] - (*t)[k]), 0.0, 1.0);
+              grid[j] = x[k] + w * (x[k + 1] - x[k]);
+            }
+            const std::vector<double> f =
+                ReferenceFiltFilt(*sections, grid, pad);
+            for (std::size_t s = 0; s < t->size(); ++s) {
+              const double pos = ((*t)[s] - t->front()) / dt;
+              const std::size_t j = std::min(
+                  static_cast<std::size_t>(std::max(0.0, std::floor(pos))),
+                  m - 2);
+              expected.push_back(f[j] + (pos - static_cast<double>(j)) *
+                                            (f[j + 1] - f[j]));
+            }
+          }
+          EXPECT_EQ(filtered[i], expected)
+              << (is_uniform ? "uniform" : "jittered") << " order " << order
+              << " series " << i << " of " << count;
+        }
+      }
+    }
+  }
+}
+
+// One time base serves several filterings: each is the single-series
+// ZeroPhaseLowPassOnTimes, bit for bit, at any cutoff; and it refuses what
+// ZeroPhaseLowPassEachOnTimes refuses.
+TEST(LowPassTimeBase, FiltersAsZeroPhaseLowPassOnTimesAtEveryCutoff) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> jitter(-0.25, 0.25);
+  std::vector<double> t(900);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    t[k] = (static_cast<double>(k) + jitter(rng)) / 250.0;
+  }
+  StatusOr<LowPassTimeBase> base = LowPassTimeBase::Create(t);
+  ASSERT_TRUE(base.ok()) << base.status().ToString();
+  for (double cutoff_hz : {5.0, 20.0}) {
+    std::vector<double> a = Sine(t, 1.0, 2.0);
+    std::vector<double> b = Sine(t, 0.5, 30.0, 1.0);
+    StatusOr<std::vector<double>> a_alone =
+        ZeroPhaseLowPassOnTimes(t, a, cutoff_hz);
+    StatusOr<std::vector<double>> b_alone =
+        ZeroPhaseLowPassOnTimes(t, b, cutoff_hz);
+    ASSERT_TRUE(a_alone.ok() && b_alone.ok());
+    ASSERT_TRUE(base->Filter({&a, &b}, cutoff_hz).ok());
+    EXPECT_EQ(a, *a_alone) << cutoff_hz;
+    EXPECT_EQ(b, *b_alone) << cutoff_hz;
+  }
+  std::vector<double> short_x(10, 1.0);
+  EXPECT_EQ(base->Filter({&short_x}, 5.0).code(), StatusCode::kInvalidArgument);
+  std::vector<double> x(t.size(), 1.0);
+  EXPECT_EQ(base->Filter({&x}, 200.0).code(), StatusCode::kInvalidArgument);
+  std::vector<double> backwards = t;
+  std::swap(backwards[3], backwards[4]);
+  EXPECT_EQ(LowPassTimeBase::Create(backwards).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
 TEST(FiltFilt, HandlesTinyInputs) {
   StatusOr<std::vector<Biquad>> s = DesignButterworthLowPass(4, 5.0, 100.0);
   ASSERT_TRUE(s.ok());
@@ -366,6 +543,149 @@ TEST(SavitzkyGolayDerivative, JitteredGridIsNotTreatedAsUniform) {
       internal::SavitzkyGolayDerivativeGeneral(t, x, 50, 3);
   ASSERT_TRUE(dx.ok() && general.ok());
   EXPECT_EQ(*dx, *general);
+}
+
+// The general solve, written plainly: the normal equations of the window's
+// polynomial built entry by entry and solved by LDLT, as the derivative was
+// first written. The shared-factor, Hankel-summed form must give its bits.
+double TextbookSlope(const std::vector<double>& t,
+                     const std::vector<double>& x,
+                     std::size_t k,
+                     std::size_t lo,
+                     std::size_t hi,
+                     int degree) {
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+  const Eigen::Index coeffs = degree + 1;
+  Matrix gram = Matrix::Zero(coeffs, coeffs);
+  Vector rhs = Vector::Zero(coeffs);
+  const double scale = 0.5 * (t[hi - 1] - t[lo]);
+  for (std::size_t j = lo; j < hi; ++j) {
+    const double tau = (t[j] - t[k]) / scale;
+    double powers[9];
+    powers[0] = 1.0;
+    for (Eigen::Index p = 1; p < 2 * coeffs - 1; ++p) {
+      powers[p] = powers[p - 1] * tau;
+    }
+    for (Eigen::Index r = 0; r < coeffs; ++r) {
+      rhs(r) += powers[r] * x[j];
+      for (Eigen::Index c = 0; c < coeffs; ++c) gram(r, c) += powers[r + c];
+    }
+  }
+  const Vector c = gram.ldlt().solve(rhs);
+  return c(1) / scale;
+}
+
+// SmallLdlt is Eigen's LDLT written out for the Savitzky–Golay windows'
+// sizes; it must give Eigen's solution bit for bit: on window Gram matrices,
+// on random symmetric ones (positive definite, indefinite, in every pivot
+// order), and on singular ones (a zero pivot after the first, all zero).
+TEST(SmallLdltSolve, IsEigensLdltBitForBit) {
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto check = [](const Matrix& a, const Vector& b) {
+    const int n = static_cast<int>(a.rows());
+    const Vector expected = a.ldlt().solve(b);
+    double rows[16];
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) rows[r * n + c] = a(r, c);
+    }
+    for (int i = 0; i < n; ++i) {
+      const double got = internal::SmallLdltSolve(n, rows, b.data(), i);
+      ASSERT_TRUE(got == expected(i) ||
+                  (std::isnan(got) && std::isnan(expected(i))))
+          << "n " << n << " component " << i << ": " << got << " vs "
+          << expected(i) << "\n"
+          << a;
+      ASSERT_EQ(std::signbit(got), std::signbit(expected(i)));
+    }
+  };
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int n = 1 + trial % 4;
+    Vector b(n);
+    for (int i = 0; i < n; ++i) b(i) = u(rng) * 10.0;
+    // A window's Gram matrix: sums of powers of jittered abscissae.
+    Matrix gram = Matrix::Zero(n, n);
+    for (int j = -13; j <= 13; ++j) {
+      const double tau = (j + 0.3 * u(rng)) / 13.0;
+      for (int r = 0; r < n; ++r) {
+        for (int c = 0; c < n; ++c) gram(r, c) += std::pow(tau, r + c);
+      }
+    }
+    check(gram, b);
+    // Random symmetric, positive definite or not.
+    Matrix m(n, n);
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c <= r; ++c) m(r, c) = m(c, r) = u(rng) * 5.0;
+    }
+    check(m, b);
+    check(m * m.transpose(), b);
+    // Singular: a repeated row and column, and the zero matrix.
+    if (n >= 2) {
+      Matrix s = m * m.transpose();
+      s.row(n - 1) = s.row(0);
+      s.col(n - 1) = s.col(0);
+      check(s, b);
+    }
+    check(Matrix::Zero(n, n), b);
+  }
+}
+
+// The batch form shares each window's factorisation between the series; its
+// results must be the single-series ones exactly, on jittered times (the
+// general solve) and on a uniform grid (the FIR inside, the solve at the
+// edges), for every degree.
+TEST(SavitzkyGolayDerivativeEach, EqualsTheSingleSeriesResultBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  std::vector<double> jittered(800);
+  for (std::size_t k = 0; k < jittered.size(); ++k) {
+    jittered[k] = (static_cast<double>(k) + jitter(rng)) / 250.0;
+  }
+  const std::vector<double> uniform = Grid(0.0, 1000.0, 800);
+  for (const std::vector<double>* t :
+       std::vector<const std::vector<double>*>{&jittered, &uniform}) {
+    const std::vector<double> a = Sine(*t, 1.0, 3.0);
+    const std::vector<double> b = Sine(*t, -0.4, 11.0);
+    std::vector<double> c(t->size());
+    for (std::size_t k = 0; k < t->size(); ++k) c[k] = 9.8 + (*t)[k] * (*t)[k];
+    for (int degree = 1; degree <= 4; ++degree) {
+      for (int half_width : {2, 13, 20}) {
+        StatusOr<std::vector<std::vector<double>>> each =
+            SavitzkyGolayDerivativeEach(*t, {&a, &b, &c}, half_width, degree);
+        ASSERT_TRUE(each.ok()) << each.status().ToString();
+        ASSERT_EQ(each->size(), 3u);
+        const std::vector<const std::vector<double>*> series = {&a, &b, &c};
+        for (std::size_t i = 0; i < 3; ++i) {
+          StatusOr<std::vector<double>> one =
+              SavitzkyGolayDerivative(*t, *series[i], half_width, degree);
+          ASSERT_TRUE(one.ok());
+          EXPECT_EQ((*each)[i], *one) << "series " << i << " degree " << degree
+                                      << " half width " << half_width;
+          // On the jittered times every sample is the general solve.
+          if (t == &jittered) {
+            const auto h = static_cast<std::size_t>(half_width);
+            for (std::size_t k = 0; k < t->size(); ++k) {
+              std::size_t lo = k > h ? k - h : 0;
+              lo = std::min(lo, t->size() - (2 * h + 1));
+              ASSERT_EQ(
+                  (*one)[k],
+                  TextbookSlope(*t, *series[i], k, lo, lo + 2 * h + 1, degree))
+                  << "sample " << k << " degree " << degree;
+            }
+          }
+        }
+      }
+    }
+  }
+  const std::vector<double> t = Grid(0.0, 100.0, 10);
+  const std::vector<double> x(10, 1.0);
+  const std::vector<double> short_x(9, 1.0);
+  EXPECT_EQ(
+      SavitzkyGolayDerivativeEach(t, {&x, &short_x}, 3, 2).status().code(),
+      StatusCode::kInvalidArgument);
 }
 
 TEST(SavitzkyGolayDerivative, RejectsBadArguments) {

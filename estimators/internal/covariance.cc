@@ -32,8 +32,10 @@ Status NotFiniteError(const char* what,
 // Centred scores g_k = J_kᵀ r_k − ḡ, computed on the fly from the Jacobian
 // rows: storing them would be another n × p buffer, and on a virtual machine
 // faulting in a fresh buffer costs more than the arithmetic. The two passes
-// below are plain loops over a compile-time width P when p is 4 or 6 (the two
-// models), so that they unroll; P = 0 reads the width at run time.
+// below are plain loops over a compile-time width P when p is 4, 6 or 11
+// (the planar models and rigid3d), so that they unroll; P = 0 reads the
+// width at run time. The width changes only the code, not the order of any
+// sum, so every width gives the same bits.
 constexpr int kMaxWidth = 16;
 
 template <int P>
@@ -124,13 +126,16 @@ Eigen::MatrixXd BartlettLongRunCovariance(const Scores<P>& g,
       g.Row(leaving, row);
       for (int a = 0; a < p; ++a) window[a] -= row[a];
     }
+    // The upper triangle: W_t W_tᵀ is symmetric, and the products are the
+    // same numbers either way round, so the lower one is its mirror bit for
+    // bit.
     for (int a = 0; a < p; ++a) {
-      for (int c = 0; c < p; ++c) sum[a][c] += window[a] * window[c];
+      for (int c = a; c < p; ++c) sum[a][c] += window[a] * window[c];
     }
   }
   Eigen::MatrixXd s(p, p);
   for (int a = 0; a < p; ++a) {
-    for (int c = 0; c < p; ++c) s(a, c) = sum[a][c];
+    for (int c = 0; c < p; ++c) s(a, c) = a <= c ? sum[a][c] : sum[c][a];
   }
   return s / static_cast<double>(bandwidth);
 }
@@ -195,6 +200,8 @@ double Alpha(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
       return AlphaFor<4>(jacobian, residuals, mean);
     case 6:
       return AlphaFor<6>(jacobian, residuals, mean);
+    case 11:
+      return AlphaFor<11>(jacobian, residuals, mean);
     default:
       return AlphaFor<0>(jacobian, residuals, mean);
   }
@@ -209,6 +216,8 @@ Eigen::MatrixXd Meat(const Eigen::Ref<const RowMajorMatrixXd>& jacobian,
       return MeatFor<4>(jacobian, residuals, mean, bandwidth);
     case 6:
       return MeatFor<6>(jacobian, residuals, mean, bandwidth);
+    case 11:
+      return MeatFor<11>(jacobian, residuals, mean, bandwidth);
     default:
       return MeatFor<0>(jacobian, residuals, mean, bandwidth);
   }

@@ -33,6 +33,21 @@ Eigen::Matrix<double, kM, kM> CoefficientJacobian(const double* x) {
   return d;
 }
 
+// One residual's Jacobian row −a ∂c/∂x, written out: ∂c/∂x is the identity
+// but for the wind products, so each entry is a single product but ∂/∂k's,
+// (a_k + a_wN w_N) + a_wE w_E. These are the sums Eigen's product of the row
+// and the 11 × 11 matrix forms (its other terms are products with zero,
+// which add nothing; a zero entry comes out +0 either way, as 0 − v), in
+// the same order, so the bits are the product's (tested), without a
+// matrix-vector product per row.
+inline void RowJacobian(const double* a, const double* x, double* j) {
+  for (int i = 0; i < kM; ++i) j[i] = 0.0 - a[i];
+  j[kRotorDrag] = 0.0 - ((a[kRotorDrag] + a[kWindNorth] * x[kWindNorth]) +
+                         a[kWindEast] * x[kWindEast]);
+  j[kWindNorth] = 0.0 - a[kWindNorth] * x[kRotorDrag];
+  j[kWindEast] = 0.0 - a[kWindEast] * x[kRotorDrag];
+}
+
 bool AllFinite(const double* x, int n) {
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) return false;
@@ -53,19 +68,23 @@ Rigid3dModel::Rigid3dModel(std::shared_ptr<const ProblemData> data)
   factor_.setZero();
   Eigen::Matrix<double, Eigen::Dynamic, kCols> stack;
   Eigen::HouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, kCols>> qr;
-  double row[kM];
+  double x_row[kM], y_row[kM];
   for (Eigen::Index start = 0; start < n; start += kBlockSamples) {
     const Eigen::Index m = std::min(kBlockSamples, n - start);
     stack.resize(2 * m + kCols, kCols);
     stack.topRows<kCols>() = factor_;
     for (Eigen::Index i = 0; i < m; ++i) {
-      for (int axis = 0; axis < 2; ++axis) {
-        double target = 0.0;
-        Row(static_cast<std::size_t>(start + i), axis, row, &target);
-        const Eigen::Index out = kCols + 2 * i + axis;
-        for (int j = 0; j < kM; ++j) stack(out, j) = row[j];
-        stack(out, kM) = target;
-      }
+      double x_target = 0.0, y_target = 0.0;
+      Rows(static_cast<std::size_t>(start + i),
+           x_row,
+           &x_target,
+           y_row,
+           &y_target);
+      const Eigen::Index out = kCols + 2 * i;
+      for (int j = 0; j < kM; ++j) stack(out, j) = x_row[j];
+      stack(out, kM) = x_target;
+      for (int j = 0; j < kM; ++j) stack(out + 1, j) = y_row[j];
+      stack(out + 1, kM) = y_target;
     }
     qr.compute(stack);
     factor_ = qr.matrixQR().topRows<kCols>().triangularView<Eigen::Upper>();
@@ -101,10 +120,22 @@ void Rigid3dModel::Row(std::size_t k,
                        int axis,
                        double* a,
                        double* target) const {
+  double x_row[kM], y_row[kM];
+  double x_target = 0.0, y_target = 0.0;
+  Rows(k, x_row, &x_target, y_row, &y_target);
+  std::copy(axis == 0 ? x_row : y_row, (axis == 0 ? x_row : y_row) + kM, a);
+  *target = axis == 0 ? x_target : y_target;
+}
+
+void Rigid3dModel::Rows(std::size_t k,
+                        double* ax,
+                        double* target_x,
+                        double* ay,
+                        double* target_y) const {
   const Motion3d& m = data().motion;
   const double wx = m.omega[0][k], wy = m.omega[1][k], wz = m.omega[2][k];
-  const double ax = m.omega_dot[0][k], ay = m.omega_dot[1][k],
-               az = m.omega_dot[2][k];
+  const double ax_dot = m.omega_dot[0][k], ay_dot = m.omega_dot[1][k],
+               az_dot = m.omega_dot[2][k];
   const double vx = m.velocity[0][k], vy = m.velocity[1][k],
                vz = m.velocity[2][k];
   // Air velocity for the quadratic drag, at the preprocessing's wind.
@@ -126,33 +157,30 @@ void Rigid3dModel::Row(std::size_t k,
                xz = formed ? pr[4][k] : wx * wz,
                yz = formed ? pr[5][k] : wy * wz;
   // Rows of ω̇× + ω×ω× (the lever-arm acceleration a×p + ω×(ω×p) = M p).
-  if (axis == 0) {
-    a[kPx] = -(yy + zz);
-    a[kPy] = xy - az;
-    a[kPz] = xz + ay;
-    a[kDrag3dMu] = -air_speed * ux;
-    a[kRotorDrag] = -vx;
-    a[kBiasX] = 1.0;
-    a[kBiasY] = 0.0;
-    a[kThrustToX] = fz;
-    a[kThrustToY] = 0.0;
-    a[kWindNorth] = m.north[0][k];
-    a[kWindEast] = m.east[0][k];
-    *target = m.f[0][k];
-  } else {
-    a[kPx] = xy + az;
-    a[kPy] = -(xx + zz);
-    a[kPz] = yz - ax;
-    a[kDrag3dMu] = -air_speed * uy;
-    a[kRotorDrag] = -vy;
-    a[kBiasX] = 0.0;
-    a[kBiasY] = 1.0;
-    a[kThrustToX] = 0.0;
-    a[kThrustToY] = fz;
-    a[kWindNorth] = m.north[1][k];
-    a[kWindEast] = m.east[1][k];
-    *target = m.f[1][k];
-  }
+  ax[kPx] = -(yy + zz);
+  ax[kPy] = xy - az_dot;
+  ax[kPz] = xz + ay_dot;
+  ax[kDrag3dMu] = -air_speed * ux;
+  ax[kRotorDrag] = -vx;
+  ax[kBiasX] = 1.0;
+  ax[kBiasY] = 0.0;
+  ax[kThrustToX] = fz;
+  ax[kThrustToY] = 0.0;
+  ax[kWindNorth] = m.north[0][k];
+  ax[kWindEast] = m.east[0][k];
+  *target_x = m.f[0][k];
+  ay[kPx] = xy + az_dot;
+  ay[kPy] = -(xx + zz);
+  ay[kPz] = yz - ax_dot;
+  ay[kDrag3dMu] = -air_speed * uy;
+  ay[kRotorDrag] = -vy;
+  ay[kBiasX] = 0.0;
+  ay[kBiasY] = 1.0;
+  ay[kThrustToX] = 0.0;
+  ay[kThrustToY] = fz;
+  ay[kWindNorth] = m.north[1][k];
+  ay[kWindEast] = m.east[1][k];
+  *target_y = m.f[1][k];
 }
 
 bool Rigid3dModel::Residuals(const double* x,
@@ -160,20 +188,28 @@ bool Rigid3dModel::Residuals(const double* x,
                              double* jacobian) const {
   if (!AllFinite(x, kNumRigid3dParameters)) return false;
   const Eigen::Matrix<double, kM, 1> c = Coefficients(x);
-  Eigen::Matrix<double, kM, kM> dc;
-  if (jacobian != nullptr) dc = CoefficientJacobian(x);
   const std::size_t n = data().size();
+  // The rows of a batch of samples are built first and read after: read
+  // back at once, each row's scalar stores stalled the vector loads of its
+  // dot product.
+  constexpr std::size_t kBatch = 16;
+  double batch[kBatch][2][kM];
+  double targets[kBatch][2];
   Eigen::Matrix<double, 1, kM> row;
-  double target = 0.0;
-  for (int axis = 0; axis < 2; ++axis) {
-    for (std::size_t k = 0; k < n; ++k) {
-      Row(k, axis, row.data(), &target);
-      const std::size_t out = axis * n + k;
-      residuals[out] = target - row.dot(c);
-      if (!std::isfinite(residuals[out])) return false;
-      if (jacobian != nullptr) {
-        Eigen::Map<Eigen::Matrix<double, 1, kM>> j(jacobian + out * kM);
-        j = -row * dc;
+  for (std::size_t start = 0; start < n; start += kBatch) {
+    const std::size_t count = std::min(kBatch, n - start);
+    for (std::size_t i = 0; i < count; ++i) {
+      Rows(start + i, batch[i][0], &targets[i][0], batch[i][1], &targets[i][1]);
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+      for (std::size_t axis = 0; axis < 2; ++axis) {
+        const std::size_t out = axis * n + start + i;
+        row = Eigen::Map<const Eigen::Matrix<double, 1, kM>>(batch[i][axis]);
+        residuals[out] = targets[i][axis] - row.dot(c);
+        if (!std::isfinite(residuals[out])) return false;
+        if (jacobian != nullptr) {
+          RowJacobian(batch[i][axis], x, jacobian + out * kM);
+        }
       }
     }
   }
@@ -225,13 +261,13 @@ bool Rigid3dModel::LinearSystem(const double* /*p*/,
   const auto rows = static_cast<Eigen::Index>(2 * n);
   if (a->rows() != rows || a->cols() != kM) a->resize(rows, kM);
   if (target->size() != rows) target->resize(rows);
-  double row[kM];
-  for (int axis = 0; axis < 2; ++axis) {
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto out = static_cast<Eigen::Index>(axis * n + k);
-      Row(k, axis, row, &(*target)[out]);
-      for (int j = 0; j < kM; ++j) (*a)(out, j) = row[j];
-    }
+  double pair[2][kM];
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto x_out = static_cast<Eigen::Index>(k);
+    const auto y_out = static_cast<Eigen::Index>(n + k);
+    Rows(k, pair[0], &(*target)[x_out], pair[1], &(*target)[y_out]);
+    for (int j = 0; j < kM; ++j) (*a)(x_out, j) = pair[0][j];
+    for (int j = 0; j < kM; ++j) (*a)(y_out, j) = pair[1][j];
   }
   if (d_a != nullptr) d_a->clear();
   if (d_target != nullptr) d_target->resize(rows, 0);

@@ -63,6 +63,13 @@ class Rigid3dModel : public Model, public LinearStructure {
   // Regressor row of sample k on accelerometer axis 0 (x) or 1 (y), and the
   // measured value it predicts.
   void Row(std::size_t k, int axis, double* a, double* target) const;
+  // Both rows of sample k at once (what Row gives for axis 0 and 1): they
+  // share the sample's reads and its air speed.
+  void Rows(std::size_t k,
+            double* ax,
+            double* target_x,
+            double* ay,
+            double* target_y) const;
 
  private:
   using Factor = Eigen::Matrix<double, kCoefficients + 1, kCoefficients + 1>;

@@ -58,6 +58,8 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   out.t = cut(t);
   Axes f, g;
   for (std::size_t a = 0; a < 3; ++a) {
+    f[a].reserve(c1 - c0);
+    g[a].reserve(c1 - c0);
     for (std::size_t k = c0; k < c1; ++k) {
       f[a].push_back(AccelFrd(log, k)[static_cast<Eigen::Index>(a)]);
       g[a].push_back(GyroFrd(log, k)[static_cast<Eigen::Index>(a)] -
@@ -65,24 +67,29 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
     }
   }
   Axes rates = g;
+  // One time base for the three filterings below.
+  LowPassTimeBase time_base;
   if (o.cutoff_hz > 0) {
+    StatusOr<LowPassTimeBase> base = LowPassTimeBase::Create(t);
+    if (!base.ok()) return base.status().WithPrefix("low-pass cutoff_hz");
+    time_base = std::move(base).value();
     IMUSYSID_RETURN_IF_ERROR(
-        ZeroPhaseLowPassEachOnTimes(t,
-                                    {&f[0], &f[1], &f[2], &g[0], &g[1], &g[2]},
-                                    o.cutoff_hz,
-                                    o.filter_order)
+        time_base
+            .Filter({&f[0], &f[1], &f[2], &g[0], &g[1], &g[2]},
+                    o.cutoff_hz,
+                    o.filter_order)
             .WithPrefix("low-pass cutoff_hz"));
   }
   const int half = std::max(
       o.derivative_degree,
       static_cast<int>(std::lround(o.derivative_half_width_s * rate_hz)));
+  StatusOr<std::vector<std::vector<double>>> d = SavitzkyGolayDerivativeEach(
+      t, {&g[0], &g[1], &g[2]}, half, o.derivative_degree);
+  if (!d.ok()) return d.status();
   for (std::size_t a = 0; a < 3; ++a) {
-    StatusOr<std::vector<double>> d =
-        SavitzkyGolayDerivative(t, g[a], half, o.derivative_degree);
-    if (!d.ok()) return d.status();
     out.f[a] = cut(f[a]);
     out.omega[a] = cut(g[a]);
-    out.omega_dot[a] = cut(*d);
+    out.omega_dot[a] = cut((*d)[a]);
   }
   // The rate products, low-passed as f is. The rates are first cleared of
   // the motor vibration (tens of Hz and up), whose square would add a
@@ -91,10 +98,10 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   // every manoeuvre the cutoff passes.
   if (o.cutoff_hz > 0) {
     IMUSYSID_RETURN_IF_ERROR(
-        ZeroPhaseLowPassEachOnTimes(t,
-                                    {&rates[0], &rates[1], &rates[2]},
-                                    std::min(4.0 * o.cutoff_hz, 0.4 * rate_hz),
-                                    o.filter_order)
+        time_base
+            .Filter({&rates[0], &rates[1], &rates[2]},
+                    std::min(4.0 * o.cutoff_hz, 0.4 * rate_hz),
+                    o.filter_order)
             .WithPrefix("low-pass cutoff_hz"));
   }
   constexpr int kPairs[6][2] = {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}};
@@ -108,9 +115,8 @@ StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
   if (o.cutoff_hz > 0) {
     std::vector<std::vector<double>*> all;
     for (auto& product : products) all.push_back(&product);
-    IMUSYSID_RETURN_IF_ERROR(
-        ZeroPhaseLowPassEachOnTimes(t, all, o.cutoff_hz, o.filter_order)
-            .WithPrefix("low-pass cutoff_hz"));
+    IMUSYSID_RETURN_IF_ERROR(time_base.Filter(all, o.cutoff_hz, o.filter_order)
+                                 .WithPrefix("low-pass cutoff_hz"));
   }
   for (std::size_t j = 0; j < 6; ++j) out.omega_products[j] = cut(products[j]);
   return out;

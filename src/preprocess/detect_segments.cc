@@ -72,11 +72,14 @@ StatusOr<std::vector<double>> VibrationLevel(const FlightLog& log, double fs) {
   const std::size_t n = t.size();
   const double vib_cut = std::min(kVibrationCutoffHz, 0.25 * fs);
   std::vector<double> hf2(n, 0.0);
-  for (const std::vector<double>* axis : {&log.ax, &log.ay, &log.az}) {
-    StatusOr<std::vector<double>> lp = ZeroPhaseLowPass(*axis, vib_cut, fs, 4);
-    if (!lp.ok()) return lp.status();
+  std::vector<double> lp[3] = {log.ax, log.ay, log.az};
+  IMUSYSID_RETURN_IF_ERROR(
+      ZeroPhaseLowPassEach({&lp[0], &lp[1], &lp[2]}, vib_cut, fs, 4));
+  const std::vector<double>* axes[3] = {&log.ax, &log.ay, &log.az};
+  for (int a = 0; a < 3; ++a) {
+    const std::vector<double>& axis = *axes[a];
     for (std::size_t i = 0; i < n; ++i) {
-      const double h = (*axis)[i] - (*lp)[i];
+      const double h = axis[i] - lp[a][i];
       hf2[i] += h * h;
     }
   }

@@ -69,6 +69,15 @@ StatusOr<std::vector<double>> ZeroPhaseLowPass(const std::vector<double>& x,
                                                double sample_rate_hz,
                                                int order = 4);
 
+// ZeroPhaseLowPass of several series of one length, in place, side by side
+// (as ZeroPhaseLowPassEachOnTimes): each comes out exactly as
+// ZeroPhaseLowPass makes it alone. InvalidArgument as ZeroPhaseLowPass, or
+// when the series differ in length.
+Status ZeroPhaseLowPassEach(const std::vector<std::vector<double>*>& xs,
+                            double cutoff_hz,
+                            double sample_rate_hz,
+                            int order = 4);
+
 // ZeroPhaseLowPass for samples at the times t (same size as x), which may be
 // irregular. When every interval is within 1e-6 of the median the samples
 // are filtered as they are; otherwise x is interpolated linearly onto the
@@ -84,12 +93,44 @@ StatusOr<std::vector<double>> ZeroPhaseLowPassOnTimes(
     int order = 4);
 // The same for several series on the times t, in place: the median
 // interval and the resampling are worked out once for all of them (a
-// sort of t and two searches per series otherwise). On error the series
+// sort of t and two searches per series otherwise), the Butterworth
+// designed once, and up to four series filtered side by side (a biquad's
+// recursion is one dependency chain per series); each series comes out
+// exactly as ZeroPhaseLowPassOnTimes makes it alone. On error the series
 // may be partly filtered.
 Status ZeroPhaseLowPassEachOnTimes(const std::vector<double>& t,
                                    const std::vector<std::vector<double>*>& xs,
                                    double cutoff_hz,
                                    int order = 4);
+
+// ZeroPhaseLowPassEachOnTimes's time base, worked out once for several
+// filterings on the same times (the 3-D conditioning filters a window's
+// series at two cutoffs, and their products after them): the median
+// interval, whether the times are uniform, and the resampling grid.
+class LowPassTimeBase {
+ public:
+  // InvalidArgument, as ZeroPhaseLowPassEachOnTimes, when t is not
+  // increasing or spans more intervals than any resampling can bridge.
+  static StatusOr<LowPassTimeBase> Create(const std::vector<double>& t);
+  // ZeroPhaseLowPassEachOnTimes(t, xs, cutoff_hz, order) for the t this was
+  // created on: the same bits.
+  Status Filter(const std::vector<std::vector<double>*>& xs,
+                double cutoff_hz,
+                int order = 4) const;
+
+ private:
+  std::size_t n_ = 0;  // samples of t
+  double dt_ = 0.0;    // median interval
+  bool uniform_ = true;
+  std::size_t m_ = 0;  // grid points (n_ when uniform)
+  // Grid point j interpolates samples below_[j] and below_[j] + 1 at
+  // weight_[j]; sample i lies offset_[i] of the way from grid point
+  // cell_[i] to the next. Empty when uniform.
+  std::vector<std::size_t> below_;
+  std::vector<double> weight_;
+  std::vector<std::size_t> cell_;
+  std::vector<double> offset_;
+};
 
 // Savitzky–Golay derivative: at each sample k, the least-squares polynomial of
 // `degree` (1 to 4) through the window of 2·half_width + 1 samples centred on
@@ -114,6 +155,17 @@ StatusOr<std::vector<double>> SavitzkyGolayDerivative(
     int half_width,
     int degree);
 
+// SavitzkyGolayDerivative of several series on the same times t: the
+// window fits of one sample share their abscissae, so the normal equations
+// are built and factored once for every series (a gyro's three axes cost
+// little more than one). Each result is SavitzkyGolayDerivative's of that
+// series, bit for bit; InvalidArgument as there, for any series.
+StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEach(
+    const std::vector<double>& t,
+    const std::vector<const std::vector<double>*>& xs,
+    int half_width,
+    int degree);
+
 namespace internal {
 // The FIR weights of SavitzkyGolayDerivative's centred window on a uniform
 // grid of step dt: the slope at sample k is Σ_{j=1..h} w[j] (x[k+j] − x[k−j])
@@ -121,6 +173,11 @@ namespace internal {
 // half_width ≥ 1: its only caller, SavitzkyGolayDerivative, has returned
 // InvalidArgument for them already.
 std::vector<double> SavitzkyGolayCentredWeights(int half_width, int degree);
+// Component i of the solution of A x = b by the general solve's LDLT (A
+// n × n row-major, read in its lower triangle, 1 ≤ n ≤ 4): what
+// Eigen::LDLT gives, bit for bit, without its dynamic-size overhead (the
+// tests hold it to Eigen).
+double SmallLdltSolve(int n, const double* a, const double* b, int i);
 // SavitzkyGolayDerivative with the per-sample solve everywhere, also on a
 // uniform grid (the reference the FIR is tested against).
 StatusOr<std::vector<double>> SavitzkyGolayDerivativeGeneral(

@@ -156,21 +156,23 @@ Status ChooseWindows(const FlightLog& log,
     constexpr double kRotationCutoffHz = 2.0;
     const double rate = 1.0 / median_dt;
     StatusOr<std::vector<double>> smooth = std::vector<double>(n, 0.0);
-    for (int a = 0; a < 3 && smooth.ok(); ++a) {
-      std::vector<double> axis(n);
+    std::vector<double> axes[3];
+    for (int a = 0; a < 3; ++a) {
+      axes[a].resize(n);
       for (std::size_t k = 0; k < n; ++k) {
-        axis[k] = GyroFrd(log, k)[a] - out->gyro_bias_frd[a];
+        axes[a][k] = GyroFrd(log, k)[a] - out->gyro_bias_frd[a];
       }
-      StatusOr<std::vector<double>> filtered =
-          rate > 2.5 * kRotationCutoffHz
-              ? ZeroPhaseLowPassOnTimes(t, axis, kRotationCutoffHz)
-              : StatusOr<std::vector<double>>(axis);
-      if (!filtered.ok()) {
-        smooth = filtered.status();
-        break;
-      }
-      for (std::size_t k = 0; k < n; ++k) {
-        (*smooth)[k] += (*filtered)[k] * (*filtered)[k];
+    }
+    if (rate > 2.5 * kRotationCutoffHz) {
+      Status filtered = ZeroPhaseLowPassEachOnTimes(
+          t, {&axes[0], &axes[1], &axes[2]}, kRotationCutoffHz);
+      if (!filtered.ok()) smooth = filtered;
+    }
+    if (smooth.ok()) {
+      for (const std::vector<double>& axis : axes) {
+        for (std::size_t k = 0; k < n; ++k) {
+          (*smooth)[k] += axis[k] * axis[k];
+        }
       }
     }
     if (smooth.ok()) {
