@@ -223,7 +223,16 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   worst_margin.fill(-1.0);
   {
     std::size_t start = 0;
+    // One window is the whole fit's data: its estimate is the fit's own (a
+    // second factorisation of every sample was a tenth of a ten-minute
+    // fit's time).
+    if (pre.windows.size() == 1 && out.usable) {
+      const Stretch3d& w = pre.windows.front();
+      out.window_estimates.push_back(
+          {w.t0, w.t1, w.samples, out.position_m, out.stderr_m});
+    }
     for (const Stretch3d& w : pre.windows) {
+      if (pre.windows.size() < 2) break;
       const std::size_t end = start + w.samples;
       Eigen::MatrixXd r;
       if (end <= pre.data.size() && w.samples >= 200 &&
@@ -233,7 +242,6 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
                                        static_cast<double>(w.samples));
         out.window_estimates.push_back(
             {w.t0, w.t1, w.samples, pw, out.stderr_m * share});
-        if (pre.windows.size() < 2) break;
         for (int a = 0; a < 3; ++a) {
           const auto i = static_cast<std::size_t>(a);
           const double sw = out.stderr_m[a] * share;
