@@ -97,8 +97,9 @@ struct Preprocess3dResult {
   // The longest delay tried, s (NaN when the delay was given): the limit
   // delay_at_limit speaks of.
   double longest_delay_searched_s = std::numeric_limits<double>::quiet_NaN();
-  // RMS of the fit residual at the delay used and with none (how much the
-  // delay matters on this log), m/s²; NaN when not estimated.
+  // RMS of the fit residual at the best delay tried and with none (how much
+  // the delay matters on this log), m/s², both on the delay search's copy
+  // thinned to about 50 Hz; NaN when not estimated.
   double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();
   double rmse_without_delay = std::numeric_limits<double>::quiet_NaN();
   Eigen::Vector3d gyro_bias_frd = Eigen::Vector3d::Zero();  // rad/s

@@ -216,6 +216,7 @@ Status FindDelay(const Conditioned3d& thin,
         "flight does not determine it well");
   }
   out->rmse_without_delay = rmse.front();
+  out->rmse_at_delay = rmse[best];
   out->notes.push_back(
       "estimator delay " + Num3d(delay * 1e3) +
       " ms (estimated: the delay in 0.." + Num3d(max_delay_s * 1e3) +
@@ -255,7 +256,7 @@ StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
 }
 
 QuadraticWindModel::QuadraticWindModel(std::shared_ptr<const ProblemData> data)
-    : Model(std::move(data)) {}
+    : Model(data), scratch_(std::make_shared<ProblemData>(*data)) {}
 
 const std::vector<ParameterInfo>& QuadraticWindModel::parameter_info() const {
   static const std::vector<ParameterInfo> info = {
@@ -269,17 +270,17 @@ bool QuadraticWindModel::FitAt(const double* x,
                                std::shared_ptr<const Model>* model,
                                EstimateResult* fit) const {
   if (!(std::hypot(x[0], x[1]) <= kMaxWindMps)) return false;
-  auto at = std::make_shared<ProblemData>(data());
-  at->motion.quadratic_wind_n = x[0];
-  at->motion.quadratic_wind_e = x[1];
+  scratch_->motion.quadratic_wind_n = x[0];
+  scratch_->motion.quadratic_wind_e = x[1];
   StatusOr<EstimateResult> result =
-      LinearRigid3d(std::move(at), model, CovarianceType::kNone);
+      LinearRigid3d(scratch_, model, CovarianceType::kNone);
   if (!result.ok() || !result->IsUsable()) return false;
   *fit = std::move(*result);
   return true;
 }
 
 bool QuadraticWindModel::Cost(const double* x, double* cost) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   std::shared_ptr<const Model> model;
   EstimateResult fit;
   if (!FitAt(x, &model, &fit) || !std::isfinite(fit.final_cost)) return false;
@@ -290,6 +291,7 @@ bool QuadraticWindModel::Cost(const double* x, double* cost) const {
 bool QuadraticWindModel::Residuals(const double* x,
                                    double* residuals,
                                    double* jacobian) const {
+  std::lock_guard<std::mutex> lock(mutex_);
   auto profiled = [this](const double* w, double* r) {
     std::shared_ptr<const Model> model;
     EstimateResult fit;

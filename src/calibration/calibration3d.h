@@ -10,6 +10,7 @@
 
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -65,10 +66,18 @@ class QuadraticWindModel : public Model {
   bool Cost(const double* x, double* cost) const override;
 
  private:
-  // The linear fit at wind x and its model; false when it cannot be made.
+  // The linear fit at wind x and its model, which reads scratch_ (so the
+  // caller holds mutex_ while it uses either); false when it cannot be made.
   bool FitAt(const double* x,
              std::shared_ptr<const Model>* model,
              EstimateResult* fit) const;
+
+  // The data with the wind of the evaluation under way: one copy, its wind
+  // set per evaluation, where a copy per evaluation moved 4 MB each time
+  // (50 of them per search on a ten-minute log). Evaluations are
+  // serialised by mutex_.
+  std::shared_ptr<ProblemData> scratch_;
+  mutable std::mutex mutex_;
 };
 
 // What the calibration found.
@@ -78,8 +87,10 @@ struct Calibration3d {
   bool delay_at_limit = false;  // as Preprocess3dResult's
   double longest_delay_searched_s =
       std::numeric_limits<double>::quiet_NaN();  // as Preprocess3dResult's
-  // The fit's RMSE with no delay (NaN when the delay was given).
+  // The fit's RMSE with no delay and at the best delay tried, on the
+  // search's thinned copy (NaN when the delay was given).
   double rmse_without_delay = std::numeric_limits<double>::quiet_NaN();
+  double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();
   double wind_n = 0.0;
   double wind_e = 0.0;
   std::vector<std::string> notes;

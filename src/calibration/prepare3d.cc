@@ -21,6 +21,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   out.delay_at_limit = calibration->delay_at_limit;
   out.longest_delay_searched_s = calibration->longest_delay_searched_s;
   out.rmse_without_delay = calibration->rmse_without_delay;
+  out.rmse_at_delay = calibration->rmse_at_delay;
   out.notes.insert(
       out.notes.end(), calibration->notes.begin(), calibration->notes.end());
   IMUSYSID_RETURN_IF_ERROR(internal::SetDataAt(*conditioned,
@@ -28,13 +29,6 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                                calibration->wind_n,
                                                calibration->wind_e,
                                                &out));
-  if (out.delay_estimated) {
-    // How much the delay matters: the full data's fit at it.
-    StatusOr<internal::LinearFit3d> fit =
-        internal::FitRigid3dLinear(out.data, /*find_wind=*/false);
-    if (!fit.ok()) return fit.status();
-    out.rmse_at_delay = fit->rmse;
-  }
   return out;
 }
 
