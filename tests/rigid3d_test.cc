@@ -12,6 +12,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gmock/gmock.h"
@@ -25,6 +26,7 @@
 #include "imusysid/simulate3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
 #include "src/report/uncertainty3d.h"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
@@ -628,6 +630,42 @@ TEST(Rigid3dGates, DelayAtTheLimitOnTheFirstInstanceWithholdsEveryInstance) {
       EXPECT_FALSE(g.passed);
     }
   }
+}
+
+// The jackknife's blocks and the report's windows are factored in place on
+// the fitted model's data: bit for bit the factor of a model built on a copy
+// of the slice, and nothing outside the data.
+TEST(Rigid3d, FactorOfSamplesIsTheSliceModelsFactor) {
+  StatusOr<Preprocess3dResult> pre =
+      Preprocess3d(OneImuLog("figure8_3d"), Preprocess3dOptions());
+  ASSERT_TRUE(pre.ok()) << pre.status().ToString();
+  auto data = std::make_shared<const ProblemData>(pre->data);
+  const std::unique_ptr<Model> whole =
+      CreateModel(kRigid3dModelName, data).value();
+  const LinearStructure* structure = whole->linear_structure();
+  ASSERT_NE(structure, nullptr);
+  const std::size_t n = data->size();
+  // A slice of one streamed block, one that ends mid-block, and the whole.
+  for (const auto& [i0, i1] : std::vector<std::pair<std::size_t, std::size_t>>{
+           {n / 3, n / 3 + 700}, {17, n / 2 + 3}, {0, n}}) {
+    Eigen::MatrixXd in_place, copied;
+    ASSERT_TRUE(structure->TriangularFactorOfSamples(i0, i1, &in_place));
+    auto slice = std::make_shared<const ProblemData>(
+        SelectSamples(*data, i0, i1).value());
+    const std::unique_ptr<Model> part =
+        CreateModel(kRigid3dModelName, slice).value();
+    ASSERT_TRUE(part->linear_structure()->TriangularFactor(nullptr, &copied));
+    ASSERT_EQ(in_place.rows(), copied.rows());
+    for (Eigen::Index r = 0; r < copied.rows(); ++r) {
+      for (Eigen::Index c = 0; c < copied.cols(); ++c) {
+        EXPECT_EQ(testing::Bits(in_place(r, c)), testing::Bits(copied(r, c)))
+            << i0 << ".." << i1 << " (" << r << ", " << c << ")";
+      }
+    }
+  }
+  Eigen::MatrixXd r;
+  EXPECT_FALSE(structure->TriangularFactorOfSamples(5, 5, &r));
+  EXPECT_FALSE(structure->TriangularFactorOfSamples(0, n + 1, &r));
 }
 
 TEST(Rigid3d, JackknifeFromFactorsIsTheFitsWithoutEachBlock) {

@@ -47,6 +47,11 @@ struct Rigid3dReportOptions {
   // report computes none itself. NaN: none (HAC σ̂ alone).
   Eigen::Vector3d jackknife_stderr_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // The model the result was fitted with, on the report's data, when the
+  // caller has it (not owned; used during the call only): the windows'
+  // own fits then factor its samples in place instead of a copy of each
+  // window. Null: each window is copied and factored.
+  const Model* fitted_model = nullptr;
 };
 
 // The delete-one-block jackknife σ̂ of the position (the first three

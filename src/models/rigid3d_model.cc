@@ -59,23 +59,30 @@ bool AllFinite(const double* x, int n) {
 
 Rigid3dModel::Rigid3dModel(std::shared_ptr<const ProblemData> data)
     : Model(std::move(data)) {
+  const std::size_t n = this->data().size();
+  factor_ = FactorOfSamples(0, n);
+  factor_ok_ = n > 0 && factor_.allFinite();
+}
+
+Rigid3dModel::Factor Rigid3dModel::FactorOfSamples(std::size_t first,
+                                                   std::size_t last) const {
   // Streamed Householder QR (TSQR): blocks of rows folded into the running
   // factor, as stable as one QR of the whole 2n × 12 matrix without forming
   // it.
   constexpr Eigen::Index kBlockSamples = 1024;
   constexpr Eigen::Index kCols = kM + 1;
-  const auto n = static_cast<Eigen::Index>(this->data().size());
-  factor_.setZero();
+  const auto n = static_cast<Eigen::Index>(last - first);
+  Factor factor = Factor::Zero();
   Eigen::Matrix<double, Eigen::Dynamic, kCols> stack;
   Eigen::HouseholderQR<Eigen::Matrix<double, Eigen::Dynamic, kCols>> qr;
   double x_row[kM], y_row[kM];
   for (Eigen::Index start = 0; start < n; start += kBlockSamples) {
     const Eigen::Index m = std::min(kBlockSamples, n - start);
     stack.resize(2 * m + kCols, kCols);
-    stack.topRows<kCols>() = factor_;
+    stack.topRows<kCols>() = factor;
     for (Eigen::Index i = 0; i < m; ++i) {
       double x_target = 0.0, y_target = 0.0;
-      Rows(static_cast<std::size_t>(start + i),
+      Rows(first + static_cast<std::size_t>(start + i),
            x_row,
            &x_target,
            y_row,
@@ -87,9 +94,19 @@ Rigid3dModel::Rigid3dModel(std::shared_ptr<const ProblemData> data)
       stack(out + 1, kM) = y_target;
     }
     qr.compute(stack);
-    factor_ = qr.matrixQR().topRows<kCols>().triangularView<Eigen::Upper>();
+    factor = qr.matrixQR().topRows<kCols>().triangularView<Eigen::Upper>();
   }
-  factor_ok_ = n > 0 && factor_.allFinite();
+  return factor;
+}
+
+bool Rigid3dModel::TriangularFactorOfSamples(std::size_t first,
+                                             std::size_t last,
+                                             Eigen::MatrixXd* r) const {
+  if (!(first < last && last <= data().size())) return false;
+  const Factor factor = FactorOfSamples(first, last);
+  if (!factor.allFinite()) return false;
+  *r = factor;
+  return true;
 }
 
 const std::vector<ParameterInfo>& Rigid3dModel::parameter_info() const {

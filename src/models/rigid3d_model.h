@@ -55,6 +55,9 @@ class Rigid3dModel : public Model, public LinearStructure {
                     std::vector<Eigen::MatrixXd>* d_a,
                     Eigen::MatrixXd* d_target) const override;
   bool TriangularFactor(const double* p, Eigen::MatrixXd* r) const override;
+  bool TriangularFactorOfSamples(std::size_t first,
+                                 std::size_t last,
+                                 Eigen::MatrixXd* r) const override;
   Eigen::VectorXd CoefficientsFromParameters(const double* x) const override;
   StatusOr<Eigen::VectorXd> ParametersFromCoefficients(
       const Eigen::VectorXd& b, const double* p) const override;
@@ -73,6 +76,11 @@ class Rigid3dModel : public Model, public LinearStructure {
 
  private:
   using Factor = Eigen::Matrix<double, kCoefficients + 1, kCoefficients + 1>;
+  // The streamed QR of samples [first, last): the same blocks from `first`
+  // whatever the data around them, so a slice's factor is bit for bit that
+  // of a model built on the slice.
+  Factor FactorOfSamples(std::size_t first, std::size_t last) const;
+
   Factor factor_;
   bool factor_ok_ = false;
 };

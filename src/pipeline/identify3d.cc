@@ -57,6 +57,7 @@ StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
       EstimateOrName(estimator, problem, options.estimator);
   if (!result.ok()) return result.status();
   Rigid3dReportOptions report_options = options.report3d;
+  report_options.fitted_model = &problem.model();
   if (result->IsUsable()) {
     StatusOr<Eigen::Vector3d> jackknife =
         JackknifePositionStderr(problem,

@@ -236,7 +236,8 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       const std::size_t end = start + w.samples;
       Eigen::MatrixXd r;
       if (end <= pre.data.size() && w.samples >= 200 &&
-          internal::SliceFactor(result.model, pre.data, start, end, &r)) {
+          internal::SliceFactor(
+              result.model, pre.data, start, end, &r, options.fitted_model)) {
         const Eigen::Vector3d pw = PositionOfFactor(r);
         const double share = std::sqrt(static_cast<double>(out.samples) /
                                        static_cast<double>(w.samples));

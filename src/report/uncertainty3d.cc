@@ -29,9 +29,9 @@ const Eigen::Vector3d kNoStderr =
 // stacked factors of the others. Unlike the HAC sandwich it sees model error
 // that changes along the flight (a manoeuvre the model follows less well),
 // which is what made σ̂ too small. NaN when it cannot be formed.
-Eigen::Vector3d StackedFactorJackknife(std::string_view model_name,
-                                       const ProblemData& data,
-                                       int blocks) {
+Eigen::Vector3d StackedFactorJackknife(const Model& model, int blocks) {
+  const std::string_view model_name = model.name();
+  const ProblemData& data = model.data();
   const std::size_t n = data.size();
   if (blocks < 3 || n < static_cast<std::size_t>(blocks) * 50) {
     return kNoStderr;
@@ -43,7 +43,7 @@ Eigen::Vector3d StackedFactorJackknife(std::string_view model_name,
     const std::size_t i1 =
         n * static_cast<std::size_t>(b + 1) / static_cast<std::size_t>(blocks);
     Eigen::MatrixXd r;
-    if (!internal::SliceFactor(model_name, data, i0, i1, &r)) {
+    if (!internal::SliceFactor(model_name, data, i0, i1, &r, &model)) {
       return kNoStderr;
     }
     factors.push_back(std::move(r));
@@ -102,7 +102,16 @@ bool SliceFactor(std::string_view model_name,
                  const ProblemData& data,
                  std::size_t i0,
                  std::size_t i1,
-                 Eigen::MatrixXd* r) {
+                 Eigen::MatrixXd* r,
+                 const Model* whole) {
+  if (whole != nullptr && whole->name() == model_name &&
+      &whole->data() == &data) {
+    const LinearStructure* structure = whole->linear_structure();
+    if (structure != nullptr && structure->num_nonlinear() == 0 &&
+        structure->TriangularFactorOfSamples(i0, i1, r)) {
+      return true;
+    }
+  }
   StatusOr<ProblemData> slice = SelectSamples(data, i0, i1);
   if (!slice.ok()) return false;
   auto piece = std::make_shared<const ProblemData>(std::move(slice).value());
@@ -135,7 +144,7 @@ StatusOr<Eigen::Vector3d> JackknifePositionStderr(
   }
   const LinearStructure* structure = problem.model().linear_structure();
   if (structure != nullptr && structure->num_nonlinear() == 0) {
-    return StackedFactorJackknife(name, problem.data(), blocks);
+    return StackedFactorJackknife(problem.model(), blocks);
   }
   return RefitJackknife(problem, estimator, options, fit, blocks);
 }

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "Eigen/Core"
+#include "imusysid/extend/model.h"
 #include "imusysid/problem_data.h"
 
 namespace imusysid {
@@ -16,12 +17,15 @@ namespace internal {
 
 // The triangular factor of model `model_name`'s [A target] on samples
 // [i0, i1) of `data`. False when the model has no linear structure without
-// nonlinear parameters, or the factor cannot be formed.
+// nonlinear parameters, or the factor cannot be formed. `whole`, when given,
+// is that model built on `data`: where it factors a range of its samples
+// (LinearStructure::TriangularFactorOfSamples) the slice is not copied.
 bool SliceFactor(std::string_view model_name,
                  const ProblemData& data,
                  std::size_t i0,
                  std::size_t i1,
-                 Eigen::MatrixXd* r);
+                 Eigen::MatrixXd* r,
+                 const Model* whole = nullptr);
 
 }  // namespace internal
 }  // namespace imusysid

@@ -65,6 +65,20 @@ class LinearStructure {
   // the column norms of A in those of R₁₁. False as LinearSystem.
   virtual bool TriangularFactor(const double* p, Eigen::MatrixXd* r) const = 0;
 
+  // For a structure without nonlinear parameters: the factor of samples
+  // [first, last) of the model's data alone, as TriangularFactor of a model
+  // built on that slice would give it, without copying the data (the
+  // jackknife's blocks and the report's windows). False where not offered
+  // (the default) or as LinearSystem; callers then build the slice.
+  virtual bool TriangularFactorOfSamples(std::size_t first,
+                                         std::size_t last,
+                                         Eigen::MatrixXd* r) const {
+    (void)first;
+    (void)last;
+    (void)r;
+    return false;
+  }
+
   // b at the full parameter vector x.
   virtual Eigen::VectorXd CoefficientsFromParameters(const double* x) const = 0;
   // The full parameter vector for coefficients b at p. FailedPrecondition,
