@@ -404,6 +404,42 @@ double RmseForFraction(const Preprocess3dResult& pre, double fraction) {
   return fraction * probe.signal_rms;
 }
 
+// The misalignment with its statistical σ̂ (through d asin(e)/de), and the
+// fitted position turned into the thrust frame: a 2° pitch moves an 8 cm
+// lever arm on x by 2.8 mm on z.
+TEST(Rigid3d, MisalignmentHasItsSigmaAndTheThrustFramePosition) {
+  EstimateResult fit = GateFit(
+      Eigen::Vector3d(0.08, 0.0, 0.0), Eigen::Vector3d::Constant(1e-3), 0.01);
+  const double pitch = 2.0 * kDegToRad, roll = 1.0 * kDegToRad;
+  fit.parameters[kThrustToX] = -std::sin(pitch);
+  fit.parameters[kThrustToY] = std::sin(roll);
+  fit.standard_errors[kThrustToX] = 2e-3;
+  fit.standard_errors[kThrustToY] = 1e-3;
+  const ImuPosition3d r = Rigid3dReport(fit, FigureEightData(), 0);
+  EXPECT_NEAR(r.misalignment_pitch_deg, 2.0, 1e-12);
+  EXPECT_NEAR(r.misalignment_roll_deg, 1.0, 1e-12);
+  EXPECT_NEAR(
+      r.misalignment_stderr_deg[1], 2e-3 / std::cos(pitch) * kRadToDeg, 1e-12);
+  EXPECT_NEAR(
+      r.misalignment_stderr_deg[0], 1e-3 / std::cos(roll) * kRadToDeg, 1e-12);
+  // R_y(pitch) R_x(roll) (0.08, 0, 0): x along the pitched axis.
+  EXPECT_NEAR(
+      r.fitted_position_thrust_frame_m[0], 0.08 * std::cos(pitch), 1e-12);
+  EXPECT_NEAR(r.fitted_position_thrust_frame_m[1], 0.0, 1e-12);
+  EXPECT_NEAR(
+      r.fitted_position_thrust_frame_m[2], -0.08 * std::sin(pitch), 1e-12);
+  EXPECT_NEAR(r.fitted_position_thrust_frame_m[2], -2.79e-3, 0.01e-3);
+  const auto j = Rigid3dToJson(r);
+  EXPECT_NEAR(j["misalignment_stderr_statistical_deg"]["pitch"].get<double>(),
+              r.misalignment_stderr_deg[1],
+              1e-15);
+  EXPECT_NEAR(j["fitted_position_thrust_frd_m"][2].get<double>(),
+              r.fitted_position_thrust_frame_m[2],
+              1e-15);
+  EXPECT_THAT(j["position_axes"].get<std::string>(),
+              ::testing::HasSubstr("board rotation"));
+}
+
 // σ̂ of 4.5 mm gives the axis, 5.5 mm withholds it (max_stderr_m 5 mm);
 // σ̂ is the HAC's (or the larger jackknife's) with the 0.25 mm floor in
 // quadrature, shown apart as the statistical and systematic parts.

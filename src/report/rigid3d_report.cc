@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "Eigen/Geometry"
 #include "Eigen/QR"
 #include "imusysid/parameters.h"
 #include "imusysid/problem_data.h"
@@ -122,6 +123,25 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       -std::asin(std::clamp(x[kThrustToX], -1.0, 1.0)) * kRadToDeg;
   out.misalignment_roll_deg =
       std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg;
+  // Their 1σ through d(asin e)/de = 1/√(1 − e²).
+  if (result.standard_errors.size() == x.size()) {
+    const double ex = std::clamp(x[kThrustToX], -1.0, 1.0);
+    const double ey = std::clamp(x[kThrustToY], -1.0, 1.0);
+    out.misalignment_stderr_deg = {result.standard_errors[kThrustToY] /
+                                       std::sqrt(1.0 - ey * ey) * kRadToDeg,
+                                   result.standard_errors[kThrustToX] /
+                                       std::sqrt(1.0 - ex * ex) * kRadToDeg};
+  }
+  {
+    const Eigen::Vector3d fitted(x[0], x[1], x[2]);
+    out.fitted_position_thrust_frame_m =
+        (Eigen::AngleAxisd(out.misalignment_pitch_deg * kDegToRad,
+                           Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(out.misalignment_roll_deg * kDegToRad,
+                           Eigen::Vector3d::UnitX()))
+            .toRotationMatrix() *
+        fitted;
+  }
   // The wind is the linear drag's k·w over k: with no positive rotor drag,
   // or beyond any plausible wind (the calibration's 30 m/s), it is a ratio
   // of noise (a real log the model does not explain gave −78.7 m/s).
@@ -379,6 +399,17 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["accel_bias_xy_m_s2"] = {Num(r.bias_m_s2[0]), Num(r.bias_m_s2[1])};
   j["misalignment_deg"] = {{"roll", Num(r.misalignment_roll_deg)},
                            {"pitch", Num(r.misalignment_pitch_deg)}};
+  j["misalignment_stderr_statistical_deg"] = {
+      {"roll", Num(r.misalignment_stderr_deg[0])},
+      {"pitch", Num(r.misalignment_stderr_deg[1])}};
+  // Which axes the positions above are in, and the fit in the thrust frame.
+  j["position_axes"] =
+      "imu: the IMU's own axes as the autopilot applies them (after its "
+      "board rotation), as EKF2_IMU_POS_* and INS_POSn_* take them";
+  j["fitted_position_thrust_frd_m"] = {
+      Num(r.fitted_position_thrust_frame_m[0]),
+      Num(r.fitted_position_thrust_frame_m[1]),
+      Num(r.fitted_position_thrust_frame_m[2])};
   j["wind_ne_m_s"] = {Num(r.wind_ne_m_s[0]), Num(r.wind_ne_m_s[1])};
   nlohmann::ordered_json baselines = nlohmann::ordered_json::array();
   for (const ImuPosition3d::Baseline& b : r.baselines) {
@@ -436,7 +467,8 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
     << (r.windows.size() == 1 ? "" : "s") << ", fit RMSE "
     << FormatNumber(r.rmse, 3, kQuoted) << " m/s^2 of "
     << FormatNumber(r.signal_rms, 3, kQuoted) << ")\n";
-  s << "  position, CoM -> IMU, FRD (mm, 1-sigma):\n";
+  s << "  position, CoM -> IMU, FRD in the IMU's axes as the autopilot "
+       "applies them (mm, 1-sigma):\n";
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
     s << "    " << kAxisNames[a] << "  ";
@@ -459,7 +491,10 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
     }
     s << ", misalignment roll/pitch "
       << FormatNumber(r.misalignment_roll_deg, 3) << "/"
-      << FormatNumber(r.misalignment_pitch_deg, 3) << " deg\n";
+      << FormatNumber(r.misalignment_pitch_deg, 3) << " +/- "
+      << FormatNumber(r.misalignment_stderr_deg[0], 2) << "/"
+      << FormatNumber(r.misalignment_stderr_deg[1], 2)
+      << " deg (statistical 1-sigma only)\n";
   }
   for (const ImuPosition3d::Baseline& b : r.baselines) {
     if (!b.difference_m.array().isFinite().any()) continue;
