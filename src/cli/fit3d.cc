@@ -177,13 +177,8 @@ int WriteFlights3d(const FlightsSummary& summary,
     if (emitted != nullptr) j["emit"] = AutopilotParametersToJson(*emitted);
     text = DumpJson(j) + "\n";
   } else {
+    // The instances a flight did not fit are in the table, each with why.
     for (const PooledImuPosition3d& p : summary.imus) text += PooledToText(p);
-    for (const IdentifySummary& flight : summary.flights) {
-      for (const IdentifySummary::SkippedImu& skipped : flight.skipped_imus) {
-        text += flight.source + ": IMU " + std::to_string(skipped.instance) +
-                ": not fitted: " + skipped.reason + "\n";
-      }
-    }
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }
   Status s = EmitOutput(text, FLAGS_out);

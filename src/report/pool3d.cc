@@ -406,7 +406,7 @@ std::string PooledToText(const PooledImuPosition3d& imu) {
   for (const PooledImuPosition3d::Flight& f : imu.flights) {
     s << "  " << pad(f.source);
     if (!f.fitted) {
-      s << "not fitted: " << f.not_fitted_reason << "\n";
+      s << " not fitted: " << f.not_fitted_reason << "\n";
       continue;
     }
     for (int a = 0; a < 3; ++a) {
