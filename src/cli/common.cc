@@ -65,6 +65,25 @@ bool FlagWasSet(const std::string& name) {
 
 void MarkFlagSet(const std::string& name) { SetFlags().push_back(name); }
 
+namespace {
+std::vector<std::pair<std::string, std::string>>& FlagValueList() {
+  static std::vector<std::pair<std::string, std::string>> values;
+  return values;
+}
+}  // namespace
+
+std::vector<std::string> FlagValues(const std::string& name) {
+  std::vector<std::string> out;
+  for (const auto& [flag, value] : FlagValueList()) {
+    if (flag == name) out.push_back(value);
+  }
+  return out;
+}
+
+void RecordFlagValue(const std::string& name, const std::string& value) {
+  FlagValueList().emplace_back(name, value);
+}
+
 bool JsonOutput() { return FLAGS_format == "json"; }
 
 Status EmitOutput(const std::string& text, const std::string& path) {

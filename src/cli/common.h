@@ -62,6 +62,10 @@ int UsageError(const std::string& command, const std::string& message);
 // cannot tell for NaN defaults). Recorded by the parser in cli_main.cc.
 bool FlagWasSet(const std::string& name);
 void MarkFlagSet(const std::string& name);
+// Every value the flag was given, in command-line order (gflags keeps the
+// last only; `fit` reads each --log). Recorded by the same parser.
+std::vector<std::string> FlagValues(const std::string& name);
+void RecordFlagValue(const std::string& name, const std::string& value);
 
 // The value of --format: "table" or "json" (validated by the parser).
 bool JsonOutput();

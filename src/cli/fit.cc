@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
+#include "imusysid/pool3d.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem_io.h"
 #include "imusysid/report.h"
@@ -287,8 +289,32 @@ int WritePlanar(IdentifySummary& summary, EmitFormat emit_format) {
   return summary.usable() ? kExitOk : kExitBadInput;
 }
 
+// Every log given: each --log's value (gflags keeps only the last), each
+// a comma-separated list unless the whole value names a file.
+std::vector<std::string> LogPaths() {
+  std::vector<std::string> paths;
+  for (const std::string& value : FlagValues("log")) {
+    std::error_code ec;
+    if (value.find(',') == std::string::npos ||
+        std::filesystem::exists(value, ec)) {
+      paths.push_back(value);
+      continue;
+    }
+    std::stringstream items(value);
+    std::string item;
+    while (std::getline(items, item, ',')) {
+      if (!item.empty()) paths.push_back(item);
+    }
+  }
+  return paths;
+}
+
 int RunFit(const std::vector<std::string>& positional) {
   const std::string cmd = "fit";
+  // Several logs: flights of one vehicle, each fitted on its own and pooled
+  // (a 3-D model only). One log takes the single-flight path unchanged.
+  const std::vector<std::string> logs = LogPaths();
+  const bool several = logs.size() > 1;
   std::string path = FLAGS_log;
   const bool from_problem = !FLAGS_problem.empty();
   if (from_problem) {
@@ -310,6 +336,11 @@ int RunFit(const std::vector<std::string>& positional) {
       }
     }
     path = FLAGS_problem;
+  } else if (several && !positional.empty()) {
+    return UsageError(cmd,
+                      "give every log with --log=FILE when pooling several, "
+                      "not '" +
+                          positional[0] + "'");
   } else if (path.empty() && positional.size() == 1) {
     path = positional[0];
   } else if (!positional.empty() || path.empty()) {
@@ -326,7 +357,8 @@ int RunFit(const std::vector<std::string>& positional) {
   for (const auto& [flag, out] :
        {std::pair<std::string, std::string>{"--out", FLAGS_out},
         {"--emit_out", FLAGS_emit_out}}) {
-    Status same = CheckOutputIsNotInput(flag, out, {path});
+    Status same = CheckOutputIsNotInput(
+        flag, out, several ? logs : std::vector<std::string>{path});
     if (!same.ok()) return ReportError(cmd, same);
   }
   StatusOr<EstimatorOptions> options = OptionsFromFlags();
@@ -346,6 +378,13 @@ int RunFit(const std::vector<std::string>& positional) {
                       "--estimator=all is not offered with --model=" +
                           FLAGS_model + "; name one estimator (" +
                           description->default_estimator + " is the default)");
+  }
+
+  if (several && !three_d) {
+    return UsageError(cmd,
+                      "several logs (" + std::to_string(logs.size()) +
+                          ") are pooled for --model=rigid3d or rigid3d_imu "
+                          "only; the planar models fit one log at a time");
   }
 
   Status report_flag = CheckReportFlag(three_d);
@@ -371,6 +410,18 @@ int RunFit(const std::vector<std::string>& positional) {
   };
   io.on_progress = [](const std::string& text) { std::cerr << text << "\n"; };
 
+  if (several) {
+    std::vector<IdentifyInput> inputs;
+    for (const std::string& log : logs) {
+      inputs.push_back(IdentifyInput::LogFile(log));
+    }
+    PoolOptions pool;
+    pool.max_stderr_m = io.report3d.max_stderr_m;
+    pool.max_abs_position_m = io.report3d.max_abs_position_m;
+    StatusOr<FlightsSummary> flights = IdentifyFlights(inputs, io, pool);
+    if (!flights.ok()) return ReportError(cmd, flights.status());
+    return WriteFlights3d(*flights, emit_format, FLAGS_emit_out);
+  }
   StatusOr<IdentifySummary> summary = Identify(input, io);
   if (!summary.ok()) return ReportError(cmd, summary.status());
   if (summary->three_d) {
@@ -388,6 +439,8 @@ const Command& FitCommand() {
       "estimators.",
       "imusysid fit --log=FILE [--model=" + JoinNames(ModelNames(), "|", "|") +
           "] [--estimator=NAME|all] [--format=table|json] [--seed=N]\n"
+          "       imusysid fit --log=A --log=B [...] --model=rigid3d|"
+          "rigid3d_imu [--format=table|json]\n"
           "       imusysid fit --problem=P.csv [--model=" +
           JoinNames(ModelsUsingDataVelocity(true), "|", "|") +
           "] [--estimator=NAME|all] [--format=table|json] [--seed=N]",
@@ -413,6 +466,10 @@ const Command& FitCommand() {
           "not determine is withheld (null) with what to fly; without the "
           "estimator's channels\nit falls back to rigid3d_imu. Default "
           "estimator there: linear (rigid3d_imu: varpro).\n"
+          "--log given more than once (or A,B,...) pools flights of one "
+          "vehicle (3-D models): each\nflight is fitted on its own, the "
+          "position per IMU is their inverse-variance weighted\nmean, an "
+          "axis whose flights disagree (chi-square p < 0.001) is withheld.\n"
           "docs/model-3d.md.",
       WithLogFlags({"log", "problem", "model", "estimator", "format", "seed"},
                    {"bounds",

@@ -1,9 +1,11 @@
 #include "src/cli/fit3d.h"
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "imusysid/rigid3d_report.h"
@@ -92,6 +94,118 @@ int WriteFit3d(const IdentifySummary& summary,
     std::vector<report::Figure> figures;
     s = report::WriteRigid3dPage(
         FLAGS_report, {{label, &summary}}, options, &figures);
+    if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
+    std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_report
+              << "/index.html\n";
+  }
+  return summary.usable() ? kExitOk : kExitBadInput;
+}
+
+namespace {
+
+// One flight's per-IMU objects as a single fit writes them (WriteFit3d),
+// without the emit: the pooled one is the parameter file.
+nlohmann::ordered_json FlightImusJson(const IdentifySummary& summary) {
+  nlohmann::ordered_json imus = nlohmann::ordered_json::array();
+  for (const ImuPosition3d& r : summary.imus) imus.push_back(Rigid3dToJson(r));
+  for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
+    nlohmann::ordered_json one;
+    one["instance"] = skipped.instance;
+    one["log"] = summary.source;
+    one["fitted"] = false;
+    one["reason"] = skipped.reason;
+    imus.push_back(std::move(one));
+  }
+  return imus;
+}
+
+// The flight's agreement with the pool on one instance, per axis.
+nlohmann::ordered_json AgreementJson(const PooledImuPosition3d& pooled,
+                                     std::size_t flight) {
+  nlohmann::ordered_json axes = nlohmann::ordered_json::array();
+  for (const PooledFlightAxis& part : pooled.flights[flight].axes) {
+    nlohmann::ordered_json one;
+    one["entered"] = part.entered;
+    one["deviation_sigmas"] =
+        std::isfinite(part.deviation_sigmas)
+            ? nlohmann::ordered_json(part.deviation_sigmas)
+            : nlohmann::ordered_json(nullptr);
+    one["chi_square_term"] = std::isfinite(part.chi_square_term)
+                                 ? nlohmann::ordered_json(part.chi_square_term)
+                                 : nlohmann::ordered_json(nullptr);
+    one["disagrees"] = part.disagrees;
+    axes.push_back(std::move(one));
+  }
+  return axes;
+}
+
+}  // namespace
+
+int WriteFlights3d(const FlightsSummary& summary,
+                   EmitFormat emit,
+                   const std::string& emit_out) {
+  const AutopilotParameters* emitted =
+      emit != EmitFormat::kNone && summary.emit.has_value() ? &*summary.emit
+                                                            : nullptr;
+  std::string text;
+  if (JsonOutput()) {
+    nlohmann::ordered_json j;
+    nlohmann::ordered_json imus = nlohmann::ordered_json::array();
+    for (const PooledImuPosition3d& p : summary.imus) {
+      imus.push_back(PooledToJson(p));
+    }
+    j["imus"] = std::move(imus);
+    nlohmann::ordered_json flights = nlohmann::ordered_json::array();
+    for (std::size_t f = 0; f < summary.flights.size(); ++f) {
+      const IdentifySummary& flight = summary.flights[f];
+      nlohmann::ordered_json one;
+      one["log"] = flight.source;
+      nlohmann::ordered_json own = FlightImusJson(flight);
+      // Each fitted IMU's agreement with its pool, beside its own fit.
+      for (nlohmann::ordered_json& imu : own) {
+        if (!imu.contains("fitted_position_frd_m")) continue;
+        for (const PooledImuPosition3d& p : summary.imus) {
+          if (p.instance == imu["instance"].get<int>()) {
+            imu["agreement"] = AgreementJson(p, f);
+          }
+        }
+      }
+      one["imus"] = std::move(own);
+      flights.push_back(std::move(one));
+    }
+    j["flights"] = std::move(flights);
+    if (emitted != nullptr) j["emit"] = AutopilotParametersToJson(*emitted);
+    text = DumpJson(j) + "\n";
+  } else {
+    // The instances a flight did not fit are in the table, each with why.
+    for (const PooledImuPosition3d& p : summary.imus) text += PooledToText(p);
+    if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
+  }
+  Status s = EmitOutput(text, FLAGS_out);
+  if (!s.ok()) return ReportError(kCmd, s);
+  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  if (!emit_out.empty() && emitted != nullptr) {
+    s = WriteFileAtomically(emit_out, emitted->snippet);
+    if (!s.ok()) return ReportError(kCmd, s);
+    std::cerr << "wrote " << emit_out << "\n";
+  }
+  if (!FLAGS_report.empty()) {
+    // The page shows each flight on its own (the pooled numbers are in the
+    // output above).
+    report::Rigid3dPageOptions options;
+    options.cutoff_hz = FLAGS_cutoff_hz;
+    std::vector<report::Rigid3dPageFlight> pages;
+    std::string labels;
+    for (const IdentifySummary& flight : summary.flights) {
+      std::string label = std::filesystem::path(flight.source).filename();
+      if (label.empty()) label = flight.source;
+      labels += (labels.empty() ? "" : ", ") + label;
+      pages.push_back({label, &flight});
+    }
+    options.title =
+        "imusysid fit --model=" + summary.flights.front().model + ": " + labels;
+    std::vector<report::Figure> figures;
+    s = report::WriteRigid3dPage(FLAGS_report, pages, options, &figures);
     if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
     std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_report
               << "/index.html\n";

@@ -9,6 +9,7 @@
 
 #include "imusysid/autopilot.h"
 #include "imusysid/identify.h"
+#include "imusysid/pool3d.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/status.h"
 
@@ -26,6 +27,14 @@ Preprocess3dOptions Preprocess3dOptionsFromFlags();
 int WriteFit3d(const IdentifySummary& summary,
                EmitFormat emit,
                const std::string& emit_out);
+
+// The same for several flights pooled (fit with --log given more than
+// once): JSON one object, {"imus": [pooled per instance], "flights": [per
+// flight {"log", "imus": [its own per-IMU objects]}]}, or a table per IMU;
+// --emit the pooled positions; --report one page of every flight.
+int WriteFlights3d(const FlightsSummary& summary,
+                   EmitFormat emit,
+                   const std::string& emit_out);
 
 // --report=DIR before the fit: refused (InvalidArgument) unless the model is
 // 3-D, and checked that DIR can be written and gnuplot is there, so that

@@ -13,7 +13,9 @@
 DEFINE_string(log,
               "",
               "Flight log to read: CSV (docs/log-format.md), PX4 ULog "
-              "(.ulg) or ArduPilot DataFlash (.bin); detected from content.");
+              "(.ulg) or ArduPilot DataFlash (.bin); detected from content. "
+              "fit with a 3-D model: give it more than once (or a "
+              "comma-separated list) to pool flights of one vehicle.");
 DEFINE_string(frame,
               "",
               "Axis frame of a CSV log's IMU columns: flu or frd. "

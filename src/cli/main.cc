@@ -174,6 +174,7 @@ bool ParseFlags(const Command& c,
       }
     }
     MarkFlagSet(name);
+    RecordFlagValue(name, value);
   }
   return true;
 }

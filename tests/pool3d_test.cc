@@ -1,0 +1,349 @@
+// Several flights pooled (imusysid/pool3d.h): the weighted mean, its σ̂, the
+// chi-square and its p-value against numbers worked by hand, the decisions
+// that follow from them, and `fit --log=A --log=B --model=rigid3d` on
+// simulated flights of one vehicle.
+
+#include "imusysid/pool3d.h"
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "Eigen/Core"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "imusysid/simulate3d.h"
+#include "nlohmann/json.hpp"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A flight's fit of one instance as Rigid3dReport would make it: every axis
+// `reason` ("given" unless said), σ̂ = hypot(statistical, systematic).
+ImuPosition3d MadeUpFit(int instance,
+                        const Eigen::Vector3d& position_mm,
+                        const Eigen::Vector3d& stderr_mm,
+                        double systematic_mm = 0.0,
+                        const std::array<std::string, 3>& reasons = {
+                            "given", "given", "given"}) {
+  ImuPosition3d r;
+  r.instance = instance;
+  r.usable = true;
+  r.position_m = position_mm * 1e-3;
+  r.stderr_m = stderr_mm * 1e-3;
+  r.covariance = r.stderr_m.array().square().matrix().asDiagonal();
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    r.decisions[i].reason = reasons[i];
+    r.determined[i] = reasons[i] == "given";
+    r.decisions[i].stderr_systematic_m = systematic_mm * 1e-3;
+    r.decisions[i].stderr_statistical_m =
+        std::sqrt(stderr_mm[a] * stderr_mm[a] - systematic_mm * systematic_mm) *
+        1e-3;
+  }
+  return r;
+}
+
+FlightImus OneFlight(const std::string& source, const ImuPosition3d& fit) {
+  FlightImus f;
+  f.source = source;
+  f.imus = {fit};
+  return f;
+}
+
+// Relative accuracy of the closed forms: a few ulps of exp/erfc.
+constexpr double kPoolRel = 1e-12;
+
+TEST(ChiSquareUpperTail, MatchesTablesAndClosedForms) {
+  // The 95 % points of the chi-square table (to the table's 6 digits).
+  EXPECT_NEAR(ChiSquareUpperTail(3.841459, 1), 0.05, 1e-7);
+  EXPECT_NEAR(ChiSquareUpperTail(5.991465, 2), 0.05, 1e-7);
+  EXPECT_NEAR(ChiSquareUpperTail(7.814728, 3), 0.05, 1e-7);
+  EXPECT_NEAR(ChiSquareUpperTail(9.487729, 4), 0.05, 1e-7);
+  EXPECT_NEAR(ChiSquareUpperTail(11.070498, 5), 0.05, 1e-7);
+  // dof 2 is exp(−x/2); dof 1 is erfc(sqrt(x/2)).
+  EXPECT_NEAR(ChiSquareUpperTail(14.0, 2), std::exp(-7.0), kPoolRel);
+  EXPECT_NEAR(ChiSquareUpperTail(1.8, 1), std::erfc(std::sqrt(0.9)), kPoolRel);
+  EXPECT_EQ(ChiSquareUpperTail(0.0, 3), 1.0);
+  EXPECT_TRUE(std::isnan(ChiSquareUpperTail(1.0, 0)));
+  EXPECT_TRUE(std::isnan(ChiSquareUpperTail(-1.0, 2)));
+}
+
+// Two flights on x: 10 ± 1 and 13 ± 2 mm. By hand: weights 1 and 1/4
+// (mm⁻²), mean (10 + 13/4)/(5/4) = 10.6 mm, σ̄ = sqrt(1/(5/4)) = 0.894427 mm,
+// χ² = 0.6²/1 + 2.4²/4 = 1.8 on 1 dof, p = erfc(sqrt(0.9)) = 0.179713;
+// each deviation over its own 1σ, −0.6/sqrt(1 − 0.8) and 2.4/sqrt(4 − 0.8),
+// is ∓sqrt(1.8).
+TEST(PoolFlights, TwoFlightsByHand) {
+  const std::vector<FlightImus> flights = {
+      OneFlight("A.ulg", MadeUpFit(0, {10, 1, 2}, {1, 1, 1})),
+      OneFlight("B.bin", MadeUpFit(0, {13, 1, 2}, {2, 1, 1}))};
+  const std::vector<PooledImuPosition3d> pooled = PoolFlights(flights);
+  ASSERT_EQ(pooled.size(), 1u);
+  const PooledAxis& x = pooled[0].axes[0];
+  EXPECT_EQ(x.reason, "given");
+  EXPECT_TRUE(x.determined);
+  EXPECT_FALSE(x.pool_only);
+  EXPECT_EQ(x.flights, 2);
+  EXPECT_NEAR(x.position_m, 10.6e-3, 1e-15);
+  EXPECT_NEAR(x.stderr_m, 0.894427191e-3, 1e-12);
+  EXPECT_NEAR(x.chi_square, 1.8, 1e-12);
+  EXPECT_EQ(x.dof, 1);
+  EXPECT_NEAR(x.p_value, 0.1797124949, 1e-9);
+  const PooledFlightAxis& a = pooled[0].flights[0].axes[0];
+  const PooledFlightAxis& b = pooled[0].flights[1].axes[0];
+  EXPECT_TRUE(a.entered);
+  EXPECT_NEAR(a.deviation_sigmas, -std::sqrt(1.8), 1e-9);
+  EXPECT_NEAR(b.deviation_sigmas, std::sqrt(1.8), 1e-9);
+  EXPECT_NEAR(a.chi_square_term, 0.36, 1e-12);
+  EXPECT_NEAR(b.chi_square_term, 1.44, 1e-12);
+  EXPECT_FALSE(a.disagrees);
+  // y and z agree exactly: χ² 0, p 1, σ̄ = 1/√2 mm.
+  EXPECT_NEAR(pooled[0].axes[1].stderr_m, std::sqrt(0.5) * 1e-3, 1e-15);
+  EXPECT_EQ(pooled[0].axes[1].p_value, 1.0);
+  EXPECT_TRUE(pooled[0].warnings.empty());
+}
+
+// Three flights on y: 0, 1 and 5 mm, each ± 1 mm. By hand: mean 2 mm,
+// χ² = 4 + 1 + 9 = 14 on 2 dof, p = e⁻⁷ = 9.12e-4 < 0.001: withheld. The
+// third flight's deviation, 3/sqrt(1 − 1/3) = 3.674σ (two-sided p 2.4e-4),
+// names it; the first's, −2.449σ (p 0.014), does not.
+TEST(PoolFlights, ThreeFlightsOneDisagreesAndIsNamed) {
+  const std::vector<FlightImus> flights = {
+      OneFlight("A.ulg", MadeUpFit(0, {1, 0, 2}, {1, 1, 1})),
+      OneFlight("B.ulg", MadeUpFit(0, {1, 1, 2}, {1, 1, 1})),
+      OneFlight("C.ulg", MadeUpFit(0, {1, 5, 2}, {1, 1, 1}))};
+  const PooledImuPosition3d p = PoolFlights(flights).at(0);
+  const PooledAxis& y = p.axes[1];
+  EXPECT_EQ(y.reason, "flights_disagree");
+  EXPECT_FALSE(y.determined);
+  EXPECT_NEAR(y.position_m, 2e-3, 1e-15);
+  EXPECT_NEAR(y.chi_square, 14.0, 1e-9);
+  EXPECT_EQ(y.dof, 2);
+  EXPECT_NEAR(y.p_value, std::exp(-7.0), 1e-12);
+  EXPECT_NEAR(
+      p.flights[2].axes[1].deviation_sigmas, 3.0 / std::sqrt(2.0 / 3), 1e-9);
+  EXPECT_TRUE(p.flights[2].axes[1].disagrees);
+  EXPECT_FALSE(p.flights[0].axes[1].disagrees);
+  EXPECT_FALSE(p.flights[1].axes[1].disagrees);
+  EXPECT_THAT(y.advice, HasSubstr("C.ulg (5.0 +/- 1.0 mm"));
+  EXPECT_THAT(y.advice, ::testing::Not(HasSubstr("A.ulg")));
+  // x and z agree and are given.
+  EXPECT_EQ(p.axes[0].reason, "given");
+  EXPECT_EQ(p.axes[2].reason, "given");
+  const nlohmann::ordered_json j = PooledToJson(p);
+  EXPECT_TRUE(j["imu_position_frd_m"][1].is_null());
+  EXPECT_EQ(j["decisions"][1]["reason"], "flights_disagree");
+  EXPECT_EQ(j["decisions"][1]["flights"][2]["disagrees"], true);
+}
+
+// Two flights ± 1 mm apart by d: χ² = d²/2 on 1 dof, p = erfc(d/2 mm),
+// 0.001 at d = 4.6535 mm. 4.70 mm (p 8.9e-4) is withheld, 4.60 mm (p 1.1e-3)
+// given.
+TEST(PoolFlights, TheAgreementThresholdIsOneInAThousand) {
+  for (const double d : {4.60, 4.70}) {
+    const std::vector<FlightImus> flights = {
+        OneFlight("A.ulg", MadeUpFit(0, {0, 0, 0}, {1, 1, 1})),
+        OneFlight("B.ulg", MadeUpFit(0, {d, 0, 0}, {1, 1, 1}))};
+    const PooledAxis x = PoolFlights(flights).at(0).axes[0];
+    EXPECT_NEAR(x.p_value, std::erfc(d / 2), 1e-12) << d;
+    EXPECT_EQ(x.reason, d < 4.65 ? "given" : "flights_disagree") << d;
+  }
+}
+
+// Each flight's σ̂ is 1 mm statistical and 0.25 mm systematic: the weights
+// are the whole σ̂'s (equal here), the statistical parts pool to 1/√2 mm and
+// the systematic floor, which every flight shares, stays 0.25 mm:
+// σ̂ = sqrt(0.5 + 0.0625) mm = 0.75 mm.
+TEST(PoolFlights, TheSystematicFloorIsNotAveragedAway) {
+  const double se = std::hypot(1.0, 0.25);
+  const std::vector<FlightImus> flights = {
+      OneFlight("A.ulg", MadeUpFit(0, {1, 2, 3}, {se, se, se}, 0.25)),
+      OneFlight("B.ulg", MadeUpFit(0, {2, 2, 3}, {se, se, se}, 0.25))};
+  const PooledAxis x = PoolFlights(flights).at(0).axes[0];
+  EXPECT_NEAR(x.position_m, 1.5e-3, 1e-15);
+  EXPECT_NEAR(x.stderr_statistical_m, std::sqrt(0.5) * 1e-3, 1e-12);
+  EXPECT_NEAR(x.stderr_systematic_m, 0.25e-3, 1e-15);
+  EXPECT_NEAR(x.stderr_m, 0.75e-3, 1e-12);
+  // χ² from the whole σ̂: 2 · 0.5² / (1 + 0.0625).
+  EXPECT_NEAR(x.chi_square, 0.5 / 1.0625, 1e-12);
+}
+
+// x withheld in each flight for its σ̂ alone (6 mm against 5 mm): two
+// flights pool to 6/√2 = 4.24 mm and give it, saying so; three flights at
+// 9 mm pool to 9/√3 = 5.20 mm, still withheld.
+TEST(PoolFlights, AnAxisOnlyThePoolDetermines) {
+  const std::array<std::string, 3> x_stderr = {"stderr", "given", "given"};
+  const std::vector<FlightImus> two = {
+      OneFlight("A.ulg", MadeUpFit(0, {10, 0, 0}, {6, 1, 1}, 0.0, x_stderr)),
+      OneFlight("B.ulg", MadeUpFit(0, {12, 0, 0}, {6, 1, 1}, 0.0, x_stderr))};
+  const PooledImuPosition3d p = PoolFlights(two).at(0);
+  EXPECT_EQ(p.axes[0].reason, "given");
+  EXPECT_TRUE(p.axes[0].determined);
+  EXPECT_TRUE(p.axes[0].pool_only);
+  EXPECT_NEAR(p.axes[0].position_m, 11e-3, 1e-15);
+  EXPECT_NEAR(p.axes[0].stderr_m, 6e-3 / std::sqrt(2.0), 1e-15);
+  EXPECT_THAT(p.axes[0].advice, HasSubstr("determined by the pool only"));
+  EXPECT_FALSE(p.axes[1].pool_only);
+  EXPECT_EQ(PooledToJson(p)["decisions"][0]["pool_only"], true);
+
+  std::vector<FlightImus> three;
+  for (const char* name : {"A.ulg", "B.ulg", "C.ulg"}) {
+    three.push_back(
+        OneFlight(name, MadeUpFit(0, {10, 0, 0}, {9, 1, 1}, 0.0, x_stderr)));
+  }
+  const PooledAxis x = PoolFlights(three).at(0).axes[0];
+  EXPECT_EQ(x.reason, "stderr");
+  EXPECT_NEAR(x.stderr_m, 9e-3 / std::sqrt(3.0), 1e-15);
+}
+
+// A flight whose delay sat at the search's limit is kept out of every axis
+// (and says why); an instance one flight lacks is pooled from the others.
+TEST(PoolFlights, GatesOtherThanStderrKeepAFlightOut) {
+  FlightImus a = OneFlight("A.ulg", MadeUpFit(0, {10, 20, 30}, {1, 1, 1}));
+  a.imus.push_back(MadeUpFit(1, {-40, 30, 20}, {1, 1, 1}));
+  FlightImus b = OneFlight(
+      "B.ulg",
+      MadeUpFit(0,
+                {50, 50, 50},
+                {1, 1, 1},
+                0.0,
+                {"delay_at_limit", "delay_at_limit", "delay_at_limit"}));
+  b.skipped.push_back({1, "logged at 1 Hz"});
+  const std::vector<PooledImuPosition3d> p = PoolFlights({a, b});
+  ASSERT_EQ(p.size(), 2u);
+  for (int k = 0; k < 3; ++k) {
+    const PooledAxis& axis = p[0].axes[static_cast<std::size_t>(k)];
+    EXPECT_EQ(axis.reason, "given");
+    EXPECT_EQ(axis.flights, 1);
+    EXPECT_EQ(axis.dof, 0);
+    EXPECT_NEAR(axis.position_m, (10 + 10 * k) * 1e-3, 1e-15);
+    EXPECT_FALSE(p[0].flights[1].axes[static_cast<std::size_t>(k)].entered);
+  }
+  EXPECT_THAT(p[0].warnings,
+              ::testing::Contains(HasSubstr(
+                  "B.ulg is kept out of the pool on x (delay_at_limit)")));
+  EXPECT_EQ(p[1].instance, 1);
+  EXPECT_FALSE(p[1].flights[1].fitted);
+  EXPECT_EQ(p[1].flights[1].not_fitted_reason, "logged at 1 Hz");
+  EXPECT_NEAR(p[1].axes[0].position_m, -40e-3, 1e-15);
+  // Only delay_at_limit flights: nothing enters.
+  const PooledAxis none = PoolFlights({b, b}).at(0).axes[0];
+  EXPECT_EQ(none.reason, "no_flight");
+  EXPECT_THAT(none.advice, HasSubstr("B.ulg: delay_at_limit"));
+}
+
+// --- The command line, on simulated flights of one vehicle ---
+
+using testing::RunCli;
+
+// Simulator3dOptions::DefaultImus' instance 0.
+const double kPoolTruth[3] = {0.05, -0.02, -0.03};
+
+// A gentle figure-eight CSV of IMU 0, `seed`, with that IMU moved by
+// `shift_m` along x (the simulate command cannot move an IMU).
+std::string PoolFlightCsv(const std::string& path,
+                          unsigned seed,
+                          double shift_m) {
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+  EXPECT_TRUE(o.ok());
+  o->sensor_profile = "gentle";
+  o->seed = seed;
+  o->imus.resize(1);
+  o->imus[0].p_frd_m.x() += shift_m;
+  StatusOr<Simulated3dFlight> f = Simulate3d(*o);
+  EXPECT_TRUE(f.ok()) << f.status().message();
+  StatusOr<std::string> text = FormatSimulated3dCsv(f->logs[0]);
+  EXPECT_TRUE(text.ok());
+  std::ofstream(path) << *text;
+  return path;
+}
+
+// A ULog and a DataFlash log of one vehicle (different seeds): instance 0
+// pooled within 1.5 mm of the truth on every axis (rigid3d_test.cc's
+// tolerance for one flight), the flights agreeing.
+TEST(PoolFlightsCli, UlogAndDataFlashPoolToTheTruth) {
+  const std::string dir = ::imusysid::testing::MakeTempDir();
+  ASSERT_EQ(RunCli("simulate --scenario=figure8_3d --out=" + dir + "/A.ulg")
+                .exit_code,
+            0);
+  ASSERT_EQ(
+      RunCli("simulate --scenario=figure8_3d --seed=2 --out=" + dir + "/B.bin")
+          .exit_code,
+      0);
+  std::ifstream truth_file(dir + "/A.truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(truth_file);
+  const auto r = RunCli("fit --log=" + dir + "/A.ulg --log " + dir +
+                        "/B.bin --imu=0 --model=rigid3d --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.is_object());
+  ASSERT_EQ(j["flights"].size(), 2u);
+  EXPECT_EQ(j["flights"][0]["log"], dir + "/A.ulg");
+  EXPECT_EQ(j["flights"][1]["log"], dir + "/B.bin");
+  ASSERT_EQ(j["imus"].size(), 1u);
+  const nlohmann::json& imu = j["imus"][0];
+  for (int a = 0; a < 3; ++a) {
+    const double t = truth["imus"][0]["p_frd_m"][a].get<double>();
+    EXPECT_EQ(t, kPoolTruth[a]);
+    ASSERT_TRUE(imu["imu_position_frd_m"][a].is_number()) << r.out;
+    EXPECT_NEAR(imu["imu_position_frd_m"][a].get<double>(), t, 1.5e-3) << a;
+    const nlohmann::json& d = imu["decisions"][a];
+    EXPECT_EQ(d["reason"], "given");
+    EXPECT_EQ(d["flights_pooled"], 2);
+    EXPECT_GT(d["p_value"].get<double>(), 1e-3);
+    // The pooled σ̂ is below each flight's.
+    for (int f = 0; f < 2; ++f) {
+      const nlohmann::json& own = j["flights"][f]["imus"][0];
+      EXPECT_LT(imu["imu_position_frd_stderr_m"][a].get<double>(),
+                own["imu_position_frd_stderr_m"][a].get<double>());
+      EXPECT_EQ(own["fitted_position_frd_m"][a], d["flights"][f]["fitted_m"]);
+      EXPECT_TRUE(own["agreement"][a]["deviation_sigmas"].is_number());
+    }
+  }
+}
+
+// One flight with IMU 0 mounted 15 mm further forward: x is withheld,
+// flights_disagree, both flights named; y and z still pooled. A missing
+// second log is exit 2, naming it; a planar model with two logs, exit 2.
+TEST(PoolFlightsCli, AMovedImuDisagreesAndBadInputIsRefused) {
+  const std::string dir = ::imusysid::testing::MakeTempDir();
+  const std::string a = PoolFlightCsv(dir + "/A.csv", 1, 0.0);
+  const std::string b = PoolFlightCsv(dir + "/B.csv", 2, 0.015);
+  const auto r =
+      RunCli("fit --log=" + a + "," + b + " --model=rigid3d --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& imu = j["imus"][0];
+  EXPECT_TRUE(imu["imu_position_frd_m"][0].is_null());
+  EXPECT_EQ(imu["decisions"][0]["reason"], "flights_disagree");
+  EXPECT_LT(imu["decisions"][0]["p_value"].get<double>(), 1e-3);
+  EXPECT_THAT(imu["decisions"][0]["advice"].get<std::string>(), HasSubstr(b));
+  for (int k = 1; k < 3; ++k) {
+    EXPECT_EQ(imu["decisions"][k]["reason"], "given") << k;
+    EXPECT_NEAR(
+        imu["imu_position_frd_m"][k].get<double>(), kPoolTruth[k], 1.5e-3);
+  }
+  const auto table =
+      RunCli("fit --log=" + a + " --log=" + b + " --model=rigid3d --emit=px4");
+  EXPECT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_THAT(table.out, HasSubstr("pooled"));
+  EXPECT_THAT(table.out, HasSubstr("withheld (flights_disagree)"));
+  EXPECT_THAT(table.out, HasSubstr("EKF2_IMU_POS_X not written"));
+  EXPECT_THAT(table.out, HasSubstr("EKF2_IMU_POS_Y"));
+
+  const auto missing =
+      RunCli("fit --log=" + a + " --log=" + dir + "/none.ulg --model=rigid3d");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_THAT(missing.err, HasSubstr(dir + "/none.ulg"));
+  const auto planar = RunCli("fit --log=" + a + " --log=" + b);
+  EXPECT_EQ(planar.exit_code, 2);
+  EXPECT_THAT(planar.err, HasSubstr("--model=rigid3d or rigid3d_imu only"));
+}
+
+}  // namespace
+}  // namespace imusysid
