@@ -32,6 +32,41 @@ namespace {
 
 const char kCmd[] = "fit";
 
+// A flight's label on the report page: its file name.
+std::string PageLabel(const std::string& source) {
+  std::string label = std::filesystem::path(source).filename();
+  return label.empty() ? source : label;
+}
+
+// The output (stdout or --out), then the --emit file and the --report page
+// of `pages` titled `title`: kExitOk when all were written, else the exit
+// code of the first failure.
+int WriteOutputs(const std::string& text,
+                 const AutopilotParameters* emitted,
+                 const std::string& emit_out,
+                 const std::vector<report::Rigid3dPageFlight>& pages,
+                 const std::string& title) {
+  Status s = EmitOutput(text, FLAGS_out);
+  if (!s.ok()) return ReportError(kCmd, s);
+  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
+  if (!emit_out.empty() && emitted != nullptr) {
+    s = WriteFileAtomically(emit_out, emitted->snippet);
+    if (!s.ok()) return ReportError(kCmd, s);
+    std::cerr << "wrote " << emit_out << "\n";
+  }
+  if (!FLAGS_report.empty()) {
+    report::Rigid3dPageOptions options;
+    options.cutoff_hz = FLAGS_cutoff_hz;
+    options.title = title;
+    std::vector<report::Figure> figures;
+    s = report::WriteRigid3dPage(FLAGS_report, pages, options, &figures);
+    if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
+    std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_report
+              << "/index.html\n";
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 Preprocess3dOptions Preprocess3dOptionsFromFlags() {
@@ -77,27 +112,14 @@ int WriteFit3d(const IdentifySummary& summary,
     }
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }
-  Status s = EmitOutput(text, FLAGS_out);
-  if (!s.ok()) return ReportError(kCmd, s);
-  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
-  if (!emit_out.empty() && emitted != nullptr) {
-    s = WriteFileAtomically(emit_out, emitted->snippet);
-    if (!s.ok()) return ReportError(kCmd, s);
-    std::cerr << "wrote " << emit_out << "\n";
-  }
-  if (!FLAGS_report.empty()) {
-    report::Rigid3dPageOptions options;
-    options.cutoff_hz = FLAGS_cutoff_hz;
-    std::string label = std::filesystem::path(summary.source).filename();
-    if (label.empty()) label = summary.source;
-    options.title = "imusysid fit --model=" + summary.model + ": " + label;
-    std::vector<report::Figure> figures;
-    s = report::WriteRigid3dPage(
-        FLAGS_report, {{label, &summary}}, options, &figures);
-    if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
-    std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_report
-              << "/index.html\n";
-  }
+  const std::string label = PageLabel(summary.source);
+  const int written =
+      WriteOutputs(text,
+                   emitted,
+                   emit_out,
+                   {{label, &summary}},
+                   "imusysid fit --model=" + summary.model + ": " + label);
+  if (written != kExitOk) return written;
   return summary.usable() ? kExitOk : kExitBadInput;
 }
 
@@ -181,35 +203,22 @@ int WriteFlights3d(const FlightsSummary& summary,
     for (const PooledImuPosition3d& p : summary.imus) text += PooledToText(p);
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }
-  Status s = EmitOutput(text, FLAGS_out);
-  if (!s.ok()) return ReportError(kCmd, s);
-  if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
-  if (!emit_out.empty() && emitted != nullptr) {
-    s = WriteFileAtomically(emit_out, emitted->snippet);
-    if (!s.ok()) return ReportError(kCmd, s);
-    std::cerr << "wrote " << emit_out << "\n";
+  // The page shows each flight on its own (the pooled numbers are in the
+  // output).
+  std::vector<report::Rigid3dPageFlight> pages;
+  std::string labels;
+  for (const IdentifySummary& flight : summary.flights) {
+    const std::string label = PageLabel(flight.source);
+    labels += (labels.empty() ? "" : ", ") + label;
+    pages.push_back({label, &flight});
   }
-  if (!FLAGS_report.empty()) {
-    // The page shows each flight on its own (the pooled numbers are in the
-    // output above).
-    report::Rigid3dPageOptions options;
-    options.cutoff_hz = FLAGS_cutoff_hz;
-    std::vector<report::Rigid3dPageFlight> pages;
-    std::string labels;
-    for (const IdentifySummary& flight : summary.flights) {
-      std::string label = std::filesystem::path(flight.source).filename();
-      if (label.empty()) label = flight.source;
-      labels += (labels.empty() ? "" : ", ") + label;
-      pages.push_back({label, &flight});
-    }
-    options.title =
-        "imusysid fit --model=" + summary.flights.front().model + ": " + labels;
-    std::vector<report::Figure> figures;
-    s = report::WriteRigid3dPage(FLAGS_report, pages, options, &figures);
-    if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
-    std::cerr << "wrote " << figures.size() << " figures and " << FLAGS_report
-              << "/index.html\n";
-  }
+  const int written = WriteOutputs(
+      text,
+      emitted,
+      emit_out,
+      pages,
+      "imusysid fit --model=" + summary.flights.front().model + ": " + labels);
+  if (written != kExitOk) return written;
   return summary.usable() ? kExitOk : kExitBadInput;
 }
 
