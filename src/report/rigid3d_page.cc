@@ -21,6 +21,7 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/rigid3d_report.h"
+#include "src/io/log_conversion.h"
 #include "src/io/staging_folder.h"
 #include "src/report/gnuplot.h"
 #include "src/report/html.h"
@@ -61,14 +62,6 @@ struct Series {
   std::string why_not;  // why there is no model line (empty: there is)
 };
 
-double MedianStep(const std::vector<double>& t) {
-  std::vector<double> dt;
-  for (std::size_t k = 1; k < t.size(); ++k) dt.push_back(t[k] - t[k - 1]);
-  if (dt.empty()) return kNaN;
-  std::nth_element(dt.begin(), dt.begin() + dt.size() / 2, dt.end());
-  return dt[dt.size() / 2];
-}
-
 // The measured x/y specific force of the fitted samples and, through the
 // registered model at `imu`'s parameters, the prediction, the residual and
 // the lever-arm part (the prediction less the prediction with the position
@@ -85,7 +78,7 @@ Series FittedSeries(const IdentifySummary& summary, const ImuPosition3d& imu) {
     s.fx.push_back(m.f[0][k]);
     s.fy.push_back(m.f[1][k]);
   }
-  const double step = MedianStep(s.t);
+  const double step = internal::MedianStep(s.t);
   s.sample_rate_hz = step > 0 ? 1.0 / step : 0.0;
   std::size_t begin = 0;
   for (std::size_t i = 1; i <= s.t.size(); ++i) {
