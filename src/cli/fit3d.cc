@@ -32,6 +32,23 @@ namespace {
 
 const char kCmd[] = "fit";
 
+// One flight's per-IMU objects: each fitted instance's, then each skipped
+// one with why (WriteFit3d adds the emit to the fitted ones; a pooled fit's
+// flights go without it, the pooled one being the parameter file).
+nlohmann::ordered_json FlightImusJson(const IdentifySummary& summary) {
+  nlohmann::ordered_json imus = nlohmann::ordered_json::array();
+  for (const ImuPosition3d& r : summary.imus) imus.push_back(Rigid3dToJson(r));
+  for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
+    nlohmann::ordered_json one;
+    one["instance"] = skipped.instance;
+    one["log"] = summary.source;
+    one["fitted"] = false;
+    one["reason"] = skipped.reason;
+    imus.push_back(std::move(one));
+  }
+  return imus;
+}
+
 // A flight's label on the report page: its file name.
 std::string PageLabel(const std::string& source) {
   std::string label = std::filesystem::path(source).filename();
@@ -89,19 +106,11 @@ int WriteFit3d(const IdentifySummary& summary,
           : nullptr;
   std::string text;
   if (JsonOutput()) {
-    nlohmann::ordered_json j = nlohmann::ordered_json::array();
-    for (const ImuPosition3d& r : summary.imus) {
-      nlohmann::ordered_json one = Rigid3dToJson(r);
-      if (emitted != nullptr) one["emit"] = AutopilotParametersToJson(*emitted);
-      j.push_back(std::move(one));
-    }
-    for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
-      nlohmann::ordered_json one;
-      one["instance"] = skipped.instance;
-      one["log"] = summary.source;
-      one["fitted"] = false;
-      one["reason"] = skipped.reason;
-      j.push_back(std::move(one));
+    nlohmann::ordered_json j = FlightImusJson(summary);
+    if (emitted != nullptr) {
+      for (std::size_t i = 0; i < summary.imus.size(); ++i) {
+        j[i]["emit"] = AutopilotParametersToJson(*emitted);
+      }
     }
     text = DumpJson(j.size() == 1 ? j[0] : j) + "\n";
   } else {
@@ -124,22 +133,6 @@ int WriteFit3d(const IdentifySummary& summary,
 }
 
 namespace {
-
-// One flight's per-IMU objects as a single fit writes them (WriteFit3d),
-// without the emit: the pooled one is the parameter file.
-nlohmann::ordered_json FlightImusJson(const IdentifySummary& summary) {
-  nlohmann::ordered_json imus = nlohmann::ordered_json::array();
-  for (const ImuPosition3d& r : summary.imus) imus.push_back(Rigid3dToJson(r));
-  for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
-    nlohmann::ordered_json one;
-    one["instance"] = skipped.instance;
-    one["log"] = summary.source;
-    one["fitted"] = false;
-    one["reason"] = skipped.reason;
-    imus.push_back(std::move(one));
-  }
-  return imus;
-}
 
 // The flight's agreement with the pool on one instance, per axis.
 nlohmann::ordered_json AgreementJson(const PooledImuPosition3d& pooled,
