@@ -67,23 +67,36 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
     EXPECT_EQ(d["fitted_m"], j["imu_position_frd_m"][a]);
     EXPECT_EQ(d["stderr_m"], j["imu_position_frd_stderr_m"][a]);
     const double statistical = d["stderr_statistical_m"].get<double>();
-    EXPECT_EQ(d["stderr_systematic_m"].get<double>(), 0.25e-3);
+    const double systematic = d["stderr_systematic_m"].get<double>();
     EXPECT_GT(statistical, 0.0);
-    EXPECT_NEAR(
-        std::hypot(statistical, 0.25e-3), d["stderr_m"].get<double>(), 1e-15);
+    EXPECT_NEAR(std::hypot(statistical, systematic),
+                d["stderr_m"].get<double>(),
+                1e-15);
+    // The systematic part: each choice's share (cutoff, derivative, delay)
+    // and the 0.25 mm floor in quadrature.
+    double variance = 0.25e-3 * 0.25e-3;
+    for (const nlohmann::json& c : j["systematic_sensitivity"]) {
+      variance += std::pow(c["stderr_frd_m"][a].get<double>(), 2);
+    }
+    EXPECT_NEAR(systematic, std::sqrt(variance), 1e-12);
+    EXPECT_GE(j["systematic_sensitivity"].size(), 2u);
     // The gates in the order they apply, every one passed, each with the
     // number it judged and its limit.
+    // The agreement gates last: the windows' where there are two or more
+    // (this flight has one), the halves' always.
     const nlohmann::json& e = d["evidence"];
-    ASSERT_GE(e.size(), 4u);
+    ASSERT_EQ(e.size(), 5u);
     const char* const gates[] = {"delay_at_limit",
                                  "unexplained_fraction",
                                  "stderr",
                                  "abs_position",
-                                 "window_agreement"};
+                                 "halves_agreement"};
     for (std::size_t g = 0; g < e.size(); ++g) {
       EXPECT_EQ(e[g]["gate"], gates[g]);
       EXPECT_EQ(e[g]["passed"], true) << e[g];
     }
+    EXPECT_NEAR(e[4]["threshold"].get<double>(), 10.8276, 1e-4);
+    EXPECT_EQ(e[4]["min_difference_m"].get<double>(), 0.005);
     EXPECT_EQ(e[0]["statistic"], j["estimator_delay_s"]);
     EXPECT_NEAR(e[0]["threshold"].get<double>(), 0.06, 1e-12);
     EXPECT_NEAR(e[1]["statistic"].get<double>(),

@@ -44,6 +44,21 @@ struct Preprocess3dOptions {
   // same for every IMU of a log, so a caller may pass the first one's on).
   double quadratic_wind_n = std::numeric_limits<double>::quiet_NaN();
   double quadratic_wind_e = std::numeric_limits<double>::quiet_NaN();
+  // The estimator delays the flight cannot tell from the best one, s (the
+  // range Preprocess3dResult::estimator_delay_low_s/high_s reports): NaN
+  // finds them from the delay search; a caller fitting another IMU of the
+  // same log passes the first one's on with the delay. Ignored when the
+  // delay is given and these are not (a delay the caller knows).
+  double estimator_delay_low_s = std::numeric_limits<double>::quiet_NaN();
+  double estimator_delay_high_s = std::numeric_limits<double>::quiet_NaN();
+  // The systematic part of the position's σ̂ (Preprocess3dResult::
+  // sensitivity): the position refitted with the low-pass cutoff and the
+  // derivative's half-width at systematic_low_factor and
+  // systematic_high_factor times theirs, and at each end of the plausible
+  // delays. Off: none is computed (the report's model-error floor alone).
+  bool systematic = true;
+  double systematic_low_factor = 0.6;   // 5 Hz → 3 Hz, 50 ms → 30 ms
+  double systematic_high_factor = 1.6;  // 5 Hz → 8 Hz, 50 ms → 80 ms
 
   // Automatic windows: airborne (take-off and landing found from the IMU,
   // DetectSegments) minus edge_trim_s after take-off and before landing
@@ -82,6 +97,25 @@ struct Stretch3d {
   std::string reason;  // why it was dropped (empty for a fitted window)
 };
 
+// How far the fitted position moves when one choice the data cannot settle
+// moves across its defensible range (Preprocess3dOptions::systematic).
+struct ChoiceSensitivity3d {
+  // "cutoff_hz", "derivative_half_width_s" or "estimator_delay_s".
+  std::string choice;
+  double used = 0.0;  // the value the fit was made with
+  double low = 0.0;   // the range's ends
+  double high = 0.0;
+  // The position at each end minus that at `used`, FRD, m (rigid3d's
+  // linear fit on the delay search's copy thinned to about 50 Hz).
+  Eigen::Vector3d shift_low_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d shift_high_m = Eigen::Vector3d::Zero();
+  // Its share of the systematic σ̂, m: a preprocessing choice as a value
+  // anywhere in its range, max(|shift_low|, |shift_high|)/√3 (the 1σ of a
+  // uniform spread over ±that); the delay's range is a ±2σ interval from
+  // the fit, so |high − low shift|/4.
+  Eigen::Vector3d stderr_m = Eigen::Vector3d::Zero();
+};
+
 struct Preprocess3dResult {
   // Planar fields (the x–z plane, FLU) filled so the data validate and plot;
   // `motion` is what rigid3d reads.
@@ -102,6 +136,23 @@ struct Preprocess3dResult {
   // thinned to about 50 Hz; NaN when not estimated.
   double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();
   double rmse_without_delay = std::numeric_limits<double>::quiet_NaN();
+  // The delays the flight cannot tell from the best one, s: those whose fit
+  // residual's sum of squares is within 4/N_eff of the best's (a 2σ
+  // interval; N_eff the fitted samples over the residual's integrated
+  // autocorrelation time), contiguous about the best. Both the delay when
+  // it was given; NaN when the path has no delay (IMU-only).
+  double estimator_delay_low_s = std::numeric_limits<double>::quiet_NaN();
+  double estimator_delay_high_s = std::numeric_limits<double>::quiet_NaN();
+  // Where the plausible delays reach the longest searched: the position at
+  // that delay minus the one 20 ms before it, FRD, m; whether the position
+  // still moves with the delay where the search stopped (NaN elsewhere).
+  Eigen::Vector3d delay_edge_shift_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // The systematic part of σ̂, per choice and in total (their root sum of
+  // squares, FRD, m); empty and NaN when not computed.
+  std::vector<ChoiceSensitivity3d> sensitivity;
+  Eigen::Vector3d systematic_stderr_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector3d gyro_bias_frd = Eigen::Vector3d::Zero();  // rad/s
   bool gyro_bias_from_still = false;
   double sample_rate_hz = 0.0;

@@ -89,23 +89,30 @@ Eigen::Vector3d JackknifeFromEstimates(
 // the number it judged and the limit it was held to, so that a reader can see
 // how near the decision was.
 struct Rigid3dGate {
-  // "delay_at_limit": the estimator delay used against the longest delay
-  //   searched (s; NaN when none was searched); fails when the best delay is
-  //   the longest.
+  // "delay_at_limit": where the best delay is not the longest searched, the
+  //   delay used against the longest (s; NaN when none was searched), and
+  //   passes; where it is, how far this axis's position moves over the last
+  //   20 ms searched (Preprocess3dResult::delay_edge_shift_m, m) against its
+  //   σ̂, and fails above (or when that could not be computed).
   // "unexplained_fraction": fit RMSE over the x/y signal RMS against
   //   max_unexplained_fraction; fails above.
   // "stderr": σ̂ (m, statistical and systematic together) against
   //   max_stderr_m; fails above, or when σ̂ is not finite.
   // "abs_position": |p| (m) against max_abs_position_m; fails above.
-  // "window_agreement": the window whose own fit is furthest from the whole
-  //   flight's, |window − whole| over its σ̂ scaled to the window's share of
-  //   the samples, against 4; fails when above and the difference
-  //   (difference_m) also exceeds min_difference_m (5 mm).
+  // "window_agreement", "halves_agreement": the windows, or the first and
+  //   second halves of the fitted samples, each fitted alone with its own
+  //   σ̂ (the whole fit's statistical σ̂ scaled by how much less its
+  //   samples pin the axis down); the chi-square of their spread about
+  //   their inverse-variance mean against its value at p = 0.001 on
+  //   pieces − 1 degrees of freedom; fails when above and the piece
+  //   furthest from the mean in σ̂ (difference_m, window_t0_s..t1_s) is
+  //   further than min_difference_m (5 mm).
   std::string gate;
   double statistic = std::numeric_limits<double>::quiet_NaN();
   double threshold = std::numeric_limits<double>::quiet_NaN();
   bool passed = false;
-  // window_agreement only (NaN otherwise): that window and its difference.
+  // The agreement gates only (NaN otherwise): that piece and its
+  // difference from the mean.
   double difference_m = std::numeric_limits<double>::quiet_NaN();
   double min_difference_m = std::numeric_limits<double>::quiet_NaN();
   double window_t0_s = std::numeric_limits<double>::quiet_NaN();
@@ -115,16 +122,19 @@ struct Rigid3dGate {
 // Why one axis is given or withheld.
 struct Rigid3dAxisDecision {
   // A stable code: "given", or why withheld: "fit_failed", "delay_at_limit",
-  // "unexplained_fraction", "stderr", "abs_position", "window_agreement"
-  // (the first gate that failed, in the order of `evidence`).
+  // "unexplained_fraction", "stderr", "abs_position", "window_agreement",
+  // "halves_agreement" (the first gate that failed, in the order of
+  // `evidence`).
   std::string reason = "fit_failed";
   // Every gate that could be judged (none when the fit failed;
   // window_agreement only where two or more windows were fitted alone),
   // whether or not an earlier one already withheld the axis.
   std::vector<Rigid3dGate> evidence;
   // σ̂ in its two parts, m: statistical, from this flight's residuals (the
-  // HAC σ̂ or the jackknife's where larger), and systematic (today the
-  // model_error_floor_m); the reported σ̂ is their root sum of squares.
+  // HAC σ̂ or the jackknife's where larger), and systematic (the position's
+  // sensitivity to the choices the flight cannot settle,
+  // Preprocess3dResult::systematic_stderr_m, with model_error_floor_m, in
+  // quadrature); the reported σ̂ is their root sum of squares.
   double stderr_statistical_m = std::numeric_limits<double>::quiet_NaN();
   double stderr_systematic_m = std::numeric_limits<double>::quiet_NaN();
 };
@@ -174,6 +184,11 @@ struct ImuPosition3d {
   double signal_rms = 0.0;  // m/s², x/y specific force about its mean
   double estimator_delay_s = 0.0;
   bool delay_estimated = false;
+  // The delays the flight cannot tell from it and the systematic part of
+  // σ̂ choice by choice (Preprocess3dResult's).
+  double estimator_delay_low_s = std::numeric_limits<double>::quiet_NaN();
+  double estimator_delay_high_s = std::numeric_limits<double>::quiet_NaN();
+  std::vector<ChoiceSensitivity3d> sensitivity;
   std::size_t samples = 0;
   std::vector<Stretch3d> windows;
   // The stretches of the log not fitted, each with why (Preprocess3dResult::
@@ -184,10 +199,10 @@ struct ImuPosition3d {
   // empty when the fit failed.
   Eigen::VectorXd parameters;
   // Each window fitted alone, as the window-agreement check fits it: its
-  // position and the whole fit's σ̂ scaled to the window's share of the
-  // samples, σ̂·sqrt(samples / window samples), which is what the check
-  // compares against. Only where a window can be fitted on its own (a model
-  // linear outright, 200 samples or more); none when the fit failed.
+  // position and own σ̂ (the whole fit's statistical σ̂ scaled by how much
+  // less the window's samples pin each axis down). Only where a window can
+  // be fitted on its own (a model linear outright, 200 samples or more);
+  // none when the fit failed.
   struct WindowEstimate {
     double t0 = 0.0;
     double t1 = 0.0;

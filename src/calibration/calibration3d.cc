@@ -20,12 +20,9 @@ namespace internal {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// The searches' sample rates. The delay's: the motion lies below the 5 Hz
-// cutoff, but at 25 Hz the fit's RMSE over the delay is too coarse to find
-// it within a sample (20 ms found as 27). The wind search's: 2.5 times the
-// cutoff, every motion the filtered data hold still sampled (at 50 Hz its
-// Nelder-Mead was half of a 10-minute log's fit).
-constexpr double kDelaySearchRateHz = 50.0;
+// The wind search's sample rate (the delay's is kSearchRateHz3d): 2.5 times
+// the cutoff, every motion the filtered data hold still sampled (at 50 Hz
+// its Nelder-Mead was half of a 10-minute log's fit).
 constexpr double kWindSearchRateHz = 25.0;
 
 // The calibration's linear fits: the white covariance (σ̂²(JᵀJ)⁻¹: the
@@ -208,6 +205,8 @@ Status FindDelay(const Conditioned3d& thin,
   }
   out->estimator_delay_s = delay;
   out->delay_estimated = true;
+  out->searched_delays_s = delays;
+  out->searched_rmse = rmse;
   out->longest_delay_searched_s = delays.back();
   if (best == 0 || best + 1 == delays.size()) {
     out->delay_at_limit = best + 1 == delays.size();
@@ -227,8 +226,39 @@ Status FindDelay(const Conditioned3d& thin,
 
 }  // namespace
 
+double ResidualCorrelationSamples(const Eigen::VectorXd& residuals,
+                                  std::size_t max_lag) {
+  const auto n = static_cast<std::size_t>(residuals.size()) / 2;
+  if (n < 2) return 1.0;
+  double total = 0.0;
+  for (std::size_t half = 0; half < 2; ++half) {
+    const Eigen::VectorXd x = residuals
+                                  .segment(static_cast<Eigen::Index>(half * n),
+                                           static_cast<Eigen::Index>(n))
+                                  .array() -
+                              residuals
+                                  .segment(static_cast<Eigen::Index>(half * n),
+                                           static_cast<Eigen::Index>(n))
+                                  .mean();
+    const double c0 = x.squaredNorm();
+    double tau = 1.0;
+    if (c0 > 0) {
+      for (std::size_t k = 1; k <= std::min(max_lag, n - 1); ++k) {
+        const auto m = static_cast<Eigen::Index>(n - k);
+        const double rho =
+            x.head(m).dot(x.segment(static_cast<Eigen::Index>(k), m)) / c0;
+        if (!(rho > 0)) break;
+        tau += 2 * rho;
+      }
+    }
+    total += tau;
+  }
+  return std::max(1.0, total / 2);
+}
+
 StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
-                                       bool find_wind) {
+                                       bool find_wind,
+                                       double* correlation_samples) {
   // The model reads `data` without owning it: the fit is done before `data`
   // goes.
   std::shared_ptr<const Model> model;
@@ -246,6 +276,17 @@ StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
   LinearFit3d fit;
   fit.rmse = result->rmse;
   const Eigen::VectorXd& x = result->parameters;
+  fit.position_m = x.head<3>();
+  if (correlation_samples != nullptr) {
+    Eigen::VectorXd residuals(model->num_residuals());
+    if (!model->Residuals(x.data(), residuals.data(), nullptr)) {
+      return FailedPreconditionError(data.source +
+                                     ": the fit's residuals are not finite");
+    }
+    // Up to 5 s at the search's 50 Hz: the slow unmodelled forces of a
+    // real flight stay correlated over seconds.
+    *correlation_samples = ResidualCorrelationSamples(residuals, 250);
+  }
   const Eigen::VectorXd& se = result->standard_errors;
   if (find_wind && x[kRotorDrag] > 1e-3 && se[kWindNorth] < kMaxWindStderrMps &&
       se[kWindEast] < kMaxWindStderrMps) {
@@ -322,11 +363,11 @@ bool QuadraticWindModel::Residuals(const double* x,
 StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
                                     const Preprocess3dOptions& options) {
   Calibration3d out;
-  // The searches run on a copy thinned to about kDelaySearchRateHz after
+  // The searches run on a copy thinned to about kSearchRateHz3d after
   // filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
   // 400 Hz log then costs what a 50 Hz one does.
-  const auto thin_step = static_cast<std::size_t>(std::max(
-      1.0, std::floor(conditioned.sample_rate_hz / kDelaySearchRateHz)));
+  const auto thin_step = static_cast<std::size_t>(
+      std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
   const Conditioned3d thin = Thinned(conditioned, thin_step);
   const bool wind_given = !std::isnan(options.quadratic_wind_n) &&
                           !std::isnan(options.quadratic_wind_e);

@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "Eigen/Core"
 #include "imusysid/extend/model.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/result.h"
@@ -24,22 +25,39 @@
 namespace imusysid {
 namespace internal {
 
+// The rate, Hz, of the copy the calibration's searches and the sensitivity
+// run on: the motion lies below the 5 Hz cutoff, but at 25 Hz the fit's
+// RMSE over the delay is too coarse to find it within a sample (20 ms found
+// as 27).
+inline constexpr double kSearchRateHz3d = 50.0;
+
 // A linear least-squares fit of rigid3d (`linear`, white covariance): its
-// RMS residual, m/s², and its wind where the flight determines it (1σ under
-// 0.3 m/s on both axes, with a rotor drag above 1e-3 /s), else NaN.
+// RMS residual, m/s², its position (FRD, m), and its wind where the flight
+// determines it (1σ under 0.3 m/s on both axes, with a rotor drag above
+// 1e-3 /s), else NaN.
 struct LinearFit3d {
   double rmse = 0.0;
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   double wind_n = std::numeric_limits<double>::quiet_NaN();
   double wind_e = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The fit on `data` at its Motion3d::quadratic_wind_*; with `find_wind`,
 // also the wind where the flight determines it (from the white standard
-// errors; without, only the RMSE, at a fraction of the cost).
-// FailedPrecondition, with the estimator's message, when the fit fails
-// (regressors not finite).
+// errors; without, only the RMSE, at a fraction of the cost). With
+// `correlation_samples`, also the residuals' integrated autocorrelation
+// time in samples (ResidualCorrelationSamples). FailedPrecondition, with the
+// estimator's message, when the fit fails (regressors not finite).
 StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
-                                       bool find_wind = true);
+                                       bool find_wind = true,
+                                       double* correlation_samples = nullptr);
+
+// 1 + 2 Σ ρ_k over the lags k ≥ 1 up to the first whose autocorrelation is
+// not positive (at most max_lag), averaged over the x and y halves of
+// `residuals` (rigid3d's layout: the n x rows, then the n y rows): how many
+// consecutive samples carry one sample's worth of information. At least 1.
+double ResidualCorrelationSamples(const Eigen::VectorXd& residuals,
+                                  std::size_t max_lag);
 
 // The calibration's own problem: two parameters, the quadratic drag's wind
 // (w_N, w_E), m/s, NED, in ±kMaxWindMps; its residuals at w are rigid3d's at
@@ -93,6 +111,10 @@ struct Calibration3d {
   double rmse_at_delay = std::numeric_limits<double>::quiet_NaN();
   double wind_n = 0.0;
   double wind_e = 0.0;
+  // Every delay the search tried, in order, and its fit's RMSE (empty when
+  // the delay was given).
+  std::vector<double> searched_delays_s;
+  std::vector<double> searched_rmse;
   std::vector<std::string> notes;
 };
 

@@ -1,9 +1,11 @@
 // Preprocess3d composed of the 3-D stages: windows → gyro check →
 // conditioning (src/preprocess) → calibration of the delay and the wind
-// (calibration3d.h) → the data at them.
+// (calibration3d.h) → the data at them → the position's sensitivity to the
+// choices the flight cannot settle (sensitivity3d.h).
 
 #include "imusysid/preprocess3d.h"
 #include "src/calibration/calibration3d.h"
+#include "src/calibration/sensitivity3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
 
 namespace imusysid {
@@ -29,6 +31,19 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                                calibration->wind_n,
                                                calibration->wind_e,
                                                &out));
+  if (options.systematic) {
+    // A sensitivity that cannot be computed (a refiltered window too short
+    // for the narrower cutoff) leaves σ̂ without it, said so; the fit
+    // itself stands.
+    Status sensitivity =
+        internal::FillSensitivity3d(*conditioned, *calibration, &out);
+    if (!sensitivity.ok()) {
+      out.notes.push_back(
+          "the systematic part of sigma (the position's sensitivity to the "
+          "cutoff, the derivative and the delay) was not computed: " +
+          sensitivity.message());
+    }
+  }
   return out;
 }
 

@@ -4,6 +4,7 @@
 // lacks the estimator's channels, the per-axis report and the comparison
 // between instances.
 
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -211,6 +212,10 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       // One estimator publishes for every IMU: its delay is the log's, and
       // so is the flight's wind.
       po.estimator_delay_s = pre.estimator_delay_s;
+      if (!std::isnan(pre.estimator_delay_low_s)) {
+        po.estimator_delay_low_s = pre.estimator_delay_low_s;
+        po.estimator_delay_high_s = pre.estimator_delay_high_s;
+      }
       po.quadratic_wind_n = pre.data.motion.quadratic_wind_n;
       po.quadratic_wind_e = pre.data.motion.quadratic_wind_e;
       summary.estimator_delay_s = po.estimator_delay_s;

@@ -203,22 +203,24 @@ StatusOr<Conditioned3d> ConditionFlight(const FlightLog& log,
   return conditioned;
 }
 
-Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step) {
-  Conditioned3d thin = conditioned;
+void ThinWindow(std::size_t step, WindowImu* w) {
   auto every_step = [step](std::vector<double>* x) {
     std::size_t j = 0;
     for (std::size_t i = 0; i < x->size(); i += step) (*x)[j++] = (*x)[i];
     x->resize(j);
   };
-  for (WindowImu& w : thin.windows) {
-    every_step(&w.t);
-    for (std::size_t a = 0; a < 3; ++a) {
-      every_step(&w.f[a]);
-      every_step(&w.omega[a]);
-      every_step(&w.omega_dot[a]);
-    }
-    for (auto& product : w.omega_products) every_step(&product);
+  every_step(&w->t);
+  for (std::size_t a = 0; a < 3; ++a) {
+    every_step(&w->f[a]);
+    every_step(&w->omega[a]);
+    every_step(&w->omega_dot[a]);
   }
+  for (auto& product : w->omega_products) every_step(&product);
+}
+
+Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step) {
+  Conditioned3d thin = conditioned;
+  for (WindowImu& w : thin.windows) ThinWindow(step, &w);
   thin.sample_rate_hz = conditioned.sample_rate_hz / static_cast<double>(step);
   return thin;
 }

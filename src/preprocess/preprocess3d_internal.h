@@ -134,6 +134,9 @@ StatusOr<Conditioned3d> ConditionFlight(const FlightLog& log,
 // copy for the searches, which fit motion far below the cutoff.
 Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step);
 
+// One window's samples taken every `step` (≥ 1), in place.
+void ThinWindow(std::size_t step, WindowImu* window);
+
 // The data at estimator delay `delay_s` (the estimator's state read at
 // t + delay) and quadratic-drag wind (wind_n, wind_e): the IMU channels of
 // every window joined into t_s and the 3-D motion (no planar column).

@@ -411,6 +411,24 @@ Status Preprocess3dOptions::Validate() const {
   if (!std::isnan(t_start) && !std::isnan(t_end) && !(t_start < t_end)) {
     return InvalidArgumentError("t_start must be before t_end");
   }
+  const bool low_given = !std::isnan(estimator_delay_low_s);
+  const bool high_given = !std::isnan(estimator_delay_high_s);
+  if (low_given != high_given ||
+      (low_given && !(std::isfinite(estimator_delay_low_s) &&
+                      std::isfinite(estimator_delay_high_s) &&
+                      estimator_delay_low_s <= estimator_delay_high_s))) {
+    return InvalidArgumentError(
+        "estimator_delay_low_s and estimator_delay_high_s go together, low "
+        "<= high");
+  }
+  if (!(std::isfinite(systematic_low_factor) && systematic_low_factor > 0 &&
+        systematic_low_factor <= 1) ||
+      !(std::isfinite(systematic_high_factor) && systematic_high_factor >= 1 &&
+        systematic_high_factor <= 10)) {
+    return InvalidArgumentError(
+        "systematic_low_factor must be in (0, 1] and systematic_high_factor "
+        "in [1, 10]");
+  }
   return Status::Ok();
 }
 

@@ -10,10 +10,13 @@
 #include <vector>
 
 #include "Eigen/Geometry"
+#include "Eigen/LU"
 #include "Eigen/QR"
 #include "imusysid/parameters.h"
+#include "imusysid/pool3d.h"
 #include "imusysid/problem_data.h"
 #include "imusysid/rigid3d.h"
+#include "src/report/agreement3d.h"
 #include "src/report/parameter_file.h"
 #include "src/report/uncertainty3d.h"
 #include "src/tools/format.h"
@@ -45,17 +48,6 @@ double RmsAboutMean(const std::vector<double>& x) {
   double sum = 0.0;
   for (double v : x) sum += (v - mean) * (v - mean);
   return std::sqrt(sum / static_cast<double>(x.size()));
-}
-
-// The position a factor gives (column-pivoted solve; NaN when singular).
-Eigen::Vector3d PositionOfFactor(const Eigen::MatrixXd& r) {
-  const Eigen::Index m = r.cols() - 1;
-  const Eigen::VectorXd coef =
-      r.topLeftCorner(m, m).colPivHouseholderQr().solve(r.col(m).head(m));
-  if (!coef.allFinite()) {
-    return Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  }
-  return coef.head<3>();
 }
 
 nlohmann::ordered_json Num(double v) {
@@ -110,9 +102,18 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     }
     Rigid3dAxisDecision& decision = out.decisions[static_cast<std::size_t>(a)];
     decision.stderr_statistical_m = out.stderr_m[a];
-    decision.stderr_systematic_m = options.model_error_floor_m;
-    out.stderr_m[a] = std::hypot(out.stderr_m[a], options.model_error_floor_m);
+    // The sensitivity to the choices the flight cannot settle, with the
+    // model-error floor no single flight can see.
+    const double sensitivity = std::isfinite(pre.systematic_stderr_m[a])
+                                   ? pre.systematic_stderr_m[a]
+                                   : 0.0;
+    decision.stderr_systematic_m =
+        std::hypot(sensitivity, options.model_error_floor_m);
+    out.stderr_m[a] = std::hypot(out.stderr_m[a], decision.stderr_systematic_m);
   }
+  out.sensitivity = pre.sensitivity;
+  out.estimator_delay_low_s = pre.estimator_delay_low_s;
+  out.estimator_delay_high_s = pre.estimator_delay_high_s;
   out.covariance = out.stderr_m.array().square().matrix().asDiagonal();
   out.rotor_drag_per_s = x[kRotorDrag];
   out.mu_per_m = x[kDrag3dMu];
@@ -153,18 +154,33 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
 
   // Each gate is one comparison, whose outcome both decides and is shown
   // as evidence (Rigid3dGate). The log-wide ones are the same on every axis.
-  Rigid3dGate delay_gate;
-  delay_gate.gate = "delay_at_limit";
-  delay_gate.statistic = pre.estimator_delay_s;
-  delay_gate.threshold = pre.longest_delay_searched_s;
-  delay_gate.passed = !pre.delay_at_limit;
-  const bool aligned = delay_gate.passed;
-  if (!aligned) {
+  // The delay gate, per axis: a best delay at the end of the range
+  // searched withholds only the axes whose position still moves there by
+  // more than their σ̂ (on log171 the delay cost changed by 0.5 % over
+  // 0-120 ms and the position by 1 mm per 10 ms: the delay's uncertainty
+  // belongs in σ̂, not in a refusal).
+  std::array<Rigid3dGate, 3> delay_gates;
+  for (int a = 0; a < 3; ++a) {
+    Rigid3dGate& g = delay_gates[static_cast<std::size_t>(a)];
+    g.gate = "delay_at_limit";
+    if (!pre.delay_at_limit) {
+      g.statistic = pre.estimator_delay_s;
+      g.threshold = pre.longest_delay_searched_s;
+      g.passed = true;
+    } else {
+      g.statistic = std::abs(pre.delay_edge_shift_m[a]);
+      g.threshold = out.stderr_m[a];
+      g.passed = g.statistic <= g.threshold;
+    }
+  }
+  if (pre.delay_at_limit && !(delay_gates[0].passed && delay_gates[1].passed &&
+                              delay_gates[2].passed)) {
     out.warnings.push_back(
         "the estimator's delay is not determined: the fit is best at the "
-        "longest delay searched, so its attitude and velocity do not line "
-        "up with this IMU; no position is given (check the log's time "
-        "stamps, or give --estimator_delay_s if it is known)");
+        "longest delay searched and the position still moves with it there, "
+        "so its attitude and velocity do not line up with this IMU; the axes "
+        "that move are withheld (check the log's time stamps, or give "
+        "--estimator_delay_s if it is known)");
   }
   const double signal_floor = std::max(out.signal_rms, 1e-12);
   Rigid3dGate explains_gate;
@@ -174,8 +190,8 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
   explains_gate.passed =
       std::isfinite(out.rmse) &&
       out.rmse <= options.max_unexplained_fraction * signal_floor;
-  const bool explains = aligned && explains_gate.passed;
-  if (aligned && !explains) {
+  const bool explains = explains_gate.passed;
+  if (!explains) {
     out.warnings.push_back(
         "the model explains little of the signal (fit RMSE " +
         FormatNumber(out.rmse, 3, kQuoted) + " m/s^2 against " +
@@ -199,10 +215,13 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
     position_gate.threshold = options.max_abs_position_m;
     position_gate.passed = !(std::abs(p) > options.max_abs_position_m);
     Rigid3dAxisDecision& decision = out.decisions[i];
+    const Rigid3dGate& delay_gate = delay_gates[i];
     decision.evidence = {delay_gate, explains_gate, stderr_gate, position_gate};
-    if (!aligned) {
+    if (!delay_gate.passed) {
       decision.reason = delay_gate.gate;
-      out.advice[i] = "the estimator's delay is not determined";
+      out.advice[i] = std::string(kAxisNames[a]) +
+                      " moves with the estimator's delay, which is not "
+                      "determined";
     } else if (!explains) {
       decision.reason = explains_gate.gate;
       out.advice[i] = "the model does not explain this log";
@@ -222,88 +241,94 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       out.determined[i] = true;
     }
     // (A log-wide reason is one warning above, not one per axis.)
-    if (!out.determined[i] && aligned && explains) {
+    if (!out.determined[i] && delay_gate.passed && explains) {
       out.warnings.push_back(out.advice[i]);
     }
   }
-  // Agreement between windows: each window's own fit against the whole
-  // fit, with σ̂ scaled to the window's share of the samples. A window that
-  // disagrees beyond 4σ on a determined axis (and by more than 5 mm) means
-  // the flight is not one rigid body with one set of parameters (a payload
-  // shifted, a bad stretch): the axis is withheld. (Only where a window can
-  // be fitted on its own, by a model linear outright: the IMU-only model
-  // integrates across the whole span.) The evidence is the window nearest
-  // to (or furthest beyond) that limit, on every axis. Each window's
-  // estimate is kept for the report page, a single window's too (it is the
-  // whole fit's data).
-  constexpr double kWindowSigmas = 4.0;
-  constexpr double kWindowMinDifferenceM = 0.005;
-  std::array<Rigid3dGate, 3> window_gates;
-  std::array<double, 3> worst_margin;
-  worst_margin.fill(-1.0);
-  {
-    std::size_t start = 0;
-    // One window is the whole fit's data: its estimate is the fit's own (a
-    // second factorisation of every sample was a tenth of a ten-minute
-    // fit's time).
-    if (pre.windows.size() == 1 && out.usable) {
-      const Stretch3d& w = pre.windows.front();
-      out.window_estimates.push_back(
-          {w.t0, w.t1, w.samples, out.position_m, out.stderr_m});
-    }
-    for (const Stretch3d& w : pre.windows) {
-      if (pre.windows.size() < 2) break;
-      const std::size_t end = start + w.samples;
-      Eigen::MatrixXd r;
-      if (end <= pre.data.size() && w.samples >= 200 &&
-          internal::SliceFactor(
-              result.model, pre.data, start, end, &r, options.fitted_model)) {
-        const Eigen::Vector3d pw = PositionOfFactor(r);
-        const double share = std::sqrt(static_cast<double>(out.samples) /
-                                       static_cast<double>(w.samples));
-        out.window_estimates.push_back(
-            {w.t0, w.t1, w.samples, pw, out.stderr_m * share});
-        for (int a = 0; a < 3; ++a) {
-          const auto i = static_cast<std::size_t>(a);
-          const double sw = out.stderr_m[a] * share;
-          const double d = pw[a] - out.position_m[a];
-          const double limit =
-              std::max(kWindowSigmas * sw, kWindowMinDifferenceM);
-          const bool disagrees = std::isfinite(d) && std::abs(d) > limit;
-          // How far toward the limit this window's difference goes.
-          const double margin = std::abs(d) / limit;
-          if (std::isfinite(margin) && margin > worst_margin[i]) {
-            worst_margin[i] = margin;
-            Rigid3dGate& g = window_gates[i];
-            g.statistic = std::abs(d) / sw;
-            g.threshold = kWindowSigmas;
-            g.passed = !disagrees;
-            g.difference_m = std::abs(d);
-            g.min_difference_m = kWindowMinDifferenceM;
-            g.window_t0_s = w.t0;
-            g.window_t1_s = w.t1;
-          }
-          if (out.determined[i] && disagrees) {
-            out.determined[i] = false;
-            out.decisions[i].reason = "window_agreement";
-            out.advice[i] =
-                std::string(kAxisNames[a]) + " is withheld: the window " +
-                FormatNumber(w.t0, 5) + "-" + FormatNumber(w.t1, 5) +
-                " s alone gives " + Mm(pw[a]) + " mm against " +
-                Mm(out.position_m[a]) + " +/- " + Mm(out.stderr_m[a]) +
-                " mm from the whole flight (did the payload or "
-                "the mounting change between windows?)";
-            out.warnings.push_back(out.advice[i]);
-          }
-        }
+  // Agreement of independent pieces of the flight, each fitted alone: the
+  // windows, and the first and second halves of the fitted samples. One
+  // rigid body with one position predicts that they agree within their own
+  // σ̂; a chi-square test of their spread about their inverse-variance mean
+  // that fails at p < 0.001, with a piece further than 5 mm from that mean,
+  // withholds the axis (a payload that shifted, a bad stretch). Each piece's
+  // σ̂ is its own: the whole fit's statistical σ̂ scaled by how much less
+  // the piece's samples pin the axis down than all of them do (the ratio of
+  // the white variances from the factors), so a short window poorly excited
+  // gets the wide σ̂ it has. (Only where a piece can be fitted on its own,
+  // by a model linear outright: the IMU-only model integrates across the
+  // whole span.) Each window's estimate is kept for the report page, a
+  // single window's too (it is the whole fit's data).
+  if (pre.windows.size() == 1 && out.usable) {
+    const Stretch3d& w = pre.windows.front();
+    out.window_estimates.push_back(
+        {w.t0, w.t1, w.samples, out.position_m, out.stderr_m});
+  }
+  Eigen::Vector3d statistical;
+  for (int a = 0; a < 3; ++a) {
+    statistical[a] =
+        out.decisions[static_cast<std::size_t>(a)].stderr_statistical_m;
+  }
+  auto judge = [&](const std::vector<internal::Piece>& pieces,
+                   const char* gate_name) {
+    const std::vector<internal::PieceEstimate> estimates =
+        internal::EstimatePieces(
+            result.model, pre.data, pieces, statistical, options.fitted_model);
+    if (estimates.size() < 2) return estimates;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      const internal::AgreementTest test = internal::Agreement(estimates, a);
+      if (test.dof < 1) continue;
+      Rigid3dGate g;
+      g.gate = gate_name;
+      g.statistic = test.chi_square;
+      g.threshold = test.critical;
+      g.difference_m = test.worst_difference_m;
+      g.min_difference_m = internal::kAgreementMinDifferenceM;
+      g.window_t0_s = estimates[test.worst].t0;
+      g.window_t1_s = estimates[test.worst].t1;
+      g.passed = !test.disagree;
+      out.decisions[i].evidence.push_back(g);
+      if (out.determined[i] && !g.passed) {
+        const internal::PieceEstimate& worst = estimates[test.worst];
+        out.determined[i] = false;
+        out.decisions[i].reason = gate_name;
+        out.advice[i] =
+            std::string(kAxisNames[a]) + " is withheld: the " +
+            (std::string(gate_name) == "window_agreement" ? "windows"
+                                                          : "two halves") +
+            " of the flight disagree (chi-square " +
+            FormatNumber(test.chi_square, 3) + " on " +
+            std::to_string(test.dof) + " degree" + (test.dof == 1 ? "" : "s") +
+            " of freedom); " + FormatNumber(worst.t0, 5) + "-" +
+            FormatNumber(worst.t1, 5) + " s alone gives " +
+            Mm(worst.position_m[a]) + " +/- " + Mm(worst.stderr_m[a]) +
+            " mm against " + Mm(test.mean_m) +
+            " mm (did the payload or the mounting change during the "
+            "flight? imusysid track follows the position through it)";
+        out.warnings.push_back(out.advice[i]);
       }
-      start = end;
+    }
+    return estimates;
+  };
+  if (out.usable && pre.windows.size() >= 2) {
+    std::vector<internal::Piece> windows;
+    std::size_t start = 0;
+    for (const Stretch3d& w : pre.windows) {
+      windows.push_back({start, start + w.samples, w.t0, w.t1});
+      start += w.samples;
+    }
+    for (const internal::PieceEstimate& e :
+         judge(windows, "window_agreement")) {
+      out.window_estimates.push_back(
+          {e.t0, e.t1, e.samples, e.position_m, e.stderr_m});
     }
   }
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (worst_margin[i] < 0) continue;  // no window fitted alone
-    window_gates[i].gate = "window_agreement";
-    out.decisions[i].evidence.push_back(window_gates[i]);
+  const std::size_t n = pre.data.size();
+  if (out.usable && n >= 2 * internal::kMinPieceSamples) {
+    const std::size_t half = n / 2;
+    judge({{0, half, pre.data.t_s[0], pre.data.t_s[half - 1]},
+           {half, n, pre.data.t_s[half], pre.data.t_s[n - 1]}},
+          "halves_agreement");
   }
   for (const Warning& w : result.warnings) {
     if (w.code == "ill_conditioned" || w.code == "at_bound") continue;
@@ -394,6 +419,8 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["windows"] = windows;
   j["estimator_delay_s"] = Num(r.estimator_delay_s);
   j["estimator_delay_estimated"] = r.delay_estimated;
+  j["estimator_delay_plausible_s"] = {Num(r.estimator_delay_low_s),
+                                      Num(r.estimator_delay_high_s)};
   j["rotor_drag_per_s"] = Num(r.rotor_drag_per_s);
   j["mu_per_m"] = Num(r.mu_per_m);
   j["accel_bias_xy_m_s2"] = {Num(r.bias_m_s2[0]), Num(r.bias_m_s2[1])};
@@ -437,7 +464,7 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
       e["statistic"] = Num(g.statistic);
       e["threshold"] = Num(g.threshold);
       e["passed"] = g.passed;
-      if (g.gate == "window_agreement") {
+      if (g.gate == "window_agreement" || g.gate == "halves_agreement") {
         e["difference_m"] = Num(g.difference_m);
         e["min_difference_m"] = Num(g.min_difference_m);
         e["window_s"] = {Num(g.window_t0_s), Num(g.window_t1_s)};
@@ -457,6 +484,23 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
     decisions.push_back(std::move(one));
   }
   j["decisions"] = decisions;
+  // The systematic part of σ̂ choice by choice: how far the position moves
+  // across each choice's range.
+  nlohmann::ordered_json systematic = nlohmann::ordered_json::array();
+  auto vector = [](const Eigen::Vector3d& v) {
+    return nlohmann::ordered_json{Num(v[0]), Num(v[1]), Num(v[2])};
+  };
+  for (const ChoiceSensitivity3d& c : r.sensitivity) {
+    nlohmann::ordered_json one;
+    one["choice"] = c.choice;
+    one["used"] = Num(c.used);
+    one["range"] = {Num(c.low), Num(c.high)};
+    one["shift_at_low_frd_m"] = vector(c.shift_low_m);
+    one["shift_at_high_frd_m"] = vector(c.shift_high_m);
+    one["stderr_frd_m"] = vector(c.stderr_m);
+    systematic.push_back(std::move(one));
+  }
+  j["systematic_sensitivity"] = systematic;
   return j;
 }
 

@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# The 3-D fit's honesty over many seeds: simulates each scenario at the
+# realistic sensor profile in each binary format, fits it as a user would
+# (`imusysid fit --log=F --model=rigid3d --format=json`, no other flag) and
+# tabulates, per scenario, format and axis: how often the truth lies within
+# ±2σ̂ of the fitted value (every axis, given or withheld), σ̂ against the
+# seed-to-seed spread of the error, the mean error, how often the axis was
+# given, and the confident wrong axes (given, outside 3σ̂ and more than 5 mm
+# from the truth). The table is Markdown on standard output.
+# Usage: scripts/coverage3d.sh [--seeds=30] [--scenarios=figure8_3d,...]
+#          [--formats=ulg,bin] [--imusysid=build/imusysid] [--jobs=N]
+#          [--set=name=value,...]   (simulator overrides, as simulate's --set)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+seeds=30
+scenarios=figure8_3d,pitch_laps_3d,roll_laps_3d
+formats=ulg,bin
+tool=build/imusysid
+jobs=$(nproc)
+set_flag=""
+for arg in "$@"; do
+  case "$arg" in
+    --seeds=*) seeds=${arg#*=} ;;
+    --scenarios=*) scenarios=${arg#*=} ;;
+    --formats=*) formats=${arg#*=} ;;
+    --imusysid=*) tool=${arg#*=} ;;
+    --jobs=*) jobs=${arg#*=} ;;
+    --set=*) set_flag="--set=${arg#*=}" ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    *) echo "coverage3d.sh: unknown option '$arg'" >&2; exit 2 ;;
+  esac
+done
+if [ ! -x "$tool" ]; then
+  echo "coverage3d.sh: $tool not found: build it first (cmake --build build)" >&2
+  exit 2
+fi
+tool=$(realpath "$tool")
+
+work=$(mktemp -d)
+if [ -n "${COVERAGE3D_KEEP:-}" ]; then
+  echo "coverage3d.sh: keeping the fits in $work" >&2
+else
+  trap 'rm -rf "$work"' EXIT
+fi
+jobs_list="$work/jobs"
+for s in ${scenarios//,/ }; do
+  for f in ${formats//,/ }; do
+    for ((seed = 1; seed <= seeds; ++seed)); do
+      echo "$s $f $seed" >>"$jobs_list"
+    done
+  done
+done
+export tool work set_flag
+run_one() {
+  local s=$1 f=$2 seed=$3 base="$work/$1.$2.$3"
+  "$tool" simulate --scenario="$s" --seed="$seed" --out="$base.$f" $set_flag \
+    >/dev/null 2>&1 || { echo "simulate $s $seed failed" >&2; return 0; }
+  # A fit that fails (exit 2 with no JSON) is recorded as such.
+  "$tool" fit --log="$base.$f" --model=rigid3d --format=json \
+    >"$base.json" 2>"$base.err" || true
+  rm -f "$base.$f"
+}
+export -f run_one
+xargs -P "$jobs" -L 1 bash -c 'run_one "$@"' _ <"$jobs_list"
+
+python3 - "$work" "$scenarios" "$formats" "$seeds" <<'EOF'
+import json, math, os, sys
+work, scenarios, formats, seeds = sys.argv[1], sys.argv[2].split(','), sys.argv[3].split(','), int(sys.argv[4])
+print("| scenario | format | IMU | axis | fits | covered ±2σ̂ | mean σ̂ mm | spread mm | σ̂/spread | mean error mm | given | confident wrong |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+failed = 0
+for s in scenarios:
+    for f in formats:
+        rows = {}
+        for seed in range(1, seeds + 1):
+            base = os.path.join(work, f"{s}.{f}.{seed}")
+            try:
+                truth = json.load(open(base + ".truth.json"))
+                fits = json.load(open(base + ".json"))
+            except (OSError, ValueError):
+                failed += 1
+                continue
+            if isinstance(fits, dict):
+                fits = [fits]
+            p_true = {i["instance"] - 1: i["p_frd_m"] for i in truth["imus"]}
+            for fit in fits:
+                if "fitted_position_frd_m" not in fit:
+                    failed += 1
+                    continue
+                inst = fit["instance"]
+                for a in range(3):
+                    p = fit["fitted_position_frd_m"][a]
+                    se = fit["imu_position_frd_stderr_m"][a]
+                    if p is None or se is None:
+                        continue
+                    err = p - p_true[inst][a]
+                    rows.setdefault((inst, a), []).append((err, se, fit["determined"][a]))
+        for (inst, a), r in sorted(rows.items()):
+            n = len(r)
+            errs = [e for e, _, _ in r]
+            mean = sum(errs) / n
+            spread = math.sqrt(sum((e - mean) ** 2 for e in errs) / max(1, n - 1))
+            mse = sum(se for _, se, _ in r) / n
+            covered = sum(abs(e) <= 2 * se for e, se, _ in r)
+            given = sum(g for _, _, g in r)
+            wrong = sum(g and abs(e) > 3 * se and abs(e) > 0.005 for e, se, g in r)
+            print(f"| {s} | {f} | {inst} | {'xyz'[a]} | {n} | {covered}/{n} ({100 * covered / n:.0f} %) | "
+                  f"{mse * 1e3:.2f} | {spread * 1e3:.2f} | {mse / spread if spread > 0 else float('nan'):.2f} | "
+                  f"{mean * 1e3:+.2f} | {given} | {wrong} |")
+if failed:
+    print(f"\n{failed} simulation(s) or fit(s) gave no result")
+EOF

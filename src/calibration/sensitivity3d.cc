@@ -1,0 +1,190 @@
+#include "src/calibration/sensitivity3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "Eigen/Core"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+// The position where the search stopped is compared with the one this much
+// earlier: two steps of the search's coarse grid.
+constexpr double kEdgeS = 0.02;
+
+// rigid3d's linear position on `thin` at the delay and wind.
+StatusOr<Eigen::Vector3d> PositionAt(const Conditioned3d& thin,
+                                     double delay_s,
+                                     double wind_n,
+                                     double wind_e,
+                                     double* correlation_samples = nullptr) {
+  StatusOr<ProblemData> data = DataAt(thin, delay_s, wind_n, wind_e);
+  if (!data.ok()) return data.status();
+  StatusOr<LinearFit3d> fit =
+      FitRigid3dLinear(*data, /*find_wind=*/false, correlation_samples);
+  if (!fit.ok()) return fit.status();
+  return fit->position_m;
+}
+
+// The position with the IMU filtered and differentiated as `options` says
+// (the track and windows of `thin` otherwise): every window refiltered at
+// the log's rate, then thinned as `thin` was.
+StatusOr<Eigen::Vector3d> PositionWithOptions(
+    const Preprocess3dOptions& options,
+    std::size_t step,
+    double delay_s,
+    double wind_n,
+    double wind_e,
+    const Preprocess3dResult& out,
+    Conditioned3d* thin) {
+  std::vector<WindowImu> windows;
+  windows.reserve(out.windows.size());
+  for (const Stretch3d& w : out.windows) {
+    StatusOr<WindowImu> imu = ImuOfWindow(
+        *thin->log, w, out.gyro_bias_frd, options, out.sample_rate_hz);
+    if (!imu.ok()) return imu.status();
+    ThinWindow(step, &*imu);
+    windows.push_back(std::move(*imu));
+  }
+  // The variant's windows and cutoff in place of the thin copy's for one
+  // fit (DataAt filters the estimator's channels at the options' cutoff).
+  std::swap(thin->windows, windows);
+  const Preprocess3dOptions used = thin->options;
+  thin->options = options;
+  StatusOr<Eigen::Vector3d> p = PositionAt(*thin, delay_s, wind_n, wind_e);
+  thin->options = used;
+  std::swap(thin->windows, windows);
+  return p;
+}
+
+}  // namespace
+
+void PlausibleDelays(const Calibration3d& calibration,
+                     double n_eff,
+                     Preprocess3dResult* out) {
+  const std::vector<double>& d = calibration.searched_delays_s;
+  const std::vector<double>& r = calibration.searched_rmse;
+  const double delay = calibration.estimator_delay_s;
+  out->estimator_delay_low_s = delay;
+  out->estimator_delay_high_s = delay;
+  if (d.empty() || d.size() != r.size() || !(n_eff > 0)) return;
+  const auto best = static_cast<std::size_t>(
+      std::min_element(r.begin(), r.end()) - r.begin());
+  const double limit = r[best] * r[best] * (1.0 + 4.0 / n_eff);
+  std::size_t lo = best;
+  while (lo > 0 && r[lo - 1] * r[lo - 1] <= limit) --lo;
+  std::size_t hi = best;
+  while (hi + 1 < d.size() && r[hi + 1] * r[hi + 1] <= limit) ++hi;
+  out->estimator_delay_low_s = std::min(d[lo], delay);
+  out->estimator_delay_high_s = std::max(d[hi], delay);
+}
+
+Status FillSensitivity3d(const Conditioned3d& conditioned,
+                         const Calibration3d& calibration,
+                         Preprocess3dResult* out) {
+  const Preprocess3dOptions& o = conditioned.options;
+  const auto step = static_cast<std::size_t>(
+      std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
+  Conditioned3d thin = Thinned(conditioned, step);
+  const double delay = calibration.estimator_delay_s;
+  const double wind_n = calibration.wind_n;
+  const double wind_e = calibration.wind_e;
+  double correlation = 1.0;
+  StatusOr<Eigen::Vector3d> p0 =
+      PositionAt(thin, delay, wind_n, wind_e, &correlation);
+  if (!p0.ok()) return p0.status();
+
+  if (!calibration.searched_delays_s.empty()) {
+    std::size_t samples = 0;
+    for (const WindowImu& w : thin.windows) samples += w.t.size();
+    PlausibleDelays(
+        calibration, 2.0 * static_cast<double>(samples) / correlation, out);
+  } else if (!std::isnan(o.estimator_delay_low_s)) {
+    out->estimator_delay_low_s = o.estimator_delay_low_s;
+    out->estimator_delay_high_s = o.estimator_delay_high_s;
+  } else {
+    out->estimator_delay_low_s = delay;
+    out->estimator_delay_high_s = delay;
+  }
+
+  std::vector<ChoiceSensitivity3d> choices;
+  // A preprocessing choice: anywhere in its range.
+  auto preprocessing = [&](const char* name,
+                           double Preprocess3dOptions::*field) -> Status {
+    ChoiceSensitivity3d c;
+    c.choice = name;
+    c.used = o.*field;
+    c.low = c.used * o.systematic_low_factor;
+    c.high = c.used * o.systematic_high_factor;
+    for (const bool high : {false, true}) {
+      Preprocess3dOptions variant = o;
+      variant.*field = high ? c.high : c.low;
+      StatusOr<Eigen::Vector3d> p = PositionWithOptions(
+          variant, step, delay, wind_n, wind_e, *out, &thin);
+      if (!p.ok()) return p.status();
+      (high ? c.shift_high_m : c.shift_low_m) = *p - *p0;
+    }
+    c.stderr_m = c.shift_low_m.cwiseAbs().cwiseMax(c.shift_high_m.cwiseAbs()) /
+                 std::sqrt(3.0);
+    choices.push_back(std::move(c));
+    return Status::Ok();
+  };
+  // No low-pass: no cutoff to vary.
+  if (o.cutoff_hz > 0) {
+    IMUSYSID_RETURN_IF_ERROR(
+        preprocessing("cutoff_hz", &Preprocess3dOptions::cutoff_hz));
+  }
+  IMUSYSID_RETURN_IF_ERROR(
+      preprocessing("derivative_half_width_s",
+                    &Preprocess3dOptions::derivative_half_width_s));
+
+  // The delay: the plausible range is a 2σ interval, so a quarter of the
+  // position's change across it.
+  const double low = out->estimator_delay_low_s;
+  const double high = out->estimator_delay_high_s;
+  if (high > low) {
+    ChoiceSensitivity3d c;
+    c.choice = "estimator_delay_s";
+    c.used = delay;
+    c.low = low;
+    c.high = high;
+    StatusOr<Eigen::Vector3d> at_low = PositionAt(thin, low, wind_n, wind_e);
+    if (!at_low.ok()) return at_low.status();
+    StatusOr<Eigen::Vector3d> at_high = PositionAt(thin, high, wind_n, wind_e);
+    if (!at_high.ok()) return at_high.status();
+    c.shift_low_m = *at_low - *p0;
+    c.shift_high_m = *at_high - *p0;
+    c.stderr_m = (*at_high - *at_low).cwiseAbs() / 4.0;
+    choices.push_back(std::move(c));
+  }
+  // Where the plausible delays reach the longest searched (for another IMU
+  // of the log, the first one's range says so): does the position still
+  // move there?
+  const double edge = std::isfinite(calibration.longest_delay_searched_s)
+                          ? calibration.longest_delay_searched_s
+                          : o.max_estimator_delay_s;
+  if (edge > 0 && high >= edge - 1e-9) {
+    StatusOr<Eigen::Vector3d> at_edge = PositionAt(thin, edge, wind_n, wind_e);
+    if (!at_edge.ok()) return at_edge.status();
+    StatusOr<Eigen::Vector3d> before =
+        PositionAt(thin, std::max(0.0, edge - kEdgeS), wind_n, wind_e);
+    if (!before.ok()) return before.status();
+    out->delay_edge_shift_m = *at_edge - *before;
+  }
+
+  Eigen::Vector3d variance = Eigen::Vector3d::Zero();
+  for (const ChoiceSensitivity3d& c : choices) {
+    variance += c.stderr_m.array().square().matrix();
+  }
+  out->systematic_stderr_m = variance.cwiseSqrt();
+  out->sensitivity = std::move(choices);
+  return Status::Ok();
+}
+
+}  // namespace internal
+}  // namespace imusysid

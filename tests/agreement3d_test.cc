@@ -1,0 +1,84 @@
+// The agreement test of pieces of one flight (src/report/agreement3d.h) at
+// its thresholds, on hand-made estimates: the chi-square just inside and
+// just outside its p = 0.001 value, the 5 mm least difference just inside
+// and just outside, and the critical values against the table's.
+
+#include "src/report/agreement3d.h"
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "gtest/gtest.h"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+PieceEstimate At(double x, double sigma) {
+  PieceEstimate e;
+  e.position_m = Eigen::Vector3d(x, 0.0, 0.0);
+  e.stderr_m = Eigen::Vector3d(sigma, 1.0, 1.0);
+  return e;
+}
+
+TEST(Agreement3d, CriticalValuesAreTheTables) {
+  // χ²₁ and χ²₂ at p = 0.001: 10.828 and 13.816 (2 ln 1000 exactly).
+  EXPECT_NEAR(ChiSquareCritical(1e-3, 1), 10.8276, 1e-4);
+  EXPECT_NEAR(ChiSquareCritical(1e-3, 2), 2 * std::log(1000.0), 1e-7);
+  EXPECT_NEAR(ChiSquareCritical(1e-3, 5), 20.515, 1e-3);
+}
+
+// Two pieces of σ̂ 3 mm: χ² = d²/18e-6, so the p = 0.001 boundary is at
+// d = 13.96 mm, where each piece is 6.98 mm from the mean (beyond 5 mm):
+// 0.99 of it agrees, 1.01 disagrees.
+TEST(Agreement3d, ChiSquareDecidesJustInsideAndOutside) {
+  const double critical = 10.827566170662733;  // χ²₁ at p = 0.001
+  const double boundary = std::sqrt(critical * 2 * 9e-6);
+  for (const double k : {0.99, 1.01}) {
+    const double d = k * boundary;
+    const AgreementTest t = Agreement({At(0.0, 3e-3), At(d, 3e-3)}, 0);
+    EXPECT_EQ(t.dof, 1);
+    EXPECT_NEAR(t.chi_square, d * d / 18e-6, 1e-9);
+    EXPECT_NEAR(t.mean_m, d / 2, 1e-15);
+    EXPECT_NEAR(t.worst_difference_m, d / 2, 1e-15);
+    EXPECT_GT(t.worst_difference_m, kAgreementMinDifferenceM);
+    EXPECT_NEAR(t.critical, critical, 1e-6);
+    EXPECT_EQ(t.disagree, k > 1) << k;
+  }
+}
+
+// σ̂ 1 mm: any difference of 9.8 mm is far beyond the chi-square's limit,
+// but each piece is 4.9 mm from the mean (agrees); at 10.2 mm, 5.1 mm
+// (disagrees).
+TEST(Agreement3d, FiveMillimetresDecideJustInsideAndOutside) {
+  for (const double d : {9.8e-3, 10.2e-3}) {
+    const AgreementTest t = Agreement({At(0.0, 1e-3), At(d, 1e-3)}, 0);
+    EXPECT_GT(t.chi_square, 4 * t.critical);
+    EXPECT_NEAR(t.worst_difference_m, d / 2, 1e-15);
+    EXPECT_EQ(t.disagree, d > 0.01) << d;
+  }
+}
+
+// The inverse-variance mean and the worst piece in σ̂ (not in metres);
+// pieces without a finite σ̂ or position take no part; one piece is no test.
+TEST(Agreement3d, WeightsByVarianceAndSkipsWhatCannotBeJudged) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const AgreementTest t = Agreement(
+      {At(0.0, 1e-3), At(nan, 1e-3), At(0.004, 2e-3), At(0.03, nan)}, 0);
+  EXPECT_EQ(t.dof, 1);
+  // Weights 1e6 and 2.5e5: mean 0.8 mm.
+  EXPECT_NEAR(t.mean_m, 0.0008, 1e-15);
+  // 0.8 mm/1 mm = 0.8σ against 3.2 mm/2 mm = 1.6σ: the third piece.
+  EXPECT_EQ(t.worst, 2u);
+  EXPECT_NEAR(t.worst_difference_m, 0.0032, 1e-15);
+  EXPECT_NEAR(t.chi_square, 0.64 + 2.56, 1e-9);
+  EXPECT_NEAR(t.critical, 10.827566170662733, 1e-6);
+  const AgreementTest one = Agreement({At(0.0, 1e-3)}, 0);
+  EXPECT_EQ(one.dof, 0);
+  EXPECT_FALSE(one.disagree);
+}
+
+}  // namespace
+}  // namespace internal
+}  // namespace imusysid
