@@ -87,7 +87,7 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
     const nlohmann::json& e = d["evidence"];
     ASSERT_EQ(e.size(), 5u);
     const char* const gates[] = {"delay_at_limit",
-                                 "unexplained_fraction",
+                                 "unexplained_in_band",
                                  "stderr",
                                  "abs_position",
                                  "halves_agreement"};
@@ -99,10 +99,15 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
     EXPECT_EQ(e[4]["min_difference_m"].get<double>(), 0.005);
     EXPECT_EQ(e[0]["statistic"], j["estimator_delay_s"]);
     EXPECT_NEAR(e[0]["threshold"].get<double>(), 0.06, 1e-12);
+    // The unexplained part where the lever arm acts: above 1 Hz.
+    const nlohmann::json& band = j["in_band"];
+    EXPECT_EQ(band["low_hz"].get<double>(), 1.0);
     EXPECT_NEAR(e[1]["statistic"].get<double>(),
-                j["rmse_m_s2"].get<double>() / signal,
+                band["residual_rms_m_s2"].get<double>() /
+                    band["signal_rms_m_s2"].get<double>(),
                 1e-12);
-    EXPECT_EQ(e[1]["threshold"].get<double>(), 0.3);
+    EXPECT_LT(band["signal_rms_m_s2"].get<double>(), signal);
+    EXPECT_EQ(e[1]["threshold"].get<double>(), 0.5);
     EXPECT_EQ(e[2]["statistic"], j["imu_position_frd_stderr_m"][a]);
     EXPECT_EQ(e[2]["threshold"].get<double>(), 0.005);
     EXPECT_NEAR(e[3]["statistic"].get<double>(),

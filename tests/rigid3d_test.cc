@@ -520,6 +520,75 @@ TEST(Rigid3dGates, UnexplainedFractionGateIsAtThirtyPercent) {
   }
 }
 
+// Where the caller measured the residual in the lever-arm band, that is
+// the unexplained part judged: 49 % of the band's signal gives every axis,
+// 51 % none (max_unexplained_in_band 0.5), whatever the whole-spectrum RMSE.
+TEST(Rigid3dGates, UnexplainedInBandGateIsAtHalfTheBandsSignal) {
+  const Preprocess3dResult& pre = FigureEightData();
+  ASSERT_EQ(Rigid3dReportOptions().max_unexplained_in_band, 0.5);
+  for (const double fraction : {0.49, 0.51}) {
+    Rigid3dReportOptions options;
+    options.in_band.low_hz = 1.0;
+    options.in_band.signal_rms = 0.2;
+    options.in_band.residual_rms = fraction * 0.2;
+    // A whole-spectrum RMSE the other gate would refuse: not judged here.
+    const ImuPosition3d r =
+        Rigid3dReport(GateFit(kGateTruthM,
+                              Eigen::Vector3d::Constant(1e-3),
+                              RmseForFraction(pre, 0.9)),
+                      pre,
+                      0,
+                      options);
+    const bool inside = fraction < 0.5;
+    for (int a = 0; a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      EXPECT_EQ(r.determined[i], inside) << fraction << " axis " << a;
+      EXPECT_EQ(r.decisions[i].reason,
+                inside ? "given" : "unexplained_in_band");
+      const Rigid3dGate g = GateOf(r, a, "unexplained_in_band");
+      EXPECT_NEAR(g.statistic, fraction, 1e-12);
+      EXPECT_EQ(g.threshold, 0.5);
+      EXPECT_EQ(g.passed, inside);
+    }
+    EXPECT_EQ(r.warnings.size(), inside ? 0u : 1u);
+    EXPECT_EQ(Rigid3dToJson(r)["in_band"]["residual_rms_m_s2"].get<double>(),
+              fraction * 0.2);
+  }
+}
+
+// The band's residual and signal: with every parameter zero the residual
+// is the specific force itself, here 0.2 sin(2π·3 t) + sin(2π·0.2 t) + 0.5
+// on x and nothing on y: above 1 Hz only the 3 Hz tone is left, RMS
+// 0.2/√2 on the x rows and so 0.1 over the x and y rows together; within
+// 2 % (the filters' edges in each window).
+TEST(Rigid3dGates, InBandResidualKeepsWhatLiesAboveTheBandsEdge) {
+  Preprocess3dResult pre = FigureEightData();
+  Motion3d& m = pre.data.motion;
+  const double two_pi = 2 * 3.14159265358979323846;
+  for (std::size_t k = 0; k < pre.data.size(); ++k) {
+    const double t = pre.data.t_s[k];
+    m.f[0][k] =
+        0.2 * std::sin(two_pi * 3 * t) + std::sin(two_pi * 0.2 * t) + 0.5;
+    m.f[1][k] = 0.0;
+  }
+  auto data =
+      std::shared_ptr<const ProblemData>(&pre.data, [](const ProblemData*) {});
+  const std::unique_ptr<Model> model =
+      CreateModel(kRigid3dModelName, data).value();
+  const EstimateResult zero =
+      GateFit(Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(1e-3), 0.1);
+  StatusOr<BandResidual3d> band = InBandResidual(*model, zero, pre, 1.0);
+  ASSERT_TRUE(band.ok()) << band.status().ToString();
+  EXPECT_EQ(band->low_hz, 1.0);
+  EXPECT_NEAR(band->residual_rms, 0.1, 0.002);
+  EXPECT_NEAR(band->signal_rms, band->residual_rms, 1e-12);
+  // A fit of another model's size is refused, not read out of bounds.
+  EstimateResult short_fit = zero;
+  short_fit.parameters.resize(3);
+  EXPECT_EQ(InBandResidual(*model, short_fit, pre, 1.0).status().code(),
+            StatusCode::kInvalidArgument);
+}
+
 // |p| of 0.45 m is given, 0.55 m withheld (max_abs_position_m 0.5), on
 // either side of the centre of mass.
 TEST(Rigid3dGates, AbsPositionGateIsAtHalfAMetre) {

@@ -67,6 +67,14 @@ StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
                                 *result,
                                 report_options.jackknife_blocks);
     if (jackknife.ok()) report_options.jackknife_stderr_m = *jackknife;
+    // The rigid model's residual in the lever-arm band (the IMU-only one
+    // integrates across the whole span: its residual keeps the drift the
+    // band would remove, so it is judged over the whole spectrum).
+    if (problem.model().linear_structure() != nullptr) {
+      StatusOr<BandResidual3d> band = InBandResidual(
+          problem.model(), *result, pre, report_options.band_low_hz);
+      if (band.ok()) report_options.in_band = *band;
+    }
   }
   return Rigid3dReport(*result, pre, instance, report_options);
 }

@@ -182,23 +182,35 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
         "that move are withheld (check the log's time stamps, or give "
         "--estimator_delay_s if it is known)");
   }
-  const double signal_floor = std::max(out.signal_rms, 1e-12);
+  // The unexplained part in the lever-arm band where the caller measured
+  // it, else over the whole spectrum.
+  const BandResidual3d& band = options.in_band;
+  const bool in_band =
+      std::isfinite(band.residual_rms) && std::isfinite(band.signal_rms);
+  out.in_band = band;
+  const double unexplained = in_band ? band.residual_rms : out.rmse;
+  const double signal_floor =
+      std::max(in_band ? band.signal_rms : out.signal_rms, 1e-12);
   Rigid3dGate explains_gate;
-  explains_gate.gate = "unexplained_fraction";
-  explains_gate.statistic = out.rmse / signal_floor;
-  explains_gate.threshold = options.max_unexplained_fraction;
+  explains_gate.gate = in_band ? "unexplained_in_band" : "unexplained_fraction";
+  explains_gate.statistic = unexplained / signal_floor;
+  explains_gate.threshold = in_band ? options.max_unexplained_in_band
+                                    : options.max_unexplained_fraction;
   explains_gate.passed =
-      std::isfinite(out.rmse) &&
-      out.rmse <= options.max_unexplained_fraction * signal_floor;
+      std::isfinite(unexplained) &&
+      unexplained <= explains_gate.threshold * signal_floor;
   const bool explains = explains_gate.passed;
   if (!explains) {
     out.warnings.push_back(
         "the model explains little of the signal (fit RMSE " +
-        FormatNumber(out.rmse, 3, kQuoted) + " m/s^2 against " +
-        FormatNumber(out.signal_rms, 3, kQuoted) +
-        " m/s^2 of x/y specific force): the log does not follow rigid-body "
-        "flight (ground contact, a wrong frame or units, or unlogged "
-        "forces); no position is given");
+        FormatNumber(unexplained, 3, kQuoted) + " m/s^2 against " +
+        FormatNumber(signal_floor, 3, kQuoted) +
+        " m/s^2 of x/y specific force" +
+        (in_band ? " above " + FormatNumber(band.low_hz, 3) +
+                       " Hz, where the lever arm acts"
+                 : "") +
+        "): the log does not follow rigid-body flight (ground contact, a "
+        "wrong frame or units, or unlogged forces); no position is given");
   }
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
@@ -411,6 +423,9 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["fitted_position_frd_m"] = raw;
   j["rmse_m_s2"] = Num(r.rmse);
   j["signal_rms_m_s2"] = Num(r.signal_rms);
+  j["in_band"] = {{"low_hz", Num(r.in_band.low_hz)},
+                  {"residual_rms_m_s2", Num(r.in_band.residual_rms)},
+                  {"signal_rms_m_s2", Num(r.in_band.signal_rms)}};
   j["samples"] = r.samples;
   nlohmann::ordered_json windows = nlohmann::ordered_json::array();
   for (const Stretch3d& w : r.windows) {
