@@ -42,7 +42,13 @@ struct Track3dOptions {
   // Their order (2, 4, 6 or 8; one causal pass, where the batch fit's
   // zero-phase pass of order 4 attenuates as an 8th order).
   int filter_order = 8;
-  // The estimator's delay, s: held, not estimated online.
+  // The calibration: after this much gated flight, s, the batch
+  // preprocessing (Preprocess3d) runs once on the samples so far (past
+  // samples only) and finds the estimator's delay and the quadratic drag's
+  // wind; both are held from then on and the samples so far are replayed at
+  // them. Nothing is estimated before. Where it fails, estimator_delay_s and
+  // no wind are used, and Track3dCalibration::note says why.
+  double calibration_s = 25.0;
   double estimator_delay_s = 0.02;
   // Memory: exponential forgetting with this time constant (flight s), or,
   // when window_s > 0, an exact sliding window of that length instead.
@@ -52,16 +58,20 @@ struct Track3dOptions {
   // the sliding window, of the candidate change times and of the
   // serial-correlation estimate.
   double block_s = 0.5;
+  // The serial-correlation inflation of the variances is estimated from the
+  // scores of clusters this long, s, over the last 16 clusters (so the ring
+  // holds 16 × this much flight).
+  double correlation_cluster_s = 4.0;
   // Change detection: the mean flight time between false alarms the user
   // accepts, s; and how far back a change may have started, in blocks.
   double mean_time_between_false_alarms_s = 3600.0;
-  int change_candidates = 16;
+  int change_candidates = 8;
+  // The model's error over the few seconds after a candidate change, m per
+  // axis, added to Δp's variance in the test: on simulated doublets a few
+  // seconds' estimate moves by 2–5 mm without any change.
+  double change_model_error_m = 0.002;
   // Estimates are valid after this much gated-in flight, s.
-  double warmup_s = 10.0;
-  // The quadratic drag's wind follows the tracker's own linear-drag wind
-  // during this much flight, s, and is held after it; the estimate then
-  // restarts (its earlier blocks were formed at other winds).
-  double wind_settle_s = 15.0;
+  double warmup_s = 5.0;
   // Gates, decided from past samples only: airborne after climbing this
   // far (the estimator's v_d integrated), m; this long after take-off, s;
   // paused this long after |f| > impact_g g or tilt > max_tilt_deg, s.
@@ -80,6 +90,7 @@ struct Track3dOptions {
 enum class Track3dState {
   kOnGround,   // before take-off (or after landing)
   kPaused,     // take-off transient, impact, tilt, estimator not running
+  kCalibrating,  // flying the calibration's stretch
   kWarmingUp,  // tracking, not enough flight for an estimate yet
   kTracking,
 };
@@ -100,10 +111,8 @@ struct Track3dEstimate {
   // correlation inflation applied to each axis' variance.
   double flight_s = 0.0;
   Eigen::Vector3d inflation = Eigen::Vector3d::Ones();
-  // The wind the quadratic drag is taken at (north, east), m/s, and whether
-  // it is held yet.
+  // The wind the quadratic drag is taken at (north, east), m/s.
   double wind_n = 0.0, wind_e = 0.0;
-  bool wind_held = false;
 };
 
 // A detected change: the instant it began (a block boundary), when it was
@@ -123,7 +132,19 @@ struct Track3dChange {
   double threshold = 0.0;
 };
 
-// The tracker. Fixed memory after Create; Update allocates nothing, throws
+// What the calibration found (Track3dOptions::calibration_s).
+struct Track3dCalibration {
+  bool done = false;
+  bool estimated = false;  // false: it failed, `note` says why
+  double t_s = 0.0;        // when it ran
+  double estimator_delay_s = 0.0;
+  bool delay_at_limit = false;
+  double wind_n = 0.0, wind_e = 0.0;
+  std::string note;
+};
+
+// The tracker. Fixed memory after Create; except for the one sample at which
+// the calibration runs (it allocates and takes a fraction of a second), Update allocates nothing, throws
 // nothing and does no I/O.
 //
 //   StatusOr<Track3d> tracker = Track3d::Create(options);
@@ -149,6 +170,7 @@ class Track3d {
   int num_changes() const;
   // The chi-square threshold the change test uses (3 dof).
   double change_threshold() const;
+  const Track3dCalibration& calibration() const;
 
  private:
   struct Impl;

@@ -124,7 +124,9 @@ Track3dOptions OptionsFromFlags(double rate_hz) {
   o.window_s = FLAGS_window_s;
   if (const char* e = std::getenv("TRK_ORDER")) o.filter_order = std::atoi(e);
   if (const char* e = std::getenv("TRK_PRE")) o.products_prefilter_hz = std::atof(e);
-  if (const char* e = std::getenv("TRK_WIND")) o.wind_settle_s = std::atof(e);
+  if (const char* e = std::getenv("TRK_MODERR")) o.change_model_error_m = std::atof(e);
+  if (const char* e = std::getenv("TRK_CAND")) o.change_candidates = std::atoi(e);
+  if (const char* e = std::getenv("TRK_CLUSTER")) o.correlation_cluster_s = std::atof(e);
   return o;
 }
 
@@ -135,6 +137,24 @@ class Runner {
       : tracker_(std::move(tracker)), printer_(table) {}
   void Take(const Track3dSample& s) {
     if (tracker_.Update(s)) printer_.Change(tracker_.last_change());
+    const Track3dCalibration& c = tracker_.calibration();
+    if (c.done && !calibration_noted_) {
+      calibration_noted_ = true;
+      if (c.estimated) {
+        std::cerr << "track: calibrated at " << FormatNumber(c.t_s, 6)
+                  << " s: estimator delay "
+                  << FormatNumber(1e3 * c.estimator_delay_s, 3) << " ms"
+                  << (c.delay_at_limit ? " (at the end of the range searched)"
+                                       : "")
+                  << ", wind N " << FormatNumber(c.wind_n, 3) << " E "
+                  << FormatNumber(c.wind_e, 3) << " m/s\n";
+      } else {
+        std::cerr << "track: the calibration at " << FormatNumber(c.t_s, 6)
+                  << " s failed (" << c.note << "); delay held at "
+                  << FormatNumber(1e3 * c.estimator_delay_s, 3)
+                  << " ms, no wind\n";
+      }
+    }
     if (!(s.t_s < next_print_)) {
       printer_.Estimate(tracker_.Estimate());
       next_print_ = std::floor(s.t_s * FLAGS_output_hz + 1.0) / FLAGS_output_hz;
@@ -144,6 +164,7 @@ class Runner {
  private:
   Track3d tracker_;
   Printer printer_;
+  bool calibration_noted_ = false;
   double next_print_ = -std::numeric_limits<double>::infinity();
 };
 

@@ -11,11 +11,14 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "Eigen/Cholesky"
 #include "Eigen/Geometry"
 #include "imusysid/parameters.h"
+#include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d.h"
 #include "src/models/rigid3d_model.h"
 #include "src/preprocess/signal.h"
@@ -28,6 +31,10 @@ constexpr int kC = kM + 1;                       // with the target
 constexpr int kMaxBlocks = 256;                  // the ring's capacity
 constexpr int kMaxDelaySamples = 512;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The change test's model: the 11 coefficients, a position step Δp after
+// the split, and the target.
+constexpr int kG = kM + 3 + 1;
+using TestFactor = Eigen::Matrix<double, kG, kG, Eigen::RowMajor>;
 
 using Factor = Eigen::Matrix<double, kC, kC, Eigen::RowMajor>;
 using Square = Eigen::Matrix<double, kM, kM>;
@@ -35,22 +42,26 @@ using Vec = Eigen::Matrix<double, kM, 1>;
 
 // Folds one row [a, target] into the upper-triangular factor by Givens
 // rotations: R'ᵀR' = RᵀR + rowᵀrow.
-inline void FoldRow(Factor* r, double* row) {
-  for (int i = 0; i < kC; ++i) {
+template <int N>
+inline void FoldRowN(Eigen::Matrix<double, N, N, Eigen::RowMajor>* r,
+                     double* row) {
+  for (int i = 0; i < N; ++i) {
     const double b = row[i];
     if (b == 0.0) continue;
     const double a = (*r)(i, i);
     const double h = std::sqrt(a * a + b * b);
     const double c = a / h, s = b / h;
     (*r)(i, i) = h;
-    double* ri = r->data() + i * kC;
-    for (int j = i + 1; j < kC; ++j) {
+    double* ri = r->data() + i * N;
+    for (int j = i + 1; j < N; ++j) {
       const double t = ri[j];
       ri[j] = c * t + s * row[j];
       row[j] = c * row[j] - s * t;
     }
   }
 }
+
+inline void FoldRow(Factor* r, double* row) { FoldRowN<kC>(r, row); }
 
 // a ⊕ scale·b: the factor of both sets of rows.
 inline void FoldFactor(Factor* a, const Factor& b, double scale = 1.0) {
@@ -147,6 +158,8 @@ const char* Track3dStateName(Track3dState state) {
       return "on_ground";
     case Track3dState::kPaused:
       return "paused";
+    case Track3dState::kCalibrating:
+      return "calibrating";
     case Track3dState::kWarmingUp:
       return "warming_up";
     case Track3dState::kTracking:
@@ -198,7 +211,9 @@ Status Track3dOptions::Validate() const {
     return bad("change_candidates", change_candidates, "in [2, 64]");
   }
   if (!(warmup_s >= 0.0)) return bad("warmup_s", warmup_s, ">= 0");
-  if (!(wind_settle_s >= 0.0)) return bad("wind_settle_s", wind_settle_s, ">= 0");
+  if (!(calibration_s >= 5.0 && calibration_s <= 300.0)) {
+    return bad("calibration_s", calibration_s, "in [5, 300]");
+  }
   if (!(takeoff_climb_m > 0.0)) {
     return bad("takeoff_climb_m", takeoff_climb_m, "> 0");
   }
@@ -209,13 +224,18 @@ Status Track3dOptions::Validate() const {
   if (!(max_tilt_deg > 0.0 && max_tilt_deg <= 180.0)) {
     return bad("max_tilt_deg", max_tilt_deg, "in (0, 180]");
   }
+  if (!(change_model_error_m >= 0.0)) {
+    return bad("change_model_error_m", change_model_error_m, ">= 0");
+  }
   if (!(stderr_floor_m >= 0.0)) {
     return bad("stderr_floor_m", stderr_floor_m, ">= 0");
   }
   return Status::Ok();
 }
 
-struct Track3d::Impl {
+// Everything one pass over the samples keeps: filters, gates, blocks, the
+// change test. Made anew when the calibration replaces the delay and wind.
+struct Pipeline {
   Track3dOptions o;
   double dt = 0.0;
   int delay_samples = 0;
@@ -267,8 +287,14 @@ struct Track3d::Impl {
   double flight_s = 0.0;        // gated-in flight since the restart
   double total_flight_s = 0.0;  // since take-off
   double wind_n = 0.0, wind_e = 0.0;
-  bool wind_held = false;
+  // While the calibration waits for its stretch, the gates and filters run
+  // and nothing is estimated.
+  bool calibrating = true;
+  // The serial-correlation inflation: a property of the vehicle and its
+  // sensors, kept across restarts; the change test waits for it.
   Eigen::Vector3d inflation = Eigen::Vector3d::Ones();
+  bool inflation_known = false;
+
 
   Track3dChange change;
   int changes = 0;
@@ -278,8 +304,16 @@ struct Track3d::Impl {
     return ring[(ring_start + i) % kMaxBlocks];
   }
 
-  void Init(const Track3dOptions& options) {
+  void Init(const Track3dOptions& options,
+            double delay_s,
+            double wind_north,
+            double wind_east,
+            bool calibrating_now) {
     o = options;
+    o.estimator_delay_s = delay_s;
+    wind_n = wind_north;
+    wind_e = wind_east;
+    calibrating = calibrating_now;
     dt = 1.0 / o.rate_hz;
     delay_samples = static_cast<int>(std::lround(o.estimator_delay_s * o.rate_hz));
     block_rows_target = std::max(1, static_cast<int>(std::lround(o.block_s * o.rate_hz)));
@@ -301,7 +335,8 @@ struct Track3d::Impl {
         kMaxBlocks,
         std::max({WindowBlocks(),
                   o.change_candidates + 1,
-                  static_cast<int>(std::lround(32.0 / o.block_s))}));
+                  static_cast<int>(std::lround(
+                      16.0 * o.correlation_cluster_s / o.block_s))}));
   }
 
   int WindowBlocks() const {
@@ -326,7 +361,7 @@ struct Track3d::Impl {
                   Vec* c_out = nullptr) const;
 };
 
-bool Track3d::Impl::PositionOf(const Factor& r,
+bool Pipeline::PositionOf(const Factor& r,
                                double rows,
                                double rows_sq,
                                Eigen::Vector3d* p,
@@ -346,7 +381,7 @@ bool Track3d::Impl::PositionOf(const Factor& r,
   return true;
 }
 
-void Track3d::Impl::Gate(double t,
+void Pipeline::Gate(double t,
                          const Raw& imu,
                          const Eigen::Matrix3d& r,
                          bool est_ok) {
@@ -376,12 +411,13 @@ void Track3d::Impl::Gate(double t,
              t < hold_until) {
     state = Track3dState::kPaused;
   } else {
-    state = flight_s >= o.warmup_s ? Track3dState::kTracking
-                                   : Track3dState::kWarmingUp;
+    state = calibrating               ? Track3dState::kCalibrating
+            : flight_s >= o.warmup_s ? Track3dState::kTracking
+                                     : Track3dState::kWarmingUp;
   }
 }
 
-bool Track3d::Impl::Update(const Track3dSample& s) {
+bool Pipeline::Update(const Track3dSample& s) {
   // The estimator's values of this row describe the IMU sample
   // delay_samples earlier.
   Raw& slot = raw[received % kMaxDelaySamples];
@@ -448,9 +484,12 @@ bool Track3d::Impl::Update(const Track3dSample& s) {
   std::copy(x, x + 21, prev[1]);
   ++filtered;
   state_t = t;
-  if (!have_mid || !est_ok ||
-      (state != Track3dState::kTracking &&
-       state != Track3dState::kWarmingUp)) {
+  if (!have_mid || !est_ok) return false;
+  if (state == Track3dState::kCalibrating) {
+    flight_s += dt;  // how much of the calibration's stretch there is
+    return false;
+  }
+  if (state != Track3dState::kTracking && state != Track3dState::kWarmingUp) {
     return false;
   }
 
@@ -469,18 +508,17 @@ bool Track3d::Impl::Update(const Track3dSample& s) {
   return false;
 }
 
-void Track3d::Impl::Restart(int keep) {
+void Pipeline::Restart(int keep) {
   // Only the newest `keep` blocks remain.
   ring_start = (ring_start + ring_size - keep) % kMaxBlocks;
   ring_size = keep;
   stale.setZero();
   stale_rows = 0.0;
   flight_s = keep * o.block_s;
-  inflation.setOnes();
   RebuildMain();
 }
 
-void Track3d::Impl::RebuildMain() {
+void Pipeline::RebuildMain() {
   // The window's blocks (sliding), or every block kept, weighted by
   // λ^(age in blocks) (exponential, after a restart).
   main.setZero();
@@ -496,13 +534,13 @@ void Track3d::Impl::RebuildMain() {
   }
 }
 
-void Track3d::Impl::UpdateInflation(const Vec& c) {
+void Pipeline::UpdateInflation(const Vec& c) {
   // Cluster-robust sandwich over the ring's blocks in clusters of 2 s (the
   // residuals' correlation outlasts one block), against the white
   // covariance of the same blocks: the ratio per axis scales the white
   // covariance of every estimate.
-  const int per_cluster =
-      std::max(1, static_cast<int>(std::lround(2.0 / o.block_s)));
+  const int per_cluster = std::max(
+      1, static_cast<int>(std::lround(o.correlation_cluster_s / o.block_s)));
   const int clusters = ring_size / per_cluster;
   if (clusters < 4) return;
   const int first = ring_size - clusters * per_cluster;
@@ -537,11 +575,12 @@ void Track3d::Impl::UpdateInflation(const Vec& c) {
     const double white = sigma2 * p(i, i);
     if (white > 0.0 && std::isfinite(hac(i, i))) {
       inflation[i] = std::max(1.0, hac(i, i) / white);
+      inflation_known = true;
     }
   }
 }
 
-bool Track3d::Impl::EndBlock(double t) {
+bool Pipeline::EndBlock(double t) {
   if (ring_size == capacity) {
     ring_start = (ring_start + 1) % kMaxBlocks;
     --ring_size;
@@ -570,31 +609,14 @@ bool Track3d::Impl::EndBlock(double t) {
   Eigen::Matrix3d cov;
   if (PositionOf(main, main_rows, main_rows_sq, &p, &cov, &c)) {
     UpdateInflation(c);
-    // The quadratic drag's wind: the linear drag's, while it settles.
-    if (!wind_held && c[kRotorDrag] > 0.05) {
-      const double wn = c[kWindNorth] / c[kRotorDrag];
-      const double we = c[kWindEast] / c[kRotorDrag];
-      if (std::abs(wn) < 20.0 && std::abs(we) < 20.0) {
-        wind_n = wn;
-        wind_e = we;
-      }
-    }
   }
-  if (!wind_held && total_flight_s >= o.wind_settle_s) {
-    // The wind is held from here; the blocks before were formed at other
-    // winds, so the estimate starts afresh.
-    wind_held = true;
-    Restart(0);
-    return false;
-  }
-  if (!wind_held) return false;
   return Detect(t);
 }
 
-bool Track3d::Impl::Detect(double t) {
-  if (flight_s < o.warmup_s) return false;
+bool Pipeline::Detect(double t) {
+  if (flight_s < o.warmup_s || !inflation_known) return false;
   const int candidates = std::min(o.change_candidates, ring_size - 1);
-  if (candidates < 2) return false;
+  if (candidates < 1) return false;
   // Suffixes (the last j blocks) built newest first; the prefixes (every
   // block since the restart before them) from the stale factor forward.
   // Unweighted: the test compares the data before and after a split.
@@ -607,58 +629,98 @@ bool Track3d::Impl::Detect(double t) {
     after_rows[j] = after_rows[j - 1] + RingAt(ring_size - j).rows;
   }
   Factor before = stale;
-  double before_rows = stale_rows, before_rows_sq = stale_rows;
+  double before_rows = stale_rows;
   const int span = std::min(o.change_candidates, ring_size);
   for (int i = ring_size - span; i < ring_size - candidates; ++i) {
     FoldFactor(&before, RingAt(i).r);
     before_rows += RingAt(i).rows;
-    before_rows_sq += RingAt(i).rows;
   }
   const int min_before_blocks =
       std::max(4, static_cast<int>(std::ceil(2.0 / o.block_s)));
   double best = 0.0;
   int best_j = 0;
-  Eigen::Vector3d best_pb, best_pa;
-  Eigen::Matrix3d best_cb, best_ca;
-  for (int j = candidates; j >= 2; --j) {
-    // Split: the last j blocks after, the rest before.
+  Eigen::Matrix<double, 6, 1> best_x;   // p before, Δp
+  Eigen::Matrix<double, 6, 6> best_cov;
+  const Eigen::Vector3d k = inflation.cwiseSqrt();
+  for (int j = candidates; j >= 1; --j) {
+    // One fit of both sides sharing every coefficient but the position,
+    // which steps by Δp at the split: [A 0 y] before, [A A_p y] after, as
+    // rows of their factors (any rows whose Gram matrix is the data's).
     if (before_rows >= min_before_blocks * 2.0 * block_rows_target) {
-      Eigen::Vector3d pb, pa;
-      Eigen::Matrix3d cb, ca;
-      if (PositionOf(before, before_rows, before_rows_sq, &pb, &cb) &&
-          PositionOf(after[j], after_rows[j], after_rows[j], &pa, &ca)) {
-        const Eigen::Vector3d d = pa - pb;
-        const Eigen::Vector3d k = inflation;
-        const Eigen::Matrix3d cov =
-            k.cwiseSqrt().asDiagonal() * (cb + ca) * k.cwiseSqrt().asDiagonal();
-        const double chi2 = d.dot(cov.ldlt().solve(d));
+      TestFactor g = TestFactor::Zero();
+      double row[kG];
+      for (int i = 0; i < kC; ++i) {
+        for (int c = 0; c < kM; ++c) row[c] = before(i, c);
+        row[kM] = row[kM + 1] = row[kM + 2] = 0.0;
+        row[kG - 1] = before(i, kM);
+        FoldRowN<kG>(&g, row);
+        for (int c = 0; c < kM; ++c) row[c] = after[j](i, c);
+        for (int c = 0; c < 3; ++c) row[kM + c] = after[j](i, c);
+        row[kG - 1] = after[j](i, kM);
+        FoldRowN<kG>(&g, row);
+      }
+      const double rows = before_rows + after_rows[j];
+      using Tri = Eigen::Matrix<double, kG - 1, kG - 1>;
+      const Tri tri = g.topLeftCorner<kG - 1, kG - 1>();
+      bool ok = rows > kG;
+      const double scale = tri.diagonal().cwiseAbs().maxCoeff();
+      for (int i = 0; i < kG - 1 && ok; ++i) {
+        ok = std::abs(tri(i, i)) > 1e-10 * scale;
+      }
+      if (ok) {
+        const Eigen::Matrix<double, kG - 1, 1> x =
+            tri.triangularView<Eigen::Upper>().solve(
+                g.topRightCorner<kG - 1, 1>());
+        Tri inv = Tri::Identity();
+        tri.triangularView<Eigen::Upper>().solveInPlace(inv);
+        const double sigma2 = g(kG - 1, kG - 1) * g(kG - 1, kG - 1) /
+                              (rows - (kG - 1));
+        // Rows 0..2 (p before) and 11..13 (Δp) of the inverse.
+        Eigen::Matrix<double, 6, kG - 1> sel;
+        sel.topRows<3>() = inv.topRows<3>();
+        sel.bottomRows<3>() = inv.middleRows<3>(kM);
+        Eigen::Matrix<double, 6, 6> cov = sigma2 * sel * sel.transpose();
+        Eigen::Matrix<double, 6, 1> kk;
+        kk << k, k;
+        cov = kk.asDiagonal() * cov * kk.asDiagonal();
+        const Eigen::Vector3d dp = x.segment<3>(kM);
+        // The model's error over a few seconds is not noise: an allowance
+        // for it on each axis of Δp.
+        Eigen::Matrix3d test_cov = cov.bottomRightCorner<3, 3>();
+        test_cov.diagonal().array() +=
+            o.change_model_error_m * o.change_model_error_m;
+        const double chi2 = dp.dot(test_cov.ldlt().solve(dp));
         if (std::isfinite(chi2) && chi2 > best) {
           best = chi2;
           best_j = j;
-          best_pb = pb;
-          best_pa = pa;
-          best_cb = k.asDiagonal() * cb;
-          best_ca = k.asDiagonal() * ca;
+          best_x << x.head<3>(), dp;
+          best_cov = cov;
         }
       }
     }
     // Move block ring_size − j from after to before for the next split.
     FoldFactor(&before, RingAt(ring_size - j).r);
     before_rows += RingAt(ring_size - j).rows;
-    before_rows_sq += RingAt(ring_size - j).rows;
   }
   if (best <= threshold || best_j == 0) return false;
   const double floor2 = o.stderr_floor_m * o.stderr_floor_m;
+  const Eigen::Vector3d pb = best_x.head<3>();
+  const Eigen::Vector3d dp = best_x.tail<3>();
+  // p after = p before + Δp: its covariance from the joint one.
+  Eigen::Matrix<double, 3, 6> to_after;
+  to_after << Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d cov_after =
+      to_after * best_cov * to_after.transpose();
   change.t_s = RingAt(ring_size - best_j).t_start;
   change.detected_t_s = t;
-  change.position_before_frd_m = best_pb;
-  change.position_after_frd_m = best_pa;
-  change.com_shift_frd_m = best_pb - best_pa;
+  change.position_before_frd_m = pb;
+  change.position_after_frd_m = pb + dp;
+  change.com_shift_frd_m = -dp;
   for (int i = 0; i < 3; ++i) {
-    change.stderr_before_m[i] = std::sqrt(best_cb(i, i) + floor2);
-    change.stderr_after_m[i] = std::sqrt(best_ca(i, i) + floor2);
+    change.stderr_before_m[i] = std::sqrt(best_cov(i, i) + floor2);
+    change.stderr_after_m[i] = std::sqrt(cov_after(i, i) + floor2);
     change.com_shift_stderr_m[i] =
-        std::sqrt(best_cb(i, i) + best_ca(i, i) + 2.0 * floor2);
+        std::sqrt(best_cov(3 + i, 3 + i) + 2.0 * floor2);
   }
   change.chi_square = best;
   change.threshold = threshold;
@@ -666,6 +728,94 @@ bool Track3d::Impl::Detect(double t) {
   Restart(best_j);
   return true;
 }
+
+struct Track3d::Impl {
+  Track3dOptions o;
+  std::unique_ptr<Pipeline> pipe;
+  // The samples since shortly before take-off, for the calibration; room
+  // reserved at Create.
+  std::vector<Track3dSample> buffer;
+  std::size_t capacity = 0;
+  Track3dCalibration calibration;
+
+  void Init(const Track3dOptions& options) {
+    o = options;
+    pipe = std::make_unique<Pipeline>();
+    pipe->Init(o, o.estimator_delay_s, 0.0, 0.0, true);
+    // The stretch with its pauses (up to as long again), and 10 s before
+    // take-off.
+    capacity = static_cast<std::size_t>(
+        std::ceil((2.0 * o.calibration_s + 10.0) * o.rate_hz));
+    buffer.reserve(capacity);
+  }
+
+  bool Update(const Track3dSample& s) {
+    if (calibration.done) return pipe->Update(s);
+    const auto keep_on_ground = static_cast<std::size_t>(5.0 * o.rate_hz);
+    if (!pipe->airborne && buffer.size() >= 2 * keep_on_ground) {
+      // Still on the ground: the last 5 s are enough for the still stretch
+      // the calibration's gyro bias and take-off detection need.
+      buffer.erase(buffer.begin(), buffer.end() - keep_on_ground);
+    }
+    buffer.push_back(s);
+    pipe->Update(s);
+    if (pipe->flight_s >= o.calibration_s || buffer.size() >= capacity) {
+      return Calibrate(s.t_s);
+    }
+    return false;
+  }
+
+  // The batch calibration (Preprocess3d: the estimator's delay and the
+  // quadratic drag's wind) on the buffered samples, then the pipeline anew
+  // at what it found, replaying them. Runs once; allocates.
+  bool Calibrate(double t) {
+    FlightLog log;
+    log.source = "the first " + std::to_string(o.calibration_s) +
+                 " s of flight (track calibration)";
+    log.source_frame = Frame::kFrd;
+    const char* names[7] = {"qw", "qx", "qy", "qz", "vn", "ve", "vd"};
+    std::vector<std::vector<double>> extra(7);
+    for (const Track3dSample& s : buffer) {
+      log.t_s.push_back(s.t_s);
+      // FlightLog holds FLU.
+      log.ax.push_back(s.accel_frd_mps2.x());
+      log.ay.push_back(-s.accel_frd_mps2.y());
+      log.az.push_back(-s.accel_frd_mps2.z());
+      log.gx.push_back(s.gyro_frd_radps.x());
+      log.gy.push_back(-s.gyro_frd_radps.y());
+      log.gz.push_back(-s.gyro_frd_radps.z());
+      for (int c = 0; c < 4; ++c) extra[c].push_back(s.attitude_wxyz[c]);
+      for (int c = 0; c < 3; ++c) extra[4 + c].push_back(s.velocity_ned_mps[c]);
+    }
+    for (int c = 0; c < 7; ++c) log.extra.push_back({names[c], extra[c]});
+    Preprocess3dOptions po;
+    po.cutoff_hz = o.cutoff_hz;
+    StatusOr<Preprocess3dResult> r = Preprocess3d(log, po);
+    calibration.done = true;
+    calibration.t_s = t;
+    if (r.ok()) {
+      calibration.estimated = true;
+      calibration.estimator_delay_s = r->estimator_delay_s;
+      calibration.delay_at_limit = r->delay_at_limit;
+      calibration.wind_n = r->data.motion.quadratic_wind_n;
+      calibration.wind_e = r->data.motion.quadratic_wind_e;
+    } else {
+      calibration.estimated = false;
+      calibration.estimator_delay_s = o.estimator_delay_s;
+      calibration.note = r.status().message();
+    }
+    pipe = std::make_unique<Pipeline>();
+    pipe->Init(o,
+               calibration.estimator_delay_s,
+               calibration.wind_n,
+               calibration.wind_e,
+               false);
+    bool changed = false;
+    for (const Track3dSample& s : buffer) changed = pipe->Update(s) || changed;
+    buffer.clear();
+    return changed;
+  }
+};
 
 StatusOr<Track3d> Track3d::Create(const Track3dOptions& options) {
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
@@ -684,7 +834,7 @@ bool Track3d::Update(const Track3dSample& sample) {
 }
 
 Track3dEstimate Track3d::Estimate() const {
-  const Impl& m = *impl_;
+  const Pipeline& m = *impl_->pipe;
   Track3dEstimate e;
   e.t_s = m.state_t;
   e.state = m.state;
@@ -692,7 +842,6 @@ Track3dEstimate Track3d::Estimate() const {
   e.inflation = m.inflation;
   e.wind_n = m.wind_n;
   e.wind_e = m.wind_e;
-  e.wind_held = m.wind_held;
   if (m.state != Track3dState::kTracking &&
       !(m.state == Track3dState::kPaused && m.flight_s >= m.o.warmup_s)) {
     return e;
@@ -716,8 +865,13 @@ Track3dEstimate Track3d::Estimate() const {
   return e;
 }
 
-const Track3dChange& Track3d::last_change() const { return impl_->change; }
-int Track3d::num_changes() const { return impl_->changes; }
-double Track3d::change_threshold() const { return impl_->threshold; }
+const Track3dChange& Track3d::last_change() const {
+  return impl_->pipe->change;
+}
+int Track3d::num_changes() const { return impl_->pipe->changes; }
+double Track3d::change_threshold() const { return impl_->pipe->threshold; }
+const Track3dCalibration& Track3d::calibration() const {
+  return impl_->calibration;
+}
 
 }  // namespace imusysid
