@@ -41,7 +41,10 @@ struct Track3dOptions {
   double products_prefilter_hz = 20.0;
   // Their order (2, 4, 6 or 8; one causal pass, where the batch fit's
   // zero-phase pass of order 4 attenuates as an 8th order).
-  int filter_order = 8;
+  int filter_order = 4;
+  // Rows enter the fit at about this rate, Hz (every k-th sample): the
+  // filtered signals hold nothing above the cutoff.
+  double fit_rate_hz = 25.0;
   // The calibration: after this much gated flight, s, the batch
   // preprocessing (Preprocess3d) runs once on the samples so far (past
   // samples only) and finds the estimator's delay and the quadratic drag's
@@ -66,10 +69,18 @@ struct Track3dOptions {
   // accepts, s; and how far back a change may have started, in blocks.
   double mean_time_between_false_alarms_s = 3600.0;
   int change_candidates = 8;
-  // The model's error over the few seconds after a candidate change, m per
-  // axis, added to Δp's variance in the test: on simulated doublets a few
-  // seconds' estimate moves by 2–5 mm without any change.
-  double change_model_error_m = 0.002;
+  // The model's error over the few seconds after a candidate change, as a
+  // fraction of the residual's RMS shared by all of them (the test adds
+  // n σ_m² P to Δp's covariance), and a floor per axis of Δp, m: on
+  // simulated doublets a few seconds' estimate moves by 2–5 mm, on a poorly
+  // excited axis by far more, without any change.
+  double change_model_error = 0.3;
+  double change_model_error_m = 0.0005;
+  // The test takes only the directions of Δp known to this σ, m (a window
+  // of a few seconds may leave an axis unexcited), and at least this much
+  // flight after a candidate change, s.
+  double change_max_stderr_m = 0.01;
+  double change_min_after_s = 1.0;
   // Estimates are valid after this much gated-in flight, s.
   double warmup_s = 5.0;
   // Gates, decided from past samples only: airborne after climbing this
@@ -128,8 +139,9 @@ struct Track3dChange {
   Eigen::Vector3d stderr_after_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d com_shift_frd_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d com_shift_stderr_m = Eigen::Vector3d::Zero();
-  double chi_square = 0.0;  // 3 dof
+  double chi_square = 0.0;  // on `dof` degrees of freedom
   double threshold = 0.0;
+  int dof = 3;  // the directions of Δp the test could judge
 };
 
 // What the calibration found (Track3dOptions::calibration_s).

@@ -124,7 +124,8 @@ Track3dOptions OptionsFromFlags(double rate_hz) {
   o.window_s = FLAGS_window_s;
   if (const char* e = std::getenv("TRK_ORDER")) o.filter_order = std::atoi(e);
   if (const char* e = std::getenv("TRK_PRE")) o.products_prefilter_hz = std::atof(e);
-  if (const char* e = std::getenv("TRK_MODERR")) o.change_model_error_m = std::atof(e);
+  if (const char* e = std::getenv("TRK_MODERR")) o.change_model_error = std::atof(e);
+  if (const char* e = std::getenv("TRK_FIT")) o.fit_rate_hz = std::atof(e);
   if (const char* e = std::getenv("TRK_CAND")) o.change_candidates = std::atoi(e);
   if (const char* e = std::getenv("TRK_CLUSTER")) o.correlation_cluster_s = std::atof(e);
   return o;

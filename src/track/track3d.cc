@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "Eigen/Cholesky"
+#include "Eigen/Eigenvalues"
 #include "Eigen/Geometry"
 #include "imusysid/parameters.h"
 #include "imusysid/preprocess3d.h"
@@ -126,16 +127,19 @@ struct LowPass {
 };
 
 // chi-square with 3 degrees of freedom: upper quantile for tail α.
-double ChiSquare3Cdf(double x) {
+// The chi-square distribution with 1, 2 or 3 degrees of freedom.
+double ChiSquareCdf(int dof, double x) {
   if (x <= 0.0) return 0.0;
+  if (dof == 1) return std::erf(std::sqrt(0.5 * x));
+  if (dof == 2) return 1.0 - std::exp(-0.5 * x);
   return std::erf(std::sqrt(0.5 * x)) -
          std::sqrt(2.0 * x / kPi) * std::exp(-0.5 * x);
 }
-double ChiSquare3Quantile(double upper_tail) {
+double ChiSquareQuantile(int dof, double upper_tail) {
   double lo = 0.0, hi = 1000.0;
   for (int i = 0; i < 200; ++i) {
     const double mid = 0.5 * (lo + hi);
-    if (1.0 - ChiSquare3Cdf(mid) > upper_tail) {
+    if (1.0 - ChiSquareCdf(dof, mid) > upper_tail) {
       lo = mid;
     } else {
       hi = mid;
@@ -194,6 +198,9 @@ Status Track3dOptions::Validate() const {
         filter_order == 8)) {
     return bad("filter_order", filter_order, "2, 4, 6 or 8");
   }
+  if (!(fit_rate_hz >= 2.0 * cutoff_hz)) {
+    return bad("fit_rate_hz", fit_rate_hz, ">= 2 cutoff_hz");
+  }
   if (!(block_s >= 0.05 && block_s <= 10.0)) {
     return bad("block_s", block_s, "in [0.05, 10]");
   }
@@ -224,6 +231,15 @@ Status Track3dOptions::Validate() const {
   if (!(max_tilt_deg > 0.0 && max_tilt_deg <= 180.0)) {
     return bad("max_tilt_deg", max_tilt_deg, "in (0, 180]");
   }
+  if (!(change_max_stderr_m > 0.0)) {
+    return bad("change_max_stderr_m", change_max_stderr_m, "> 0");
+  }
+  if (!(change_min_after_s >= block_s)) {
+    return bad("change_min_after_s", change_min_after_s, ">= block_s");
+  }
+  if (!(change_model_error >= 0.0)) {
+    return bad("change_model_error", change_model_error, ">= 0");
+  }
   if (!(change_model_error_m >= 0.0)) {
     return bad("change_model_error_m", change_model_error_m, ">= 0");
   }
@@ -240,8 +256,11 @@ struct Pipeline {
   double dt = 0.0;
   int delay_samples = 0;
   int block_rows_target = 0;
+  int thin = 1;
+  int thin_count = 0;
   double lambda_block = 1.0;  // forgetting per block
   double threshold = 0.0;
+  double thresholds[4] = {0.0, 0.0, 0.0, 0.0};  // by degrees of freedom
 
   // The raw IMU samples waiting for the estimator's (delayed) values.
   struct Raw {
@@ -316,7 +335,9 @@ struct Pipeline {
     calibrating = calibrating_now;
     dt = 1.0 / o.rate_hz;
     delay_samples = static_cast<int>(std::lround(o.estimator_delay_s * o.rate_hz));
-    block_rows_target = std::max(1, static_cast<int>(std::lround(o.block_s * o.rate_hz)));
+    thin = std::max(1, static_cast<int>(std::lround(o.rate_hz / o.fit_rate_hz)));
+    block_rows_target = std::max(
+        1, static_cast<int>(std::lround(o.block_s * o.rate_hz / thin)));
     lambda_block = std::exp(-o.block_s / o.memory_s);
     // Validate() checked the cutoffs against the rate.
     const auto lp_design =
@@ -328,7 +349,10 @@ struct Pipeline {
     // Bonferroni over the candidates of one test; one test per block.
     const double alpha = o.block_s / o.mean_time_between_false_alarms_s /
                          o.change_candidates;
-    threshold = ChiSquare3Quantile(alpha);
+    threshold = ChiSquareQuantile(3, alpha);
+    for (int dof = 1; dof <= 3; ++dof) {
+      thresholds[dof] = ChiSquareQuantile(dof, alpha);
+    }
     // The ring holds the window, the candidates and 32 s for the
     // serial-correlation estimate.
     capacity = std::min(
@@ -493,6 +517,13 @@ bool Pipeline::Update(const Track3dSample& s) {
     return false;
   }
 
+  flight_s += dt;
+  total_flight_s += dt;
+  // Rows at fit_rate_hz only: the filtered signals carry nothing above the
+  // cutoff, so neighbouring rows repeat each other (and their residuals are
+  // correlated over tens of samples).
+  if (++thin_count < thin) return false;
+  thin_count = 0;
   double ax[kC], ay[kC];
   Rigid3dRegressorRows(in, ax, &ax[kM], ay, &ay[kM]);
   bool finite = true;
@@ -502,8 +533,6 @@ bool Pipeline::Update(const Track3dSample& s) {
   FoldRow(&current.r, ax);
   FoldRow(&current.r, ay);
   current.rows += 2;
-  flight_s += dt;
-  total_flight_s += dt;
   if (current.rows >= 2 * block_rows_target) return EndBlock(t);
   return false;
 }
@@ -637,12 +666,14 @@ bool Pipeline::Detect(double t) {
   }
   const int min_before_blocks =
       std::max(4, static_cast<int>(std::ceil(2.0 / o.block_s)));
-  double best = 0.0;
-  int best_j = 0;
+  double best = 0.0, best_raw = 0.0;
+  int best_j = 0, best_dof = 0;
   Eigen::Matrix<double, 6, 1> best_x;   // p before, Δp
   Eigen::Matrix<double, 6, 6> best_cov;
   const Eigen::Vector3d k = inflation.cwiseSqrt();
-  for (int j = candidates; j >= 1; --j) {
+  const int min_after = std::max(
+      1, static_cast<int>(std::lround(o.change_min_after_s / o.block_s)));
+  for (int j = candidates; j >= min_after; --j) {
     // One fit of both sides sharing every coefficient but the position,
     // which steps by Δp at the split: [A 0 y] before, [A A_p y] after, as
     // rows of their factors (any rows whose Gram matrix is the data's).
@@ -685,12 +716,37 @@ bool Pipeline::Detect(double t) {
         cov = kk.asDiagonal() * cov * kk.asDiagonal();
         const Eigen::Vector3d dp = x.segment<3>(kM);
         // The model's error over a few seconds is not noise: an allowance
-        // for it on each axis of Δp.
-        Eigen::Matrix3d test_cov = cov.bottomRightCorner<3, 3>();
+        // for an error of change_model_error × the residual's RMS shared
+        // by every row after the split (fully correlated, so it does not
+        // average down: n σ_m² P rather than σ_m² P), and a floor per axis.
+        const Eigen::Matrix3d unit =
+            sel.bottomRows<3>() * sel.bottomRows<3>().transpose();
+        const double m = o.change_model_error * o.change_model_error;
+        Eigen::Matrix3d test_cov =
+            cov.bottomRightCorner<3, 3>() + m * sigma2 * after_rows[j] * unit;
         test_cov.diagonal().array() +=
             o.change_model_error_m * o.change_model_error_m;
-        const double chi2 = dp.dot(test_cov.ldlt().solve(dp));
+        // Only the directions the window after the split determines
+        // (σ ≤ change_max_stderr_m) are tested; the statistic is set
+        // against the threshold of as many degrees of freedom.
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(test_cov);
+        double chi2_raw = 0.0;
+        int dof = 0;
+        for (int a = 0; a < 3; ++a) {
+          const double lambda = eig.eigenvalues()[a];
+          if (!(lambda > 0.0) ||
+              lambda > o.change_max_stderr_m * o.change_max_stderr_m) {
+            continue;
+          }
+          const double proj = eig.eigenvectors().col(a).dot(dp);
+          chi2_raw += proj * proj / lambda;
+          ++dof;
+        }
+        // In units of the threshold: > 1 is a change.
+        const double chi2 = dof > 0 ? chi2_raw / thresholds[dof] : 0.0;
         if (std::isfinite(chi2) && chi2 > best) {
+          best_raw = chi2_raw;
+          best_dof = dof;
           best = chi2;
           best_j = j;
           best_x << x.head<3>(), dp;
@@ -702,7 +758,7 @@ bool Pipeline::Detect(double t) {
     FoldFactor(&before, RingAt(ring_size - j).r);
     before_rows += RingAt(ring_size - j).rows;
   }
-  if (best <= threshold || best_j == 0) return false;
+  if (best <= 1.0 || best_j == 0) return false;
   const double floor2 = o.stderr_floor_m * o.stderr_floor_m;
   const Eigen::Vector3d pb = best_x.head<3>();
   const Eigen::Vector3d dp = best_x.tail<3>();
@@ -722,8 +778,9 @@ bool Pipeline::Detect(double t) {
     change.com_shift_stderr_m[i] =
         std::sqrt(best_cov(3 + i, 3 + i) + 2.0 * floor2);
   }
-  change.chi_square = best;
-  change.threshold = threshold;
+  change.chi_square = best_raw;
+  change.threshold = thresholds[best_dof];
+  change.dof = best_dof;
   ++changes;
   Restart(best_j);
   return true;
