@@ -64,7 +64,7 @@ struct Track3dOptions {
   // The serial-correlation inflation of the variances is estimated from the
   // scores of clusters this long, s, over the last 16 clusters (so the ring
   // holds 16 × this much flight).
-  double correlation_cluster_s = 4.0;
+  double correlation_cluster_s = 2.0;
   // Change detection: the mean flight time between false alarms the user
   // accepts, s; and how far back a change may have started, in blocks.
   double mean_time_between_false_alarms_s = 3600.0;
@@ -91,8 +91,10 @@ struct Track3dOptions {
   double impact_g = 3.0;
   double max_tilt_deg = 60.0;
   double gate_hold_s = 0.5;
-  // Model-error floor added in quadrature to σ̂, m (the batch fit's).
+  // Model-error floor added in quadrature to σ̂, m (the batch fit's), and
+  // the σ̂ up to which an axis counts as determined, m.
   double stderr_floor_m = 0.00025;
+  double max_stderr_m = 0.005;
 
   // OK, or InvalidArgument naming the field.
   Status Validate() const;
@@ -118,6 +120,10 @@ struct Track3dEstimate {
   Eigen::Vector3d stderr_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  // Per axis, σ̂ within Track3dOptions::max_stderr_m (the batch fit's rule
+  // for giving an axis): an axis the recent motion does not excite carries
+  // the model's error at a size σ̂ does not show.
+  bool determined[3] = {false, false, false};
   // Flight time in the estimate since the last restart, s; the serial
   // correlation inflation applied to each axis' variance.
   double flight_s = 0.0;

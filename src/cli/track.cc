@@ -4,7 +4,6 @@
 // standard input.
 
 #include <cmath>
-#include <cstdlib>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -122,12 +121,6 @@ Track3dOptions OptionsFromFlags(double rate_hz) {
   o.mean_time_between_false_alarms_s = FLAGS_false_alarm_s;
   o.memory_s = FLAGS_memory_s;
   o.window_s = FLAGS_window_s;
-  if (const char* e = std::getenv("TRK_ORDER")) o.filter_order = std::atoi(e);
-  if (const char* e = std::getenv("TRK_PRE")) o.products_prefilter_hz = std::atof(e);
-  if (const char* e = std::getenv("TRK_MODERR")) o.change_model_error = std::atof(e);
-  if (const char* e = std::getenv("TRK_FIT")) o.fit_rate_hz = std::atof(e);
-  if (const char* e = std::getenv("TRK_CAND")) o.change_candidates = std::atoi(e);
-  if (const char* e = std::getenv("TRK_CLUSTER")) o.correlation_cluster_s = std::atof(e);
   return o;
 }
 

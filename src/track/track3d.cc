@@ -243,6 +243,7 @@ Status Track3dOptions::Validate() const {
   if (!(change_model_error_m >= 0.0)) {
     return bad("change_model_error_m", change_model_error_m, ">= 0");
   }
+  if (!(max_stderr_m > 0.0)) return bad("max_stderr_m", max_stderr_m, "> 0");
   if (!(stderr_floor_m >= 0.0)) {
     return bad("stderr_floor_m", stderr_floor_m, ">= 0");
   }
@@ -570,9 +571,13 @@ void Pipeline::UpdateInflation(const Vec& c) {
   // covariance of every estimate.
   const int per_cluster = std::max(
       1, static_cast<int>(std::lround(o.correlation_cluster_s / o.block_s)));
-  const int clusters = ring_size / per_cluster;
+  // Only blocks older than the change test's candidates: a change within
+  // them would read as correlation and blunt the very test that should see
+  // it.
+  const int usable = ring_size - o.change_candidates;
+  const int clusters = usable / per_cluster;
   if (clusters < 4) return;
-  const int first = ring_size - clusters * per_cluster;
+  const int first = usable - clusters * per_cluster;
   Square info = Square::Zero();
   Square meat = Square::Zero();
   double rss = 0.0;
@@ -580,17 +585,26 @@ void Pipeline::UpdateInflation(const Vec& c) {
   Eigen::Matrix<double, kC, 1> cm;
   cm.head<kM>() = c;
   cm[kM] = -1.0;
+  // Each cluster's Gram matrix and right-hand side, for the jackknife.
+  std::array<Square, kMaxBlocks> gram;
+  std::array<Vec, kMaxBlocks> rhs;
+  Vec rhs_total = Vec::Zero();
   for (int k = 0; k < clusters; ++k) {
     Vec score = Vec::Zero();
+    gram[k].setZero();
+    rhs[k].setZero();
     for (int b = 0; b < per_cluster; ++b) {
       const Factor& rb = RingAt(first + k * per_cluster + b).r;
       const Eigen::Matrix<double, kC, 1> z = rb * cm;  // residual, rotated
       const auto a = rb.leftCols<kM>();
       score -= a.transpose() * z;
-      info += a.transpose() * a;
+      gram[k] += a.transpose() * a;
+      rhs[k] += a.transpose() * rb.col(kM);
       rss += z.squaredNorm();
       rows += RingAt(first + k * per_cluster + b).rows;
     }
+    info += gram[k];
+    rhs_total += rhs[k];
     meat += score * score.transpose();
   }
   const Eigen::LDLT<Square> ldlt(info);
@@ -599,11 +613,34 @@ void Pipeline::UpdateInflation(const Vec& c) {
   // A few clusters understate the spread: the small-sample factor
   // clusters / (clusters − 1).
   const Square hac = p * meat * p * (static_cast<double>(clusters) / (clusters - 1));
+  // Delete-one-cluster jackknife of the position, scaled as the batch
+  // fit's (t(0.975, K − 1) / 1.96 ≈ 1.15 for its ten blocks; here about
+  // 16): it sees model error that changes along the flight, which the
+  // sandwich does not.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::array<Eigen::Vector3d, kMaxBlocks> left_out;
+  bool jack_ok = true;
+  for (int k = 0; k < clusters && jack_ok; ++k) {
+    const Eigen::LDLT<Square> l(info - gram[k]);
+    jack_ok = l.info() == Eigen::Success;
+    left_out[k] = l.solve(rhs_total - rhs[k]).head<3>();
+    jack_ok = jack_ok && left_out[k].allFinite();
+    mean += left_out[k];
+  }
+  Eigen::Vector3d jack = Eigen::Vector3d::Zero();
+  if (jack_ok) {
+    mean /= clusters;
+    for (int k = 0; k < clusters; ++k) {
+      jack += (left_out[k] - mean).cwiseAbs2();
+    }
+    jack *= (clusters - 1.0) / clusters * 1.15 * 1.15;
+  }
   const double sigma2 = rss / (rows - kM);
   for (int i = 0; i < 3; ++i) {
     const double white = sigma2 * p(i, i);
-    if (white > 0.0 && std::isfinite(hac(i, i))) {
-      inflation[i] = std::max(1.0, hac(i, i) / white);
+    const double robust = std::max(hac(i, i), jack[i]);
+    if (white > 0.0 && std::isfinite(robust)) {
+      inflation[i] = std::max(1.0, robust / white);
       inflation_known = true;
     }
   }
@@ -919,6 +956,7 @@ Track3dEstimate Track3d::Estimate() const {
   e.position_frd_m = p;
   e.covariance = cov;
   e.stderr_m = cov.diagonal().cwiseSqrt();
+  for (int a = 0; a < 3; ++a) e.determined[a] = e.stderr_m[a] <= m.o.max_stderr_m;
   return e;
 }
 
