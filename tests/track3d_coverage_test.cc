@@ -80,6 +80,98 @@ TEST(Track3dAccuracy, CalibrationFindsDelayAndWind) {
   EXPECT_NEAR(run.calibration.wind_e, o.wind_ned_mps.y(), 0.4);
 }
 
+// A CoM shift of `shift` along z at t_s on `o`: 0.2 kg at the offset that
+// moves the CoM that far.
+Simulator3dOptions WithShiftZ(const Simulator3dOptions& o,
+                              double t_s,
+                              double shift) {
+  const double dm = 0.2;
+  return WithPayload(
+      o, t_s, dm, Eigen::Vector3d(0.0, 0.0, shift * (o.mass_kg + dm) / dm));
+}
+
+// The estimate nearest to time t.
+const Track3dEstimate* EstimateAt(const TrackRun& run, double t) {
+  const Track3dEstimate* best = nullptr;
+  for (const Track3dEstimate& e : run.estimates) {
+    if (best == nullptr || std::abs(e.t_s - t) < std::abs(best->t_s - t)) {
+      best = &e;
+    }
+  }
+  return best;
+}
+
+// Gentle sensors, a 1 cm shift during the doublets: found within 2 s, its
+// size within 3σ̂, and the position within 2 mm of the new truth 10 s on.
+TEST(Track3dAccuracy, CentimetreShiftFoundWithGentleSensors) {
+  Simulator3dOptions o = Realistic(200);
+  o.sensor_profile = "gentle";
+  o = WithShiftZ(o, 50.0, 0.01);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  const TrackRun run = FlyAndTrack(o);
+  ASSERT_EQ(run.changes.size(), 1u);
+  const Track3dChange& c = run.changes[0];
+  EXPECT_GE(c.detected_t_s, 50.0);
+  EXPECT_LE(c.detected_t_s, 52.0);
+  const Eigen::Vector3d shift = flight->com_shift_frd_m;
+  EXPECT_NEAR(c.com_shift_frd_m.z(), shift.z(), 3.0 * c.com_shift_stderr_m.z());
+  const Track3dEstimate* later = EstimateAt(run, 60.0);
+  ASSERT_NE(later, nullptr);
+  ASSERT_TRUE(later->valid);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(later->position_frd_m[a], flight->p_after_frd_m[0][a], 0.002)
+        << "axis " << a;
+  }
+}
+
+// Realistic sensors (vibration, slow forces, jitter): a 5 cm shift found
+// within 2 s, its size within 3σ̂. (1 and 2 cm are not found within the
+// default false-alarm rate: docs/track-3d.md.)
+TEST(Track3dAccuracy, FiveCentimetreShiftFoundWithRealisticSensors) {
+  const Simulator3dOptions o = WithShiftZ(Realistic(201), 50.0, 0.05);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  const TrackRun run = FlyAndTrack(o);
+  ASSERT_EQ(run.changes.size(), 1u);
+  const Track3dChange& c = run.changes[0];
+  EXPECT_GE(c.detected_t_s, 50.0);
+  EXPECT_LE(c.detected_t_s, 52.0);
+  EXPECT_NEAR(c.com_shift_frd_m.z(),
+              flight->com_shift_frd_m.z(),
+              3.0 * c.com_shift_stderr_m.z());
+  EXPECT_LT(c.com_shift_stderr_m.z(), 0.01);
+}
+
+// No change flown: no alarm, and ±2σ̂ covers the truth on the determined
+// axes in at least 75 % of the estimates (measured 0.88 / 0.99 / 0.83 on
+// x / y / z over ten flights; below the 90 % aimed at: docs/track-3d.md).
+TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
+  int n[3] = {0, 0, 0}, inside[3] = {0, 0, 0};
+  for (std::uint64_t seed : {100, 101, 102, 103, 104}) {
+    const Simulator3dOptions o = Realistic(seed);
+    const TrackRun run = FlyAndTrack(o);
+    EXPECT_TRUE(run.changes.empty()) << "seed " << seed << ": alarm at "
+                                     << run.changes[0].detected_t_s;
+    for (const Track3dEstimate& e : run.estimates) {
+      if (!e.valid) continue;
+      for (int a = 0; a < 3; ++a) {
+        if (!e.determined[a]) continue;
+        ++n[a];
+        if (std::abs(e.position_frd_m[a] - o.imus[0].p_frd_m[a]) <=
+            2.0 * e.stderr_m[a]) {
+          ++inside[a];
+        }
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    ASSERT_GT(n[a], 20) << "axis " << a;
+    EXPECT_GE(inside[a], 0.75 * n[a]) << "axis " << a << ": " << inside[a]
+                                     << " of " << n[a];
+  }
+}
+
 // Track3dOptions with the survey's overrides from the environment.
 Track3dOptions SurveyOptions() {
   Track3dOptions t;
