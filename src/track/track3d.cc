@@ -754,13 +754,15 @@ bool Pipeline::Detect(double t) {
         const Eigen::Vector3d dp = x.segment<3>(kM);
         // The model's error over a few seconds is not noise: an allowance
         // for an error of change_model_error × the residual's RMS shared
-        // by every row after the split (fully correlated, so it does not
-        // average down: n σ_m² P rather than σ_m² P), and a floor per axis.
+        // by every row of the test, fully correlated, so it does not average
+        // down (n σ_m² P rather than σ_m² P): the motion before and after a
+        // split differs (a long figure-eight, then doublets), and so does
+        // the model's error the position takes up. And a floor per axis.
         const Eigen::Matrix3d unit =
             sel.bottomRows<3>() * sel.bottomRows<3>().transpose();
         const double m = o.change_model_error * o.change_model_error;
         Eigen::Matrix3d test_cov =
-            cov.bottomRightCorner<3, 3>() + m * sigma2 * after_rows[j] * unit;
+            cov.bottomRightCorner<3, 3>() + m * sigma2 * rows * unit;
         test_cov.diagonal().array() +=
             o.change_model_error_m * o.change_model_error_m;
         // Only the directions the window after the split determines
