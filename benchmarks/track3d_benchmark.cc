@@ -71,10 +71,9 @@ void BM_Track3dTracking(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(timed));
   // Seconds per sample, shown in ns: the inverse of a rate of samples per
   // 1e-9 s.
-  state.counters["ns_per_sample"] =
-      benchmark::Counter(static_cast<double>(timed) * 1e-9,
-                         benchmark::Counter::kIsRate |
-                             benchmark::Counter::kInvert);
+  state.counters["ns_per_sample"] = benchmark::Counter(
+      static_cast<double>(timed) * 1e-9,
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_Track3dTracking)
     ->Arg(400)

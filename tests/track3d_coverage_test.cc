@@ -151,8 +151,8 @@ TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
   for (std::uint64_t seed : {100, 101, 102, 103, 104}) {
     const Simulator3dOptions o = Realistic(seed);
     const TrackRun run = FlyAndTrack(o);
-    EXPECT_TRUE(run.changes.empty()) << "seed " << seed << ": alarm at "
-                                     << run.changes[0].detected_t_s;
+    EXPECT_TRUE(run.changes.empty())
+        << "seed " << seed << ": alarm at " << run.changes[0].detected_t_s;
     for (const Track3dEstimate& e : run.estimates) {
       if (!e.valid) continue;
       for (int a = 0; a < 3; ++a) {
@@ -167,8 +167,8 @@ TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
   }
   for (int a = 0; a < 3; ++a) {
     ASSERT_GT(n[a], 20) << "axis " << a;
-    EXPECT_GE(inside[a], 0.75 * n[a]) << "axis " << a << ": " << inside[a]
-                                     << " of " << n[a];
+    EXPECT_GE(inside[a], 0.75 * n[a])
+        << "axis " << a << ": " << inside[a] << " of " << n[a];
   }
 }
 
@@ -244,12 +244,19 @@ TEST(Track3dAccuracy, DISABLED_FalseAlarmSurvey) {
       for (const Track3dEstimate& e : run.estimates) {
         if (!e.valid || static_cast<int>(e.t_s) % 10 != 0) continue;
         const Eigen::Vector3d err = e.position_frd_m - o.imus[0].p_frd_m;
-        std::printf("  t %.0f err %.1f %.1f %.1f sigma %.1f %.1f %.1f infl "
-                    "%.0f %.0f %.0f\n",
-                    e.t_s, 1e3 * err.x(), 1e3 * err.y(), 1e3 * err.z(),
-                    1e3 * e.stderr_m.x(), 1e3 * e.stderr_m.y(),
-                    1e3 * e.stderr_m.z(), e.inflation.x(), e.inflation.y(),
-                    e.inflation.z());
+        std::printf(
+            "  t %.0f err %.1f %.1f %.1f sigma %.1f %.1f %.1f infl "
+            "%.0f %.0f %.0f\n",
+            e.t_s,
+            1e3 * err.x(),
+            1e3 * err.y(),
+            1e3 * err.z(),
+            1e3 * e.stderr_m.x(),
+            1e3 * e.stderr_m.y(),
+            1e3 * e.stderr_m.z(),
+            e.inflation.x(),
+            e.inflation.y(),
+            e.inflation.z());
       }
     }
     std::printf("flight %d: %zu false alarms", i, run.changes.size());
@@ -302,33 +309,34 @@ TEST(Track3dAccuracy, DISABLED_DetectionSurvey) {
     std::printf("flight %d:", i);
     bool found = false;
     for (const Track3dChange& ch : run.changes) {
-      std::printf(" [change %.2f detected %.2f (delay %.2f) shift %.1f %.1f "
-                  "%.1f +/- %.1f %.1f %.1f mm]",
-                  ch.t_s,
-                  ch.detected_t_s,
-                  ch.detected_t_s - t_change,
-                  1e3 * ch.com_shift_frd_m.x(),
-                  1e3 * ch.com_shift_frd_m.y(),
-                  1e3 * ch.com_shift_frd_m.z(),
-                  1e3 * ch.com_shift_stderr_m.x(),
-                  1e3 * ch.com_shift_stderr_m.y(),
-                  1e3 * ch.com_shift_stderr_m.z());
+      std::printf(
+          " [change %.2f detected %.2f (delay %.2f) shift %.1f %.1f "
+          "%.1f +/- %.1f %.1f %.1f mm]",
+          ch.t_s,
+          ch.detected_t_s,
+          ch.detected_t_s - t_change,
+          1e3 * ch.com_shift_frd_m.x(),
+          1e3 * ch.com_shift_frd_m.y(),
+          1e3 * ch.com_shift_frd_m.z(),
+          1e3 * ch.com_shift_stderr_m.x(),
+          1e3 * ch.com_shift_stderr_m.y(),
+          1e3 * ch.com_shift_stderr_m.z());
       found = found || (ch.detected_t_s >= t_change &&
                         ch.detected_t_s <= t_change + 10.0);
     }
     detected += found ? 1 : 0;
     for (const Track3dEstimate& e : run.estimates) {
       if (e.valid && std::abs(e.t_s - (t_change + 10.0)) < 0.5) {
-        const Eigen::Vector3d err =
-            e.position_frd_m - flight->p_after_frd_m[0];
-        std::printf(" error 10 s after: %.1f %.1f %.1f mm (sigma %.1f %.1f "
-                    "%.1f)",
-                    1e3 * err.x(),
-                    1e3 * err.y(),
-                    1e3 * err.z(),
-                    1e3 * e.stderr_m.x(),
-                    1e3 * e.stderr_m.y(),
-                    1e3 * e.stderr_m.z());
+        const Eigen::Vector3d err = e.position_frd_m - flight->p_after_frd_m[0];
+        std::printf(
+            " error 10 s after: %.1f %.1f %.1f mm (sigma %.1f %.1f "
+            "%.1f)",
+            1e3 * err.x(),
+            1e3 * err.y(),
+            1e3 * err.z(),
+            1e3 * e.stderr_m.x(),
+            1e3 * e.stderr_m.y(),
+            1e3 * e.stderr_m.z());
       }
     }
     std::printf("\n");

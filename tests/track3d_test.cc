@@ -3,6 +3,8 @@
 // streaming its estimates before its input ends and stopping on a bad row
 // with every estimate before it printed.
 
+#include "imusysid/track3d.h"
+
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/wait.h>
@@ -16,7 +18,6 @@
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "imusysid/track3d.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -154,7 +155,8 @@ class Child {
     if (pid_ == 0) {
       dup2(in[0], 0);
       dup2(out[1], 1);
-      const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err =
+          open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       if (err >= 0) dup2(err, 2);
       close(in[1]);
       close(out[0]);
@@ -323,8 +325,8 @@ TEST(TrackCli, HelpAndRefusals) {
   EXPECT_NE(help.out.find("--output_hz"), std::string::npos);
   EXPECT_EQ(testing::RunCli("track").exit_code, 2);
   EXPECT_EQ(testing::RunCli("track --log=- --format=xml").exit_code, 2);
-  const auto planar = testing::RunCli(
-      "track --log=" + testing::DataDir() + "/paper_test1.csv");
+  const auto planar =
+      testing::RunCli("track --log=" + testing::DataDir() + "/paper_test1.csv");
   EXPECT_EQ(planar.exit_code, 2) << planar.err;
 }
 

@@ -101,10 +101,10 @@ struct Track3dOptions {
 };
 
 enum class Track3dState {
-  kOnGround,   // before take-off (or after landing)
-  kPaused,     // take-off transient, impact, tilt, estimator not running
+  kOnGround,     // before take-off (or after landing)
+  kPaused,       // take-off transient, impact, tilt, estimator not running
   kCalibrating,  // flying the calibration's stretch
-  kWarmingUp,  // tracking, not enough flight for an estimate yet
+  kWarmingUp,    // tracking, not enough flight for an estimate yet
   kTracking,
 };
 const char* Track3dStateName(Track3dState state);
@@ -162,8 +162,8 @@ struct Track3dCalibration {
 };
 
 // The tracker. Fixed memory after Create; except for the one sample at which
-// the calibration runs (it allocates and takes a fraction of a second), Update allocates nothing, throws
-// nothing and does no I/O.
+// the calibration runs (it allocates and takes a fraction of a second), Update
+// allocates nothing, throws nothing and does no I/O.
 //
 //   StatusOr<Track3d> tracker = Track3d::Create(options);
 //   for (const Track3dSample& s : samples) {

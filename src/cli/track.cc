@@ -56,7 +56,8 @@ class Printer {
  public:
   explicit Printer(bool table) : table_(table) {
     if (table_) {
-      std::cout << "t_s state position_frd_mm(x y z) stderr_mm(x y z)\n";
+      std::cout << "t_s state position_frd_mm(x y z) stderr_mm(x y z) "
+                   "wind_ne_mps variance_inflation(x y z)\n";
     }
   }
   void Estimate(const Track3dEstimate& e) {
@@ -83,12 +84,11 @@ class Printer {
       std::cout << "change at " << FormatNumber(c.t_s, 6) << " s (detected "
                 << FormatNumber(c.detected_t_s, 6) << " s, chi-square "
                 << FormatNumber(c.chi_square, 4) << " > "
-                << FormatNumber(c.threshold, 4) << "): before "
-                << Mm(c.position_before_frd_m) << " +/- "
+                << FormatNumber(c.threshold, 4) << ", " << c.dof
+                << " dof): before " << Mm(c.position_before_frd_m) << " +/- "
                 << Mm(c.stderr_before_m) << " mm, after "
-                << Mm(c.position_after_frd_m) << " +/- "
-                << Mm(c.stderr_after_m) << " mm, CoM shift "
-                << Mm(c.com_shift_frd_m) << " +/- "
+                << Mm(c.position_after_frd_m) << " +/- " << Mm(c.stderr_after_m)
+                << " mm, CoM shift " << Mm(c.com_shift_frd_m) << " +/- "
                 << Mm(c.com_shift_stderr_m) << " mm\n";
     } else {
       Json j;
@@ -103,6 +103,7 @@ class Printer {
       j["com_shift_stderr_m"] = Vec(c.com_shift_stderr_m);
       j["chi_square"] = c.chi_square;
       j["threshold"] = c.threshold;
+      j["dof"] = c.dof;
       std::cout << j.dump() << "\n";
     }
     std::cout.flush();
@@ -204,15 +205,17 @@ int RunTrack(const std::vector<std::string>& positional) {
   if (!positional.empty()) {
     return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
   }
-  if (FLAGS_log.empty()) return UsageError(cmd, "--log=FILE (or -) is required");
+  if (FLAGS_log.empty())
+    return UsageError(cmd, "--log=FILE (or -) is required");
   if (!(FLAGS_output_hz > 0.0 && FLAGS_output_hz <= 1000.0)) {
     return UsageError(cmd, "--output_hz: required in (0, 1000]");
   }
   bool table = false;
   if (FlagWasSet("format")) {
     if (FLAGS_format != "table" && FLAGS_format != "json") {
-      return UsageError(cmd, "--format=" + FLAGS_format +
-                                 ": required json (JSON lines) or table");
+      return UsageError(
+          cmd,
+          "--format=" + FLAGS_format + ": required json (JSON lines) or table");
     }
     table = FLAGS_format == "table";
   }
@@ -247,7 +250,8 @@ const Command& TrackCommand() {
       "square-root information filter with forgetting (--memory_s) or a\n"
       "sliding window (--window_s), gated on the ground, in the take-off "
       "transient, after\nimpacts and beyond 60 deg of tilt. Prints one JSON "
-      "line per 1/--output_hz s of log time:\n  {\"t\", \"imu_position_frd_m\", "
+      "line per 1/--output_hz s of log time:\n  {\"t\", "
+      "\"imu_position_frd_m\", "
       "\"imu_position_frd_stderr_m\", \"state\"}\n(state on_ground, paused, "
       "warming_up or tracking; position null until tracking),\nand one "
       "{\"change\": true, \"t\", \"detected_t\", position before and after "

@@ -180,12 +180,12 @@ void Rigid3dRegressorRows(const Rigid3dSampleValues& in,
                az_dot = in.omega_dot[2];
   const double vx = in.velocity[0], vy = in.velocity[1], vz = in.velocity[2];
   // Air velocity for the quadratic drag, at the preprocessing's wind.
-  const double ux = vx - in.quadratic_wind_n * in.north[0] -
-                    in.quadratic_wind_e * in.east[0];
-  const double uy = vy - in.quadratic_wind_n * in.north[1] -
-                    in.quadratic_wind_e * in.east[1];
-  const double uz = vz - in.quadratic_wind_n * in.north[2] -
-                    in.quadratic_wind_e * in.east[2];
+  const double ux =
+      vx - in.quadratic_wind_n * in.north[0] - in.quadratic_wind_e * in.east[0];
+  const double uy =
+      vy - in.quadratic_wind_n * in.north[1] - in.quadratic_wind_e * in.east[1];
+  const double uz =
+      vz - in.quadratic_wind_n * in.north[2] - in.quadratic_wind_e * in.east[2];
   const double air_speed = std::sqrt(ux * ux + uy * uy + uz * uz);
   const double fz = in.f[2];
   const bool formed = in.products_formed;

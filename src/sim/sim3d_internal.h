@@ -39,9 +39,9 @@ struct Plant3d {
   bool full_inertia = false;
   Eigen::Matrix3d inertia_matrix = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d inertia_inverse = Eigen::Matrix3d::Identity();
-  double rotor_drag = 0.0;                            // k, 1/s
-  double mu = 0.0;                                    // 1/m
-  Eigen::Vector3d wind = Eigen::Vector3d::Zero();     // NED, m/s
+  double rotor_drag = 0.0;                         // k, 1/s
+  double mu = 0.0;                                 // 1/m
+  Eigen::Vector3d wind = Eigen::Vector3d::Zero();  // NED, m/s
   double thrust_lag = 0.03;
   double torque_lag = 0.03;
   // The slow unmodelled force per unit mass (gusts, prop-wash), NED, m/s²,

@@ -450,8 +450,8 @@ Status ApplyPayloadChange(const Simulator3dOptions& o,
   // the new one) and the payload as a point mass at offset − s; a dropped
   // payload (negative mass) takes its share out.
   const auto point = [](double m, const Eigen::Vector3d& r) {
-    return Eigen::Matrix3d(
-        m * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose()));
+    return Eigen::Matrix3d(m * (r.squaredNorm() * Eigen::Matrix3d::Identity() -
+                                r * r.transpose()));
   };
   const Eigen::Matrix3d before =
       plant->full_inertia ? plant->inertia_matrix

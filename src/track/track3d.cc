@@ -80,7 +80,8 @@ inline void FoldFactor(Factor* a, const Factor& b, double scale = 1.0) {
 // The least-squares solution of a factor, and the inverse of its 11 × 11
 // triangle (for covariances). False when a pivot is not usable.
 bool Solve(const Factor& r, Vec* c, Square* r_inv) {
-  const double scale = r.topLeftCorner<kM, kM>().diagonal().cwiseAbs().maxCoeff();
+  const double scale =
+      r.topLeftCorner<kM, kM>().diagonal().cwiseAbs().maxCoeff();
   if (!(scale > 0.0)) return false;
   for (int i = 0; i < kM; ++i) {
     if (!(std::abs(r(i, i)) > 1e-10 * scale)) return false;
@@ -174,9 +175,8 @@ const char* Track3dStateName(Track3dState state) {
 
 Status Track3dOptions::Validate() const {
   auto bad = [](const char* name, double value, const char* rule) {
-    return InvalidArgumentError(std::string("Track3dOptions::") + name +
-                                " = " + std::to_string(value) +
-                                "; required " + rule);
+    return InvalidArgumentError(std::string("Track3dOptions::") + name + " = " +
+                                std::to_string(value) + "; required " + rule);
   };
   if (!(rate_hz >= 20.0 && rate_hz <= 10000.0)) {
     return bad("rate_hz", rate_hz, "in [20, 10000]");
@@ -192,7 +192,8 @@ Status Track3dOptions::Validate() const {
   }
   if (!(estimator_delay_s >= 0.0 &&
         estimator_delay_s * rate_hz < kMaxDelaySamples - 2)) {
-    return bad("estimator_delay_s", estimator_delay_s, ">= 0 and < 500 samples");
+    return bad(
+        "estimator_delay_s", estimator_delay_s, ">= 0 and < 500 samples");
   }
   if (!(filter_order == 2 || filter_order == 4 || filter_order == 6 ||
         filter_order == 8)) {
@@ -315,7 +316,6 @@ struct Pipeline {
   Eigen::Vector3d inflation = Eigen::Vector3d::Ones();
   bool inflation_known = false;
 
-
   Track3dChange change;
   int changes = 0;
 
@@ -335,8 +335,10 @@ struct Pipeline {
     wind_e = wind_east;
     calibrating = calibrating_now;
     dt = 1.0 / o.rate_hz;
-    delay_samples = static_cast<int>(std::lround(o.estimator_delay_s * o.rate_hz));
-    thin = std::max(1, static_cast<int>(std::lround(o.rate_hz / o.fit_rate_hz)));
+    delay_samples =
+        static_cast<int>(std::lround(o.estimator_delay_s * o.rate_hz));
+    thin =
+        std::max(1, static_cast<int>(std::lround(o.rate_hz / o.fit_rate_hz)));
     block_rows_target = std::max(
         1, static_cast<int>(std::lround(o.block_s * o.rate_hz / thin)));
     lambda_block = std::exp(-o.block_s / o.memory_s);
@@ -348,20 +350,20 @@ struct Pipeline {
     for (LowPass& l : lp) l.Design(*lp_design);
     for (LowPass& l : pre) l.Design(*pre_design);
     // Bonferroni over the candidates of one test; one test per block.
-    const double alpha = o.block_s / o.mean_time_between_false_alarms_s /
-                         o.change_candidates;
+    const double alpha =
+        o.block_s / o.mean_time_between_false_alarms_s / o.change_candidates;
     threshold = ChiSquareQuantile(3, alpha);
     for (int dof = 1; dof <= 3; ++dof) {
       thresholds[dof] = ChiSquareQuantile(dof, alpha);
     }
     // The ring holds the window, the candidates and 32 s for the
     // serial-correlation estimate.
-    capacity = std::min(
-        kMaxBlocks,
-        std::max({WindowBlocks(),
-                  o.change_candidates + 1,
-                  static_cast<int>(std::lround(
-                      16.0 * o.correlation_cluster_s / o.block_s))}));
+    capacity =
+        std::min(kMaxBlocks,
+                 std::max({WindowBlocks(),
+                           o.change_candidates + 1,
+                           static_cast<int>(std::lround(
+                               16.0 * o.correlation_cluster_s / o.block_s))}));
   }
 
   int WindowBlocks() const {
@@ -387,11 +389,11 @@ struct Pipeline {
 };
 
 bool Pipeline::PositionOf(const Factor& r,
-                               double rows,
-                               double rows_sq,
-                               Eigen::Vector3d* p,
-                               Eigen::Matrix3d* cov,
-                               Vec* c_out) const {
+                          double rows,
+                          double rows_sq,
+                          Eigen::Vector3d* p,
+                          Eigen::Matrix3d* cov,
+                          Vec* c_out) const {
   Vec c;
   Square r_inv;
   if (rows <= kM + 1 || !Solve(r, &c, &r_inv)) return false;
@@ -407,9 +409,9 @@ bool Pipeline::PositionOf(const Factor& r,
 }
 
 void Pipeline::Gate(double t,
-                         const Raw& imu,
-                         const Eigen::Matrix3d& r,
-                         bool est_ok) {
+                    const Raw& imu,
+                    const Eigen::Matrix3d& r,
+                    bool est_ok) {
   const double fn = std::sqrt(imu.f[0] * imu.f[0] + imu.f[1] * imu.f[1] +
                               imu.f[2] * imu.f[2]);
   if (fn > o.impact_g * kGravity ||
@@ -436,7 +438,7 @@ void Pipeline::Gate(double t,
              t < hold_until) {
     state = Track3dState::kPaused;
   } else {
-    state = calibrating               ? Track3dState::kCalibrating
+    state = calibrating              ? Track3dState::kCalibrating
             : flight_s >= o.warmup_s ? Track3dState::kTracking
                                      : Track3dState::kWarmingUp;
   }
@@ -456,8 +458,10 @@ bool Pipeline::Update(const Track3dSample& s) {
   const Raw& imu = raw[(received - 1 - delay_samples) % kMaxDelaySamples];
   const double t = imu.t;
 
-  Eigen::Quaterniond q(s.attitude_wxyz[0], s.attitude_wxyz[1],
-                       s.attitude_wxyz[2], s.attitude_wxyz[3]);
+  Eigen::Quaterniond q(s.attitude_wxyz[0],
+                       s.attitude_wxyz[1],
+                       s.attitude_wxyz[2],
+                       s.attitude_wxyz[3]);
   const bool est_ok = s.attitude_wxyz.allFinite() &&
                       s.velocity_ned_mps.allFinite() && q.norm() > 0.5;
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
@@ -480,8 +484,12 @@ bool Pipeline::Update(const Track3dSample& s) {
   }
   double wp[3];
   for (int i = 0; i < 3; ++i) wp[i] = pre[i].Step(w[i]);
-  const double products[6] = {wp[0] * wp[0], wp[1] * wp[1], wp[2] * wp[2],
-                              wp[0] * wp[1], wp[0] * wp[2], wp[1] * wp[2]};
+  const double products[6] = {wp[0] * wp[0],
+                              wp[1] * wp[1],
+                              wp[2] * wp[2],
+                              wp[0] * wp[1],
+                              wp[0] * wp[2],
+                              wp[1] * wp[2]};
   for (int i = 0; i < 6; ++i) x[6 + i] = lp[6 + i].Step(products[i]);
   for (int i = 0; i < 3; ++i) {
     x[12 + i] = lp[12 + i].Step(vb[i]);
@@ -528,7 +536,8 @@ bool Pipeline::Update(const Track3dSample& s) {
   double ax[kC], ay[kC];
   Rigid3dRegressorRows(in, ax, &ax[kM], ay, &ay[kM]);
   bool finite = true;
-  for (int j = 0; j < kC; ++j) finite = finite && std::isfinite(ax[j]) && std::isfinite(ay[j]);
+  for (int j = 0; j < kC; ++j)
+    finite = finite && std::isfinite(ax[j]) && std::isfinite(ay[j]);
   if (!finite) return false;
   if (current.rows == 0) current.t_start = t - dt;
   FoldRow(&current.r, ax);
@@ -553,8 +562,8 @@ void Pipeline::RebuildMain() {
   // λ^(age in blocks) (exponential, after a restart).
   main.setZero();
   main_rows = main_rows_sq = 0.0;
-  const int first = o.window_s > 0.0 ? std::max(0, ring_size - WindowBlocks())
-                                     : 0;
+  const int first =
+      o.window_s > 0.0 ? std::max(0, ring_size - WindowBlocks()) : 0;
   for (int i = first; i < ring_size; ++i) {
     const int age = ring_size - 1 - i;
     const double w = o.window_s > 0.0 ? 1.0 : std::pow(lambda_block, age);
@@ -612,7 +621,8 @@ void Pipeline::UpdateInflation(const Vec& c) {
   const Square p = ldlt.solve(Square::Identity());
   // A few clusters understate the spread: the small-sample factor
   // clusters / (clusters − 1).
-  const Square hac = p * meat * p * (static_cast<double>(clusters) / (clusters - 1));
+  const Square hac =
+      p * meat * p * (static_cast<double>(clusters) / (clusters - 1));
   // Delete-one-cluster jackknife of the position, scaled as the batch
   // fit's (t(0.975, K − 1) / 1.96 ≈ 1.15 for its ten blocks; here about
   // 16): it sees model error that changes along the flight, which the
@@ -705,7 +715,7 @@ bool Pipeline::Detect(double t) {
       std::max(4, static_cast<int>(std::ceil(2.0 / o.block_s)));
   double best = 0.0, best_raw = 0.0;
   int best_j = 0, best_dof = 0;
-  Eigen::Matrix<double, 6, 1> best_x;   // p before, Δp
+  Eigen::Matrix<double, 6, 1> best_x;  // p before, Δp
   Eigen::Matrix<double, 6, 6> best_cov;
   const Eigen::Vector3d k = inflation.cwiseSqrt();
   const int min_after = std::max(
@@ -741,8 +751,8 @@ bool Pipeline::Detect(double t) {
                 g.topRightCorner<kG - 1, 1>());
         Tri inv = Tri::Identity();
         tri.triangularView<Eigen::Upper>().solveInPlace(inv);
-        const double sigma2 = g(kG - 1, kG - 1) * g(kG - 1, kG - 1) /
-                              (rows - (kG - 1));
+        const double sigma2 =
+            g(kG - 1, kG - 1) * g(kG - 1, kG - 1) / (rows - (kG - 1));
         // Rows 0..2 (p before) and 11..13 (Δp) of the inverse.
         Eigen::Matrix<double, 6, kG - 1> sel;
         sel.topRows<3>() = inv.topRows<3>();
@@ -804,8 +814,7 @@ bool Pipeline::Detect(double t) {
   // p after = p before + Δp: its covariance from the joint one.
   Eigen::Matrix<double, 3, 6> to_after;
   to_after << Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity();
-  const Eigen::Matrix3d cov_after =
-      to_after * best_cov * to_after.transpose();
+  const Eigen::Matrix3d cov_after = to_after * best_cov * to_after.transpose();
   change.t_s = RingAt(ring_size - best_j).t_start;
   change.detected_t_s = t;
   change.position_before_frd_m = pb;
@@ -958,7 +967,8 @@ Track3dEstimate Track3d::Estimate() const {
   e.position_frd_m = p;
   e.covariance = cov;
   e.stderr_m = cov.diagonal().cwiseSqrt();
-  for (int a = 0; a < 3; ++a) e.determined[a] = e.stderr_m[a] <= m.o.max_stderr_m;
+  for (int a = 0; a < 3; ++a)
+    e.determined[a] = e.stderr_m[a] <= m.o.max_stderr_m;
   return e;
 }
 

@@ -12,9 +12,20 @@
 namespace imusysid {
 namespace {
 
-constexpr const char* kColumns[14] = {"t",  "ax", "ay", "az", "gx",
-                                      "gy", "gz", "qw", "qx", "qy",
-                                      "qz", "vn", "ve", "vd"};
+constexpr const char* kColumns[14] = {"t",
+                                      "ax",
+                                      "ay",
+                                      "az",
+                                      "gx",
+                                      "gy",
+                                      "gz",
+                                      "qw",
+                                      "qx",
+                                      "qy",
+                                      "qz",
+                                      "vn",
+                                      "ve",
+                                      "vd"};
 
 std::string Trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -25,8 +36,7 @@ std::string Trim(const std::string& s) {
 
 }  // namespace
 
-StatusOr<Track3dLog> Track3dSamplesOfLog(
-    std::shared_ptr<const FlightLog> log) {
+StatusOr<Track3dLog> Track3dSamplesOfLog(std::shared_ptr<const FlightLog> log) {
   StatusOr<internal::EstimatorTrack> track = internal::ReadEstimator(*log);
   if (!track.ok()) return track.status();
   const double dt = log->MedianDt();
@@ -118,8 +128,8 @@ StatusOr<bool> Track3dCsvStream::Line(const std::string& raw_line,
     }
   }
   if (!(v[0] > last_t_)) {
-    return InvalidArgumentError(where + ", field 't': time " + cells[column_[0]] +
-                                " does not increase");
+    return InvalidArgumentError(where + ", field 't': time " +
+                                cells[column_[0]] + " does not increase");
   }
   last_t_ = v[0];
   const double sign = flu_ ? -1.0 : 1.0;  // FLU → FRD flips y and z
