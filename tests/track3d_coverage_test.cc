@@ -172,6 +172,31 @@ TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
   }
 }
 
+// The exact sliding window (30 s of flight) instead of the forgetting: the
+// 5 cm shift found as well, and 10 s after it the position within 3σ̂ of the
+// new truth (σ̂ still 3–10 mm then: ten seconds of the doublets).
+TEST(Track3dAccuracy, SlidingWindowFindsTheShiftToo) {
+  const Simulator3dOptions o = WithShiftZ(Realistic(201), 50.0, 0.05);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  Track3dOptions t;
+  t.window_s = 30.0;
+  const TrackRun run = FlyAndTrack(o, t);
+  ASSERT_EQ(run.changes.size(), 1u);
+  EXPECT_GE(run.changes[0].detected_t_s, 50.0);
+  EXPECT_LE(run.changes[0].detected_t_s, 52.0);
+  const Track3dEstimate* later = EstimateAt(run, 60.0);
+  ASSERT_NE(later, nullptr);
+  ASSERT_TRUE(later->valid);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(later->position_frd_m[a],
+                flight->p_after_frd_m[0][a],
+                3.0 * later->stderr_m[a])
+        << "axis " << a << " sigma " << later->stderr_m[a];
+    EXPECT_LT(later->stderr_m[a], 0.015) << "axis " << a;
+  }
+}
+
 // Track3dOptions with the survey's overrides from the environment.
 Track3dOptions SurveyOptions() {
   Track3dOptions t;

@@ -319,6 +319,16 @@ struct Pipeline {
   Track3dChange change;
   int changes = 0;
 
+  // Scratch of the per-block computations, kept here rather than on the
+  // caller's stack.
+  struct Scratch {
+    std::array<Square, kMaxBlocks> gram;
+    std::array<Vec, kMaxBlocks> rhs;
+    std::array<Eigen::Vector3d, kMaxBlocks> left_out;
+    std::array<Factor, 65> after;
+    std::array<double, 65> after_rows;
+  } scratch;
+
   Block& RingAt(int i) { return ring[(ring_start + i) % kMaxBlocks]; }
   const Block& RingAt(int i) const {
     return ring[(ring_start + i) % kMaxBlocks];
@@ -594,9 +604,10 @@ void Pipeline::UpdateInflation(const Vec& c) {
   Eigen::Matrix<double, kC, 1> cm;
   cm.head<kM>() = c;
   cm[kM] = -1.0;
-  // Each cluster's Gram matrix and right-hand side, for the jackknife.
-  std::array<Square, kMaxBlocks> gram;
-  std::array<Vec, kMaxBlocks> rhs;
+  // Each cluster's Gram matrix and right-hand side, for the jackknife (in
+  // the pipeline's scratch: 0.3 MB is too much for a caller's stack).
+  auto& gram = scratch.gram;
+  auto& rhs = scratch.rhs;
   Vec rhs_total = Vec::Zero();
   for (int k = 0; k < clusters; ++k) {
     Vec score = Vec::Zero();
@@ -628,7 +639,7 @@ void Pipeline::UpdateInflation(const Vec& c) {
   // 16): it sees model error that changes along the flight, which the
   // sandwich does not.
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  std::array<Eigen::Vector3d, kMaxBlocks> left_out;
+  auto& left_out = scratch.left_out;
   bool jack_ok = true;
   for (int k = 0; k < clusters && jack_ok; ++k) {
     const Eigen::LDLT<Square> l(info - gram[k]);
@@ -696,8 +707,9 @@ bool Pipeline::Detect(double t) {
   // Suffixes (the last j blocks) built newest first; the prefixes (every
   // block since the restart before them) from the stale factor forward.
   // Unweighted: the test compares the data before and after a split.
-  std::array<Factor, 65> after;
-  std::array<double, 65> after_rows{};
+  auto& after = scratch.after;
+  auto& after_rows = scratch.after_rows;
+  after_rows.fill(0.0);
   after[0] = Factor::Zero();
   for (int j = 1; j <= candidates; ++j) {
     after[j] = after[j - 1];
