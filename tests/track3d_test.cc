@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -316,6 +317,31 @@ TEST(TrackCli, BadRowEndsWithExitTwoAfterTheEstimatesBeforeIt) {
   EXPECT_NE(r3.err.find("field 'gx': 'nan' is not a finite number"),
             std::string::npos)
       << r3.err;
+}
+
+TEST(TrackCli, ReportDrawsTheTrack) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "gnuplot not installed";
+  }
+  const std::string dir = testing::MakeTempDir() + "/R";
+  const auto r =
+      testing::RunCli("track --log=" + FigureEightCsv() + " --report=" + dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string svg = ReadFile(dir + "/track.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  // The data beside it: t and, per axis, the estimate and its band.
+  std::istringstream data(ReadFile(dir + "/track.dat"));
+  std::string row;
+  int rows = 0;
+  while (std::getline(data, row)) {
+    std::istringstream cells(row);
+    std::string cell;
+    int n = 0;
+    while (cells >> cell) ++n;
+    EXPECT_EQ(n, 10) << row;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 68);
 }
 
 TEST(TrackCli, HelpAndRefusals) {

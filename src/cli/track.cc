@@ -4,21 +4,26 @@
 // standard input.
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "gflags/gflags.h"
 #include "imusysid/track3d.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/report/gnuplot.h"
+#include "src/report/track_figure.h"
 #include "src/tools/format.h"
 
 DECLARE_double(estimator_delay_s);
 DECLARE_string(format);
+DECLARE_string(report);
 DEFINE_double(output_hz,
               1.0,
               "track: estimates printed per second of log time.");
@@ -131,7 +136,10 @@ class Runner {
   Runner(Track3d tracker, bool table)
       : tracker_(std::move(tracker)), printer_(table) {}
   void Take(const Track3dSample& s) {
-    if (tracker_.Update(s)) printer_.Change(tracker_.last_change());
+    if (tracker_.Update(s)) {
+      printer_.Change(tracker_.last_change());
+      changes_.push_back(tracker_.last_change());
+    }
     const Track3dCalibration& c = tracker_.calibration();
     if (c.done && !calibration_noted_) {
       calibration_noted_ = true;
@@ -151,7 +159,9 @@ class Runner {
       }
     }
     if (!(s.t_s < next_print_)) {
-      printer_.Estimate(tracker_.Estimate());
+      const Track3dEstimate e = tracker_.Estimate();
+      printer_.Estimate(e);
+      if (!FLAGS_report.empty()) estimates_.push_back(e);
       next_print_ = std::floor(s.t_s * FLAGS_output_hz + 1.0) / FLAGS_output_hz;
     }
   }
@@ -160,6 +170,25 @@ class Runner {
   Track3d tracker_;
   Printer printer_;
   bool calibration_noted_ = false;
+  std::vector<Track3dEstimate> estimates_;  // for --report
+  std::vector<Track3dChange> changes_;
+
+ public:
+  // --report=DIR: the figure of what was printed.
+  Status WriteReport() const {
+    std::error_code ec;
+    std::filesystem::create_directories(FLAGS_report, ec);
+    if (ec) {
+      return IoError("--report=" + FLAGS_report +
+                     ": cannot create it: " + ec.message());
+    }
+    IMUSYSID_RETURN_IF_ERROR(
+        report::WriteTrackFigure(FLAGS_report, estimates_, changes_));
+    std::cerr << "wrote " << FLAGS_report << "/track.svg\n";
+    return Status::Ok();
+  }
+
+ private:
   double next_print_ = -std::numeric_limits<double>::infinity();
 };
 
@@ -197,6 +226,10 @@ int RunStream(const std::string& cmd, bool table) {
     return ReportError(
         cmd, InvalidArgumentError("stdin: fewer than two samples to track"));
   }
+  if (!FLAGS_report.empty()) {
+    const Status written = runner->WriteReport();
+    if (!written.ok()) return ReportError(cmd, written);
+  }
   return kExitOk;
 }
 
@@ -219,6 +252,10 @@ int RunTrack(const std::vector<std::string>& positional) {
     }
     table = FLAGS_format == "table";
   }
+  if (!FLAGS_report.empty() && report::FindGnuplot().empty()) {
+    return UsageError(cmd,
+                      "--report needs gnuplot, which was not found on PATH");
+  }
   if (FLAGS_log == "-") return RunStream(cmd, table);
   StatusOr<FlightLog> log = ReadLogFromFlags(FLAGS_log);
   if (!log.ok()) return ReportError(cmd, log.status());
@@ -231,6 +268,10 @@ int RunTrack(const std::vector<std::string>& positional) {
   Runner runner(std::move(*tracker), table);
   for (std::size_t k = 0; k < samples->size; ++k) {
     runner.Take(samples->sample(k));
+  }
+  if (!FLAGS_report.empty()) {
+    const Status written = runner.WriteReport();
+    if (!written.ok()) return ReportError(cmd, written);
   }
   return kExitOk;
 }
@@ -258,10 +299,14 @@ const Command& TrackCommand() {
       "with sigma,\n\"com_shift_frd_m\", ...} line per detected change, after "
       "which the estimate restarts\nfrom the change. --false_alarm_s sets "
       "the mean flight time between false alarms\n(default one hour). The "
-      "estimator delay is held at --estimator_delay_s (default\n0.02 s), not "
-      "estimated. A bad row on standard input (text in a number, NaN, time\n"
-      "not increasing) ends the command with exit 2 naming the line and "
-      "field, after every\nestimate before it has been printed.",
+      "estimator delay and the wind are calibrated once,\nafter 25 s of "
+      "flight, on the samples so far (--estimator_delay_s is used where "
+      "that\nfails). Default format JSON lines. A bad row on standard input "
+      "(text in a number,\nNaN, time not increasing) ends the command with "
+      "exit 2 naming the line and field,\nafter every estimate before it "
+      "has been printed. --report=DIR draws DIR/track.svg:\nthe estimate "
+      "per axis over time with its 2-sigma band and the changes marked\n"
+      "(gnuplot).",
       {"log",
        "imu",
        "frame",
@@ -270,7 +315,8 @@ const Command& TrackCommand() {
        "memory_s",
        "window_s",
        "estimator_delay_s",
-       "format"},
+       "format",
+       "report"},
       &RunTrack};
   return c;
 }
