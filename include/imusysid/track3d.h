@@ -161,9 +161,9 @@ struct Track3dCalibration {
   std::string note;
 };
 
-// The tracker. Fixed memory after Create; except for the one sample at which
-// the calibration runs (it allocates and takes a fraction of a second), Update
-// allocates nothing, throws nothing and does no I/O.
+// The tracker. Its memory is fixed at Create. Update allocates nothing,
+// throws nothing and does no I/O, except at the one sample where the
+// calibration runs (it allocates and takes 20-45 ms).
 //
 //   StatusOr<Track3d> tracker = Track3d::Create(options);
 //   for (const Track3dSample& s : samples) {

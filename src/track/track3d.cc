@@ -305,8 +305,7 @@ struct Pipeline {
   Factor stale = Factor::Zero();
   double stale_rows = 0.0;
   int capacity = 0;
-  double flight_s = 0.0;        // gated-in flight since the restart
-  double total_flight_s = 0.0;  // since take-off
+  double flight_s = 0.0;  // gated-in flight since the restart
   double wind_n = 0.0, wind_e = 0.0;
   // While the calibration waits for its stretch, the gates and filters run
   // and nothing is estimated.
@@ -537,7 +536,6 @@ bool Pipeline::Update(const Track3dSample& s) {
   }
 
   flight_s += dt;
-  total_flight_s += dt;
   // Rows at fit_rate_hz only: the filtered signals carry nothing above the
   // cutoff, so neighbouring rows repeat each other (and their residuals are
   // correlated over tens of samples).
