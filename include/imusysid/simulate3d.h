@@ -10,6 +10,7 @@
 #define IMUSYSID_SIMULATE3D_H_
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,6 +33,27 @@ struct Imu3dMount {
   double roll_deg = 0.0;
   double pitch_deg = 0.0;
   double yaw_deg = 0.0;
+};
+
+// A payload attached or dropped in flight: at t_s the vehicle's mass changes
+// by mass_kg (> 0 attached, < 0 dropped) at offset_frd_m from the CoM before
+// the change (body FRD). The CoM moves to the mass-weighted mean,
+// s = mass_kg / (M + mass_kg) · offset, the inertia about it follows the
+// parallel-axis rule (the payload a point mass), every IMU position relative
+// to the CoM becomes p − s, and the body keeps its attitude, rate and the
+// velocity of the material point that becomes the new CoM (the payload moves
+// with the body, as it does when released or caught at the body's speed).
+// The controller is not told: its velocity integrator trims the new weight.
+struct PayloadChange3d {
+  double t_s = -1.0;  // < 0: no change
+  double mass_kg = 0.0;
+  Eigen::Vector3d offset_frd_m = Eigen::Vector3d::Zero();
+
+  bool enabled() const { return t_s >= 0.0; }
+  // s, the CoM's shift in body FRD axes, for a vehicle of mass_before kg.
+  Eigen::Vector3d ComShift(double mass_before) const {
+    return mass_kg / (mass_before + mass_kg) * offset_frd_m;
+  }
 };
 
 // Every setting of one simulated 3-D flight. The defaults are the
@@ -141,6 +163,9 @@ struct Simulator3dOptions {
   // binary logs' IMU samples and to the estimator's publication times.
   double timestamp_jitter_s = 20e-6;
 
+  // A payload change in flight; none by default.
+  PayloadChange3d payload_change;
+
   // The profile's total length, s.
   double duration_s() const;
 
@@ -196,6 +221,14 @@ struct Simulated3dFlight {
   // Samples (over all IMUs and axes) that reached the sensor's range.
   std::size_t clipped_accel_samples = 0;
   std::size_t clipped_gyro_samples = 0;
+
+  // The payload change, when one was flown: the integrator step it was
+  // applied at (the first at or after PayloadChange3d::t_s),
+  // the CoM's shift s (body FRD, m) and every IMU's position relative to
+  // the new CoM (p − s). NaN / empty without one.
+  double payload_change_t_s = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d com_shift_frd_m = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> p_after_frd_m;
 
   // The estimator's outputs at its own rate, in publication order (the
   // logs' estimator channels interpolate them onto the IMU samples).

@@ -45,6 +45,7 @@ const Command& DisplacementCommand();
 const Command& ExportProblemCommand();
 const Command& ConvertCommand();
 const Command& BenchCommand();
+const Command& TrackCommand();
 
 // The process exit code for a status: 0 for OK, 2 for the user's input
 // (invalid argument, not found, failed precondition), 1 otherwise.

@@ -29,6 +29,7 @@ std::vector<const Command*> AllCommands() {
           &DisplacementCommand(),
           &ExportProblemCommand(),
           &ConvertCommand(),
+          &TrackCommand(),
           &BenchCommand()};
 }
 

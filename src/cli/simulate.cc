@@ -56,6 +56,12 @@ DEFINE_bool(high_rate_raw_imu,
             false,
             "3-D scenarios, ULog: log sensor_accel/sensor_gyro at every raw "
             "sample (PX4's high-rate profile) instead of about 1 Hz.");
+DEFINE_string(payload_change,
+              "",
+              "3-D scenarios: T,DM,DX,DY,DZ attaches (DM > 0) or drops "
+              "(DM < 0) DM kg at (DX, DY, DZ) m from the CoM (body FRD) at "
+              "T s; the CoM moves by DM/(M+DM) times that offset and the "
+              "truth records every IMU position before and after.");
 DEFINE_bool(list_settings,
             false,
             "Print every simulator setting of the scenario with its value, "
@@ -146,6 +152,18 @@ StatusOr<LogKind> ChosenLogKind() {
                               ": required csv, ulog or dataflash");
 }
 
+// The truth's IMU positions after a payload change, when one was flown.
+void PrintPayloadChange(const Simulated3dFlight& f) {
+  for (std::size_t k = 0; k < f.p_after_frd_m.size(); ++k) {
+    const Eigen::Vector3d& p = f.p_after_frd_m[k];
+    std::cout << "truth: after the payload change at "
+              << FormatNumber(f.payload_change_t_s, 4) << " s, IMU " << k + 1
+              << " at (" << FormatNumber(p.x(), 4) << ", "
+              << FormatNumber(p.y(), 4) << ", " << FormatNumber(p.z(), 4)
+              << ") m FRD\n";
+  }
+}
+
 // A 3-D flight in one binary log (every IMU an instance) beside its truth.
 int Write3dBinary(LogKind kind,
                   const Simulator3dOptions& options,
@@ -214,7 +232,41 @@ int Write3dBinary(LogKind kind,
               << FormatNumber(m.p_frd_m.y(), 4) << ", "
               << FormatNumber(m.p_frd_m.z(), 4) << ") m FRD\n";
   }
+  PrintPayloadChange(f);
   return kExitOk;
+}
+
+// --payload_change=T,DM,DX,DY,DZ: five finite numbers, T >= 0.
+StatusOr<PayloadChange3d> ParsePayloadChange(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string cell;
+  while (std::getline(in, cell, ',')) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(cell, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != cell.size() || !std::isfinite(value)) {
+      return InvalidArgumentError("--payload_change=" + text + ": '" + cell +
+                                  "' is not a number (required "
+                                  "T,DM,DX,DY,DZ: s, kg, m, m, m)");
+    }
+    values.push_back(value);
+  }
+  if (values.size() != 5 || values[0] < 0.0) {
+    return InvalidArgumentError(
+        "--payload_change=" + text +
+        ": required T,DM,DX,DY,DZ (time >= 0 s, mass change kg, the "
+        "payload's offset from the CoM in body FRD m)");
+  }
+  PayloadChange3d change;
+  change.t_s = values[0];
+  change.mass_kg = values[1];
+  change.offset_frd_m = Eigen::Vector3d(values[2], values[3], values[4]);
+  return change;
 }
 
 // The 6-DOF scenarios: one FRD CSV per IMU, or one binary log with every IMU
@@ -257,6 +309,11 @@ int Run3d() {
   if (*kind != LogKind::kCsv) options->rate_hz = 1000.0;
   if (FlagWasSet("rate_hz")) options->rate_hz = FLAGS_rate_hz;
   if (FlagWasSet("seed")) options->seed = FLAGS_seed;
+  if (FlagWasSet("payload_change")) {
+    StatusOr<PayloadChange3d> change = ParsePayloadChange(FLAGS_payload_change);
+    if (!change.ok()) return UsageError(cmd, change.status().message());
+    options->payload_change = *change;
+  }
   Status s = options->Validate();
   if (!s.ok()) return ReportError(cmd, s);
   Sim3dLogOptions log_options;
@@ -346,6 +403,7 @@ int Run3d() {
               << FormatNumber(m.p_frd_m.y(), 4) << ", "
               << FormatNumber(m.p_frd_m.z(), 4) << ") m FRD\n";
   }
+  PrintPayloadChange(f);
   std::cout << "truth: rotor drag " << FormatNumber(options->rotor_drag_per_s)
             << " 1/s, mu " << FormatNumber(options->mu) << " 1/m, wind NED ("
             << FormatNumber(options->wind_ned_mps.x()) << ", "
@@ -369,8 +427,10 @@ int RunSimulate(const std::vector<std::string>& positional) {
     return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
   }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
-  for (const char* flag :
-       {"sensor_profile", "log_format", "high_rate_raw_imu"}) {
+  for (const char* flag : {"sensor_profile",
+                           "log_format",
+                           "high_rate_raw_imu",
+                           "payload_change"}) {
     if (FlagWasSet(flag)) {
       return UsageError(cmd,
                         std::string("--") + flag +
@@ -508,7 +568,11 @@ const Command& SimulateCommand() {
           "rotor harmonics,\n    clipping, slow unmodelled forces, timestamp "
           "jitter) or gentle (one vibration\n    tone, as earlier versions). "
           "Only --seed, --rate_hz (100-1000), --format and\n    these apply "
-          "to them.",
+          "to them.\n"
+          "  --payload_change=T,DM,DX,DY,DZ: at T s attach (DM > 0 kg) or "
+          "drop (DM < 0) a payload\n    at (DX, DY, DZ) m from the CoM, "
+          "body FRD; the CoM moves by DM/(M+DM) of that\n    offset, every "
+          "IMU position by minus that; the truth gives p before and after.",
       {"scenario",
        "out",
        "seed",
@@ -523,7 +587,8 @@ const Command& SimulateCommand() {
        "format",
        "sensor_profile",
        "log_format",
-       "high_rate_raw_imu"},
+       "high_rate_raw_imu",
+       "payload_change"},
       &RunSimulate};
   return c;
 }

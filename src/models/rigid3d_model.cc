@@ -150,29 +150,49 @@ void Rigid3dModel::Rows(std::size_t k,
                         double* ay,
                         double* target_y) const {
   const Motion3d& m = data().motion;
-  const double wx = m.omega[0][k], wy = m.omega[1][k], wz = m.omega[2][k];
-  const double ax_dot = m.omega_dot[0][k], ay_dot = m.omega_dot[1][k],
-               az_dot = m.omega_dot[2][k];
-  const double vx = m.velocity[0][k], vy = m.velocity[1][k],
-               vz = m.velocity[2][k];
-  // Air velocity for the quadratic drag, at the preprocessing's wind.
-  const double ux = vx - m.quadratic_wind_n * m.north[0][k] -
-                    m.quadratic_wind_e * m.east[0][k];
-  const double uy = vy - m.quadratic_wind_n * m.north[1][k] -
-                    m.quadratic_wind_e * m.east[1][k];
-  const double uz = vz - m.quadratic_wind_n * m.north[2][k] -
-                    m.quadratic_wind_e * m.east[2][k];
-  const double air_speed = std::sqrt(ux * ux + uy * uy + uz * uz);
-  const double fz = m.f[2][k];
+  Rigid3dSampleValues in;
+  for (int i = 0; i < 3; ++i) {
+    in.f[i] = m.f[i][k];
+    in.omega[i] = m.omega[i][k];
+    in.omega_dot[i] = m.omega_dot[i][k];
+    in.velocity[i] = m.velocity[i][k];
+    in.north[i] = m.north[i][k];
+    in.east[i] = m.east[i][k];
+  }
   // ω_iω_j: low-passed as products where the preprocessing formed them.
   const auto& pr = m.omega_products;
-  const bool formed = !pr[0].empty();
-  const double xx = formed ? pr[0][k] : wx * wx,
-               yy = formed ? pr[1][k] : wy * wy,
-               zz = formed ? pr[2][k] : wz * wz,
-               xy = formed ? pr[3][k] : wx * wy,
-               xz = formed ? pr[4][k] : wx * wz,
-               yz = formed ? pr[5][k] : wy * wz;
+  in.products_formed = !pr[0].empty();
+  if (in.products_formed) {
+    for (int i = 0; i < 6; ++i) in.products[i] = pr[i][k];
+  }
+  in.quadratic_wind_n = m.quadratic_wind_n;
+  in.quadratic_wind_e = m.quadratic_wind_e;
+  Rigid3dRegressorRows(in, ax, target_x, ay, target_y);
+}
+
+void Rigid3dRegressorRows(const Rigid3dSampleValues& in,
+                          double* ax,
+                          double* target_x,
+                          double* ay,
+                          double* target_y) {
+  const double wx = in.omega[0], wy = in.omega[1], wz = in.omega[2];
+  const double ax_dot = in.omega_dot[0], ay_dot = in.omega_dot[1],
+               az_dot = in.omega_dot[2];
+  const double vx = in.velocity[0], vy = in.velocity[1], vz = in.velocity[2];
+  // Air velocity for the quadratic drag, at the preprocessing's wind.
+  const double ux =
+      vx - in.quadratic_wind_n * in.north[0] - in.quadratic_wind_e * in.east[0];
+  const double uy =
+      vy - in.quadratic_wind_n * in.north[1] - in.quadratic_wind_e * in.east[1];
+  const double uz =
+      vz - in.quadratic_wind_n * in.north[2] - in.quadratic_wind_e * in.east[2];
+  const double air_speed = std::sqrt(ux * ux + uy * uy + uz * uz);
+  const double fz = in.f[2];
+  const bool formed = in.products_formed;
+  const double* pr = in.products;
+  const double xx = formed ? pr[0] : wx * wx, yy = formed ? pr[1] : wy * wy,
+               zz = formed ? pr[2] : wz * wz, xy = formed ? pr[3] : wx * wy,
+               xz = formed ? pr[4] : wx * wz, yz = formed ? pr[5] : wy * wz;
   // Rows of ω̇× + ω×ω× (the lever-arm acceleration a×p + ω×(ω×p) = M p).
   ax[kPx] = -(yy + zz);
   ax[kPy] = xy - az_dot;
@@ -183,9 +203,9 @@ void Rigid3dModel::Rows(std::size_t k,
   ax[kBiasY] = 0.0;
   ax[kThrustToX] = fz;
   ax[kThrustToY] = 0.0;
-  ax[kWindNorth] = m.north[0][k];
-  ax[kWindEast] = m.east[0][k];
-  *target_x = m.f[0][k];
+  ax[kWindNorth] = in.north[0];
+  ax[kWindEast] = in.east[0];
+  *target_x = in.f[0];
   ay[kPx] = xy + az_dot;
   ay[kPy] = -(xx + zz);
   ay[kPz] = yz - ax_dot;
@@ -195,9 +215,9 @@ void Rigid3dModel::Rows(std::size_t k,
   ay[kBiasY] = 1.0;
   ay[kThrustToX] = 0.0;
   ay[kThrustToY] = fz;
-  ay[kWindNorth] = m.north[1][k];
-  ay[kWindEast] = m.east[1][k];
-  *target_y = m.f[1][k];
+  ay[kWindNorth] = in.north[1];
+  ay[kWindEast] = in.east[1];
+  *target_y = in.f[1];
 }
 
 bool Rigid3dModel::Residuals(const double* x,

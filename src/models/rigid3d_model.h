@@ -85,6 +85,33 @@ class Rigid3dModel : public Model, public LinearStructure {
   bool factor_ok_ = false;
 };
 
+// One sample's values the regressors are made of (Motion3d's columns at one
+// index): what the batch model reads from its data and what the online
+// tracker (src/track) forms as the samples arrive.
+struct Rigid3dSampleValues {
+  double f[3] = {0.0, 0.0, 0.0};
+  double omega[3] = {0.0, 0.0, 0.0};
+  double omega_dot[3] = {0.0, 0.0, 0.0};
+  double velocity[3] = {0.0, 0.0, 0.0};
+  double north[3] = {0.0, 0.0, 0.0};
+  double east[3] = {0.0, 0.0, 0.0};
+  // ω_iω_j in the order xx, yy, zz, xy, xz, yz, low-passed as products;
+  // ignored (formed from omega) unless products_formed.
+  double products[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  bool products_formed = false;
+  double quadratic_wind_n = 0.0;
+  double quadratic_wind_e = 0.0;
+};
+
+// The x and y regressor rows of one sample and the measured values they
+// predict: the one formula of rigid3d's linear structure, which
+// Rigid3dModel::Rows and the tracker both call.
+void Rigid3dRegressorRows(const Rigid3dSampleValues& in,
+                          double* ax,
+                          double* target_x,
+                          double* ay,
+                          double* target_y);
+
 // rigid3d's parameters and their search box, shared by rigid3d_imu (the
 // same parameters, fitted without the estimator's channels).
 const std::vector<ParameterInfo>& Rigid3dParameterInfo();

@@ -56,8 +56,13 @@ State3d Derivative3d(const State3d& s,
   const Eigen::Quaterniond w_quat(0.0, s.w.x(), s.w.y(), s.w.z());
   d.q.coeffs() = 0.5 * (s.q * w_quat).coeffs();
   // Euler's equations, J diagonal: J ω̇ = τ − ω × J ω.
-  const Eigen::Vector3d jw = p.inertia.cwiseProduct(s.w);
-  d.w = (s.tau - s.w.cross(jw)).cwiseQuotient(p.inertia);
+  if (p.full_inertia) {
+    const Eigen::Vector3d jw = p.inertia_matrix * s.w;
+    d.w = p.inertia_inverse * (s.tau - s.w.cross(jw));
+  } else {
+    const Eigen::Vector3d jw = p.inertia.cwiseProduct(s.w);
+    d.w = (s.tau - s.w.cross(jw)).cwiseQuotient(p.inertia);
+  }
   return d;
 }
 

@@ -34,9 +34,14 @@ struct State3d {
 struct Plant3d {
   double mass = 0.0;
   Eigen::Vector3d inertia = Eigen::Vector3d::Ones();  // diagonal, kg m²
-  double rotor_drag = 0.0;                            // k, 1/s
-  double mu = 0.0;                                    // 1/m
-  Eigen::Vector3d wind = Eigen::Vector3d::Zero();     // NED, m/s
+  // After a payload change the inertia about the new CoM is a full matrix;
+  // without one the diagonal above is used as it always was (same bits).
+  bool full_inertia = false;
+  Eigen::Matrix3d inertia_matrix = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d inertia_inverse = Eigen::Matrix3d::Identity();
+  double rotor_drag = 0.0;                         // k, 1/s
+  double mu = 0.0;                                 // 1/m
+  Eigen::Vector3d wind = Eigen::Vector3d::Zero();  // NED, m/s
   double thrust_lag = 0.03;
   double torque_lag = 0.03;
   // The slow unmodelled force per unit mass (gusts, prop-wash), NED, m/s²,

@@ -185,6 +185,21 @@ Status Simulator3dOptions::Validate() const {
       InRange("slow_force_max_hz", slow_force_max_hz, 0.1, 5.0));
   IMUSYSID_RETURN_IF_ERROR(
       InRange("timestamp_jitter_s", timestamp_jitter_s, 0.0, 1e-3));
+  if (payload_change.enabled()) {
+    IMUSYSID_RETURN_IF_ERROR(Require(payload_change.t_s < duration_s(),
+                                     "payload_change.t_s",
+                                     payload_change.t_s,
+                                     "< the flight's duration"));
+    // Dropping more than half the vehicle or adding more than it weighs
+    // leaves the controller's gains and thrust range far from what they
+    // were tuned for.
+    IMUSYSID_RETURN_IF_ERROR(InRange("payload_change.mass_kg",
+                                     payload_change.mass_kg,
+                                     -0.5 * mass_kg,
+                                     mass_kg));
+    IMUSYSID_RETURN_IF_ERROR(VectorInRange(
+        "payload_change.offset_frd_m", payload_change.offset_frd_m, -0.5, 0.5));
+  }
   return Status::Ok();
 }
 
@@ -283,6 +298,24 @@ std::string Truth3dJson(const Simulator3dOptions& o,
     j["sensors"]["clipped_samples"] =
         Json{{"accel", flight.clipped_accel_samples},
              {"gyro", flight.clipped_gyro_samples}};
+  }
+  // Only a flight with a payload change has this key; every other truth is
+  // as it always was.
+  if (o.payload_change.enabled()) {
+    Json after = Json::array();
+    for (std::size_t k = 0; k < flight.p_after_frd_m.size(); ++k) {
+      after.push_back(Json{{"instance", k + 1},
+                           {"p_before_frd_m", Vec(o.imus[k].p_frd_m)},
+                           {"p_after_frd_m", Vec(flight.p_after_frd_m[k])}});
+    }
+    j["payload_change"] =
+        Json{{"t_s", o.payload_change.t_s},
+             {"applied_t_s", flight.payload_change_t_s},
+             {"mass_kg", o.payload_change.mass_kg},
+             {"offset_frd_m", Vec(o.payload_change.offset_frd_m)},
+             {"mass_after_kg", o.mass_kg + o.payload_change.mass_kg},
+             {"com_shift_frd_m", Vec(flight.com_shift_frd_m)},
+             {"imus", after}};
   }
   j["profile_s"] = Json{{"motors_off_start", o.motors_off_start_s},
                         {"idle", o.idle_s},

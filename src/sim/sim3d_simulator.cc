@@ -12,6 +12,8 @@
 #include <string>
 #include <utility>
 
+#include "Eigen/Eigenvalues"
+#include "Eigen/LU"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
 #include "src/sim/sim3d_internal.h"
@@ -363,6 +365,18 @@ class Recorder {
     }
   }
 
+  // Every IMU's position relative to the CoM moves by −s when the CoM moves
+  // by s (the IMUs are fixed to the frame).
+  void ShiftCom(double t, const Eigen::Vector3d& s) {
+    flight_.payload_change_t_s = t;
+    flight_.com_shift_frd_m = s;
+    flight_.p_after_frd_m.clear();
+    for (ImuUnit& unit : units_) {
+      unit.p -= s;
+      flight_.p_after_frd_m.push_back(unit.p);
+    }
+  }
+
   Simulated3dFlight& flight() { return flight_; }
 
  private:
@@ -419,6 +433,46 @@ Status HandleGroundContact(double t_next,
   const Eigen::Vector3d x_b = s.q * Eigen::Vector3d::UnitX();
   const double yaw = std::atan2(x_b.y(), x_b.x());
   s.q = Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+  return Status::Ok();
+}
+
+// The payload change (PayloadChange3d): the plant's mass and inertia about
+// the new CoM, and the state moved to the new CoM's point of the body.
+Status ApplyPayloadChange(const Simulator3dOptions& o,
+                          double t,
+                          Plant3d* plant,
+                          FlightState* f,
+                          Recorder* recorder) {
+  const PayloadChange3d& change = o.payload_change;
+  const double mass_before = plant->mass;
+  const Eigen::Vector3d s = change.ComShift(mass_before);
+  // Parallel-axis rule about the new CoM: the vehicle (its CoM at −s from
+  // the new one) and the payload as a point mass at offset − s; a dropped
+  // payload (negative mass) takes its share out.
+  const auto point = [](double m, const Eigen::Vector3d& r) {
+    return Eigen::Matrix3d(m * (r.squaredNorm() * Eigen::Matrix3d::Identity() -
+                                r * r.transpose()));
+  };
+  const Eigen::Matrix3d before =
+      plant->full_inertia ? plant->inertia_matrix
+                          : Eigen::Matrix3d(plant->inertia.asDiagonal());
+  const Eigen::Matrix3d after = before + point(mass_before, -s) +
+                                point(change.mass_kg, change.offset_frd_m - s);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(after);
+  if (!(eig.eigenvalues().minCoeff() > 0.0)) {
+    return InvalidArgumentError(
+        "Simulator3dOptions::payload_change leaves an inertia that is not "
+        "positive definite (dropping more than the payload carried?)");
+  }
+  plant->mass = mass_before + change.mass_kg;
+  plant->full_inertia = true;
+  plant->inertia_matrix = after;
+  plant->inertia_inverse = after.inverse();
+  State3d& b = f->body;
+  const Eigen::Matrix3d r = b.q.toRotationMatrix();
+  b.p += r * s;
+  b.v += r * b.w.cross(s);
+  recorder->ShiftCom(t, s);
   return Status::Ok();
 }
 
@@ -493,9 +547,15 @@ StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& o) {
   std::int64_t next_estimate = 0;
   std::int64_t estimate_count = 0;
   std::int64_t step = 0;
+  bool payload_pending = o.payload_change.enabled();
   for (std::int64_t i = 0; i < plan.num_samples; ++i) {
     for (int j = 0; j < plan.steps_per_sample; ++j, ++step) {
       const double t = static_cast<double>(step) / plan.internal_rate;
+      if (payload_pending && t >= o.payload_change.t_s) {
+        payload_pending = false;
+        IMUSYSID_RETURN_IF_ERROR(
+            ApplyPayloadChange(o, t, &plant, &f, &recorder));
+      }
       const bool motors_on = t >= timeline.motors_on && t < timeline.motors_off;
       ApplyMotorsAndLiftOff(t, motors_on, weight, &f);
       // Held over the step, as the controller's commands are. Gusts fade

@@ -1,0 +1,373 @@
+// The online tracker (imusysid/track3d.h) on realistic simulated flights:
+// coverage of ±2σ̂ while nothing changes, a payload change detected and its
+// position found again, no false alarm on a flight without a change. In
+// the accuracy binary (Release only): each case flies the 6-DOF simulator.
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "imusysid/simulate3d.h"
+#include "imusysid/track3d.h"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace {
+
+struct TrackRun {
+  std::vector<Track3dEstimate> estimates;  // one per second of log time
+  std::vector<Track3dChange> changes;
+  Track3dCalibration calibration;
+};
+
+// Flies `options` and tracks IMU 1 through it.
+TrackRun FlyAndTrack(const Simulator3dOptions& options,
+                     Track3dOptions track_options = Track3dOptions()) {
+  TrackRun run;
+  StatusOr<Simulated3dFlight> flight = Simulate3d(options);
+  EXPECT_TRUE(flight.ok()) << flight.status().ToString();
+  if (!flight.ok()) return run;
+  auto log = std::make_shared<const FlightLog>(flight->logs[0]);
+  StatusOr<Track3dLog> samples = Track3dSamplesOfLog(log);
+  EXPECT_TRUE(samples.ok()) << samples.status().ToString();
+  if (!samples.ok()) return run;
+  track_options.rate_hz = samples->rate_hz;
+  StatusOr<Track3d> tracker = Track3d::Create(track_options);
+  EXPECT_TRUE(tracker.ok()) << tracker.status().ToString();
+  if (!tracker.ok()) return run;
+  double next = 0.0;
+  for (std::size_t k = 0; k < samples->size; ++k) {
+    const Track3dSample s = samples->sample(k);
+    if (tracker->Update(s)) run.changes.push_back(tracker->last_change());
+    if (s.t_s >= next) {
+      run.estimates.push_back(tracker->Estimate());
+      next += 1.0;
+    }
+  }
+  run.calibration = tracker->calibration();
+  return run;
+}
+
+Simulator3dOptions Realistic(std::uint64_t seed) {
+  Simulator3dOptions o = testing::RealisticScenario3d("figure8_3d");
+  o.seed = seed;
+  o.rate_hz = 400.0;  // the CSV logs' rate; 1 kHz costs 2.5 times the time
+  return o;
+}
+
+// A payload of `mass_kg` at `offset` (FRD) from the CoM at t_s.
+Simulator3dOptions WithPayload(Simulator3dOptions o,
+                               double t_s,
+                               double mass_kg,
+                               const Eigen::Vector3d& offset) {
+  o.payload_change.t_s = t_s;
+  o.payload_change.mass_kg = mass_kg;
+  o.payload_change.offset_frd_m = offset;
+  return o;
+}
+
+TEST(Track3dAccuracy, CalibrationFindsDelayAndWind) {
+  const Simulator3dOptions o = Realistic(1);
+  const TrackRun run = FlyAndTrack(o);
+  ASSERT_TRUE(run.calibration.done);
+  ASSERT_TRUE(run.calibration.estimated) << run.calibration.note;
+  // The wind within 0.4 m/s (the batch calibration on the same 25 s; the
+  // whole flight gives it to 0.02).
+  EXPECT_NEAR(run.calibration.wind_n, o.wind_ned_mps.x(), 0.4);
+  EXPECT_NEAR(run.calibration.wind_e, o.wind_ned_mps.y(), 0.4);
+}
+
+// A CoM shift of `shift` along z at t_s on `o`: 0.2 kg at the offset that
+// moves the CoM that far.
+Simulator3dOptions WithShiftZ(const Simulator3dOptions& o,
+                              double t_s,
+                              double shift) {
+  const double dm = 0.2;
+  return WithPayload(
+      o, t_s, dm, Eigen::Vector3d(0.0, 0.0, shift * (o.mass_kg + dm) / dm));
+}
+
+// The estimate nearest to time t.
+const Track3dEstimate* EstimateAt(const TrackRun& run, double t) {
+  const Track3dEstimate* best = nullptr;
+  for (const Track3dEstimate& e : run.estimates) {
+    if (best == nullptr || std::abs(e.t_s - t) < std::abs(best->t_s - t)) {
+      best = &e;
+    }
+  }
+  return best;
+}
+
+// Gentle sensors, a 1 cm shift during the doublets: found within 2 s, its
+// size within 3σ̂, and the position within 2 mm of the new truth 10 s on.
+TEST(Track3dAccuracy, CentimetreShiftFoundWithGentleSensors) {
+  Simulator3dOptions o = Realistic(200);
+  o.sensor_profile = "gentle";
+  o = WithShiftZ(o, 50.0, 0.01);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  const TrackRun run = FlyAndTrack(o);
+  ASSERT_EQ(run.changes.size(), 1u);
+  const Track3dChange& c = run.changes[0];
+  EXPECT_GE(c.detected_t_s, 50.0);
+  EXPECT_LE(c.detected_t_s, 52.0);
+  const Eigen::Vector3d shift = flight->com_shift_frd_m;
+  EXPECT_NEAR(c.com_shift_frd_m.z(), shift.z(), 3.0 * c.com_shift_stderr_m.z());
+  const Track3dEstimate* later = EstimateAt(run, 60.0);
+  ASSERT_NE(later, nullptr);
+  ASSERT_TRUE(later->valid);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(later->position_frd_m[a], flight->p_after_frd_m[0][a], 0.002)
+        << "axis " << a;
+  }
+}
+
+// Realistic sensors (vibration, slow forces, jitter): a 5 cm shift found
+// within 2 s, its size within 3σ̂. (1 and 2 cm are not found within the
+// default false-alarm rate: docs/track-3d.md.)
+TEST(Track3dAccuracy, FiveCentimetreShiftFoundWithRealisticSensors) {
+  const Simulator3dOptions o = WithShiftZ(Realistic(201), 50.0, 0.05);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  const TrackRun run = FlyAndTrack(o);
+  ASSERT_EQ(run.changes.size(), 1u);
+  const Track3dChange& c = run.changes[0];
+  EXPECT_GE(c.detected_t_s, 50.0);
+  EXPECT_LE(c.detected_t_s, 52.0);
+  EXPECT_NEAR(c.com_shift_frd_m.z(),
+              flight->com_shift_frd_m.z(),
+              3.0 * c.com_shift_stderr_m.z());
+  EXPECT_LT(c.com_shift_stderr_m.z(), 0.01);
+}
+
+// No change flown: no alarm, and ±2σ̂ covers the truth on the determined
+// axes in at least 75 % of the estimates (measured 0.88 / 0.99 / 0.83 on
+// x / y / z over ten flights; below the 90 % aimed at: docs/track-3d.md).
+TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
+  int n[3] = {0, 0, 0}, inside[3] = {0, 0, 0};
+  for (std::uint64_t seed : {100, 101, 102, 103, 104}) {
+    const Simulator3dOptions o = Realistic(seed);
+    const TrackRun run = FlyAndTrack(o);
+    EXPECT_TRUE(run.changes.empty())
+        << "seed " << seed << ": alarm at " << run.changes[0].detected_t_s;
+    for (const Track3dEstimate& e : run.estimates) {
+      if (!e.valid) continue;
+      for (int a = 0; a < 3; ++a) {
+        if (!e.determined[a]) continue;
+        ++n[a];
+        if (std::abs(e.position_frd_m[a] - o.imus[0].p_frd_m[a]) <=
+            2.0 * e.stderr_m[a]) {
+          ++inside[a];
+        }
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    ASSERT_GT(n[a], 20) << "axis " << a;
+    EXPECT_GE(inside[a], 0.75 * n[a])
+        << "axis " << a << ": " << inside[a] << " of " << n[a];
+  }
+}
+
+// The exact sliding window (30 s of flight) instead of the forgetting: the
+// 5 cm shift found as well, and 10 s after it the position within 3σ̂ of the
+// new truth (σ̂ still 3–10 mm then: ten seconds of the doublets).
+TEST(Track3dAccuracy, SlidingWindowFindsTheShiftToo) {
+  const Simulator3dOptions o = WithShiftZ(Realistic(201), 50.0, 0.05);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  ASSERT_TRUE(flight.ok());
+  Track3dOptions t;
+  t.window_s = 30.0;
+  const TrackRun run = FlyAndTrack(o, t);
+  ASSERT_EQ(run.changes.size(), 1u);
+  EXPECT_GE(run.changes[0].detected_t_s, 50.0);
+  EXPECT_LE(run.changes[0].detected_t_s, 52.0);
+  const Track3dEstimate* later = EstimateAt(run, 60.0);
+  ASSERT_NE(later, nullptr);
+  ASSERT_TRUE(later->valid);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(later->position_frd_m[a],
+                flight->p_after_frd_m[0][a],
+                3.0 * later->stderr_m[a])
+        << "axis " << a << " sigma " << later->stderr_m[a];
+    EXPECT_LT(later->stderr_m[a], 0.015) << "axis " << a;
+  }
+}
+
+// Track3dOptions with the survey's overrides from the environment.
+Track3dOptions SurveyOptions() {
+  Track3dOptions t;
+  if (const char* e = std::getenv("TRK_MODERR")) {
+    t.change_model_error = std::atof(e);
+  }
+  if (const char* e = std::getenv("TRK_CAND")) {
+    t.change_candidates = std::atoi(e);
+  }
+  if (const char* e = std::getenv("TRK_MAXSE")) {
+    t.change_max_stderr_m = std::atof(e);
+  }
+  if (const char* e = std::getenv("TRK_MEMORY")) t.memory_s = std::atof(e);
+  if (const char* e = std::getenv("TRK_CLUSTER")) {
+    t.correlation_cluster_s = std::atof(e);
+  }
+  if (const char* e = std::getenv("TRK_FLOOR")) t.stderr_floor_m = std::atof(e);
+  return t;
+}
+
+// Per axis, the share of estimates within 2σ̂ of the truth at their time.
+struct Coverage {
+  int n[3] = {0, 0, 0};
+  int inside[3] = {0, 0, 0};
+  double Share(int a) const { return inside[a] / std::max(1.0, 1.0 * n[a]); }
+};
+void AddCoverage(const TrackRun& run,
+                 const Simulator3dOptions& o,
+                 const Simulated3dFlight* flight,
+                 Coverage* c) {
+  for (const Track3dEstimate& e : run.estimates) {
+    if (!e.valid) continue;
+    Eigen::Vector3d truth = o.imus[0].p_frd_m;
+    if (o.payload_change.enabled()) {
+      if (std::abs(e.t_s - o.payload_change.t_s) < 15.0) continue;
+      if (e.t_s > o.payload_change.t_s) truth = flight->p_after_frd_m[0];
+    }
+    for (int a = 0; a < 3; ++a) {
+      if (!e.determined[a]) continue;
+      ++c->n[a];
+      if (std::abs(e.position_frd_m[a] - truth[a]) <= 2.0 * e.stderr_m[a]) {
+        ++c->inside[a];
+      }
+    }
+  }
+}
+
+// By hand: TRK_FLIGHTS flights (20) of TRK_MANEUVER_S (280 s: five minutes
+// in all) without a change; prints each flight's false alarms and the
+// coverage of ±2σ̂.
+//   build/tests/track3d_coverage_test
+//   --gtest_also_run_disabled_tests --gtest_filter='*FalseAlarmSurvey*'
+TEST(Track3dAccuracy, DISABLED_FalseAlarmSurvey) {
+  const int flights =
+      std::getenv("TRK_FLIGHTS") ? std::atoi(std::getenv("TRK_FLIGHTS")) : 20;
+  const double maneuver = std::getenv("TRK_MANEUVER_S")
+                              ? std::atof(std::getenv("TRK_MANEUVER_S"))
+                              : 280.0;
+  int alarms = 0;
+  double flight_s = 0.0;
+  Coverage c;
+  for (int i = 0; i < flights; ++i) {
+    Simulator3dOptions o = Realistic(static_cast<std::uint64_t>(100 + i));
+    o.maneuver_s = maneuver;
+    const TrackRun run = FlyAndTrack(o, SurveyOptions());
+    alarms += static_cast<int>(run.changes.size());
+    flight_s += o.duration_s();
+    AddCoverage(run, o, nullptr, &c);
+    if (std::getenv("TRK_VERBOSE")) {
+      for (const Track3dEstimate& e : run.estimates) {
+        if (!e.valid || static_cast<int>(e.t_s) % 10 != 0) continue;
+        const Eigen::Vector3d err = e.position_frd_m - o.imus[0].p_frd_m;
+        std::printf(
+            "  t %.0f err %.1f %.1f %.1f sigma %.1f %.1f %.1f infl "
+            "%.0f %.0f %.0f\n",
+            e.t_s,
+            1e3 * err.x(),
+            1e3 * err.y(),
+            1e3 * err.z(),
+            1e3 * e.stderr_m.x(),
+            1e3 * e.stderr_m.y(),
+            1e3 * e.stderr_m.z(),
+            e.inflation.x(),
+            e.inflation.y(),
+            e.inflation.z());
+      }
+    }
+    std::printf("flight %d: %zu false alarms", i, run.changes.size());
+    for (const Track3dChange& ch : run.changes) {
+      std::printf(" [%.1f s, chi2 %.1f/%.1f dof %d]",
+                  ch.detected_t_s,
+                  ch.chi_square,
+                  ch.threshold,
+                  ch.dof);
+    }
+    std::printf("\n");
+  }
+  std::printf(
+      "%d false alarms in %d flights (%.0f s); coverage of 2 sigma on "
+      "determined axes: x %.3f (%d) y %.3f (%d) z %.3f (%d)\n",
+      alarms,
+      flights,
+      flight_s,
+      c.Share(0),
+      c.n[0],
+      c.Share(1),
+      c.n[1],
+      c.Share(2),
+      c.n[2]);
+}
+
+// By hand: TRK_FLIGHTS flights with a CoM shift of TRK_SHIFT_M (0.01) along
+// z at TRK_CHANGE_S (45 s); prints each detection's delay and the position
+// error 10 s after the change.
+TEST(Track3dAccuracy, DISABLED_DetectionSurvey) {
+  const int flights =
+      std::getenv("TRK_FLIGHTS") ? std::atoi(std::getenv("TRK_FLIGHTS")) : 10;
+  const double shift =
+      std::getenv("TRK_SHIFT_M") ? std::atof(std::getenv("TRK_SHIFT_M")) : 0.01;
+  const double t_change = std::getenv("TRK_CHANGE_S")
+                              ? std::atof(std::getenv("TRK_CHANGE_S"))
+                              : 45.0;
+  const bool gentle = std::getenv("TRK_GENTLE") != nullptr;
+  int detected = 0;
+  for (int i = 0; i < flights; ++i) {
+    Simulator3dOptions o = Realistic(static_cast<std::uint64_t>(200 + i));
+    if (gentle) o.sensor_profile = "gentle";
+    // 0.2 kg at z such that the CoM moves by `shift`.
+    const double dm = 0.2;
+    const double dz = shift * (o.mass_kg + dm) / dm;
+    o = WithPayload(o, t_change, dm, Eigen::Vector3d(0.0, 0.0, dz));
+    StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+    ASSERT_TRUE(flight.ok());
+    const TrackRun run = FlyAndTrack(o, SurveyOptions());
+    std::printf("flight %d:", i);
+    bool found = false;
+    for (const Track3dChange& ch : run.changes) {
+      std::printf(
+          " [change %.2f detected %.2f (delay %.2f) shift %.1f %.1f "
+          "%.1f +/- %.1f %.1f %.1f mm]",
+          ch.t_s,
+          ch.detected_t_s,
+          ch.detected_t_s - t_change,
+          1e3 * ch.com_shift_frd_m.x(),
+          1e3 * ch.com_shift_frd_m.y(),
+          1e3 * ch.com_shift_frd_m.z(),
+          1e3 * ch.com_shift_stderr_m.x(),
+          1e3 * ch.com_shift_stderr_m.y(),
+          1e3 * ch.com_shift_stderr_m.z());
+      found = found || (ch.detected_t_s >= t_change &&
+                        ch.detected_t_s <= t_change + 10.0);
+    }
+    detected += found ? 1 : 0;
+    for (const Track3dEstimate& e : run.estimates) {
+      if (e.valid && std::abs(e.t_s - (t_change + 10.0)) < 0.5) {
+        const Eigen::Vector3d err = e.position_frd_m - flight->p_after_frd_m[0];
+        std::printf(
+            " error 10 s after: %.1f %.1f %.1f mm (sigma %.1f %.1f "
+            "%.1f)",
+            1e3 * err.x(),
+            1e3 * err.y(),
+            1e3 * err.z(),
+            1e3 * e.stderr_m.x(),
+            1e3 * e.stderr_m.y(),
+            1e3 * e.stderr_m.z());
+      }
+    }
+    std::printf("\n");
+  }
+  std::printf("detected %d of %d\n", detected, flights);
+}
+
+}  // namespace
+}  // namespace imusysid

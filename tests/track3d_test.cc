@@ -1,0 +1,360 @@
+// The tracker's inputs and the `track` command: the streamed CSV reader's
+// refusals (line and field named), the options' checks, and the command
+// streaming its estimates before its input ends and stopping on a bad row
+// with every estimate before it printed.
+
+#include "imusysid/track3d.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "tests/test_util.h"
+
+namespace imusysid {
+namespace {
+
+constexpr const char* kHeader = "t,ax,ay,az,gx,gy,gz,qw,qx,qy,qz,vn,ve,vd";
+
+TEST(Track3dCsvStream, ReadsRowsInFrdAndFlu) {
+  Track3dCsvStream frd;
+  Track3dSample s;
+  EXPECT_FALSE(*frd.Line("# frame: frd", &s));
+  EXPECT_FALSE(*frd.Line(kHeader, &s));
+  StatusOr<bool> got = frd.Line("0.5,1,2,3,4,5,6,1,0,0,0,7,8,9", &s);
+  ASSERT_TRUE(got.ok()) << got.status().ToString();
+  EXPECT_TRUE(*got);
+  EXPECT_EQ(s.t_s, 0.5);
+  EXPECT_EQ(s.accel_frd_mps2, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(s.gyro_frd_radps, Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(s.velocity_ned_mps, Eigen::Vector3d(7, 8, 9));
+
+  Track3dCsvStream flu;
+  EXPECT_FALSE(*flu.Line("# frame: flu", &s));
+  EXPECT_FALSE(*flu.Line(kHeader, &s));
+  ASSERT_TRUE(*flu.Line("0.5,1,2,3,4,5,6,1,0,0,0,7,8,9", &s));
+  // FLU → FRD flips y and z of both sensors; the estimator's channels are
+  // NED whatever the frame.
+  EXPECT_EQ(s.accel_frd_mps2, Eigen::Vector3d(1, -2, -3));
+  EXPECT_EQ(s.gyro_frd_radps, Eigen::Vector3d(4, -5, -6));
+  EXPECT_EQ(s.velocity_ned_mps, Eigen::Vector3d(7, 8, 9));
+}
+
+TEST(Track3dCsvStream, EmptyEstimatorCellsAreMissing) {
+  Track3dCsvStream in;
+  Track3dSample s;
+  ASSERT_FALSE(*in.Line(kHeader, &s));
+  ASSERT_TRUE(*in.Line("0,0,0,-9.8,0,0,0,,,,,,,", &s));
+  EXPECT_TRUE(std::isnan(s.attitude_wxyz[0]));
+  EXPECT_TRUE(std::isnan(s.velocity_ned_mps[2]));
+}
+
+TEST(Track3dCsvStream, BadRowsNameLineAndField) {
+  struct Case {
+    std::string row;
+    std::string expected;
+  };
+  const std::vector<Case> cases = {
+      {"0.1,abc,0,-9.8,0,0,0,1,0,0,0,0,0,0", "line 3, field 'ax': 'abc'"},
+      {"0.1,0,0,nan,0,0,0,1,0,0,0,0,0,0", "line 3, field 'az': 'nan'"},
+      {"0.1,0,0,-9.8,0,0,0,1,0,0,0,0,0,inf", "line 3, field 'vd': 'inf'"},
+      {"0,0,0,-9.8,0,0,0,1,0,0,0,0,0,0", "line 3, field 't'"},
+      {"-1,0,0,-9.8,0,0,0,1,0,0,0,0,0,0", "line 3, field 't'"},
+      {"0.1,0,0,-9.8", "line 3: 4 fields, the header has 14"},
+      {"0.1,,0,-9.8,0,0,0,1,0,0,0,0,0,0", "line 3, field 'ax': ''"},
+  };
+  for (const Case& c : cases) {
+    Track3dCsvStream in;
+    Track3dSample s;
+    ASSERT_FALSE(*in.Line(kHeader, &s));
+    ASSERT_TRUE(*in.Line("0,0,0,-9.8,0,0,0,1,0,0,0,0,0,0", &s));
+    StatusOr<bool> got = in.Line(c.row, &s);
+    ASSERT_FALSE(got.ok()) << c.row;
+    EXPECT_EQ(got.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(got.status().message().find(c.expected), std::string::npos)
+        << got.status().message();
+  }
+  Track3dCsvStream no_header;
+  Track3dSample s;
+  StatusOr<bool> got = no_header.Line("t,ax,ay,az,gx,gy,gz", &s);
+  ASSERT_FALSE(got.ok());
+  EXPECT_NE(got.status().message().find("line 1: header has no column 'qw'"),
+            std::string::npos)
+      << got.status().message();
+}
+
+TEST(Track3dOptions, RefusesOutOfRangeNamingTheField) {
+  Track3dOptions o;
+  EXPECT_TRUE(o.Validate().ok());
+  o.rate_hz = 10.0;
+  EXPECT_NE(o.Validate().message().find("rate_hz"), std::string::npos);
+  o = Track3dOptions();
+  o.mean_time_between_false_alarms_s = 1.0;
+  EXPECT_NE(o.Validate().message().find("mean_time_between_false_alarms_s"),
+            std::string::npos);
+  o = Track3dOptions();
+  o.window_s = 1.0;
+  EXPECT_NE(o.Validate().message().find("window_s"), std::string::npos);
+  EXPECT_FALSE(Track3d::Create(o).ok());
+}
+
+TEST(Track3d, OnTheGroundNothingIsEstimated) {
+  StatusOr<Track3d> tracker = Track3d::Create(Track3dOptions());
+  ASSERT_TRUE(tracker.ok());
+  Track3dSample s;
+  s.accel_frd_mps2 = Eigen::Vector3d(0.0, 0.0, -9.80665);
+  for (int k = 0; k < 4000; ++k) {
+    s.t_s = k / 400.0;
+    EXPECT_FALSE(tracker->Update(s));
+  }
+  const Track3dEstimate e = tracker->Estimate();
+  EXPECT_EQ(e.state, Track3dState::kOnGround);
+  EXPECT_FALSE(e.valid);
+  EXPECT_TRUE(std::isnan(e.position_frd_m.x()));
+  EXPECT_FALSE(tracker->calibration().done);
+}
+
+// The simulated figure-eight as a CSV (gentle sensors: the command's
+// output, not its accuracy, is under test), once per binary.
+const std::string& FigureEightCsv() {
+  static const std::string path = [] {
+    const std::string out = testing::MakeTempDir() + "/F.csv";
+    const auto r = testing::RunCli(
+        "simulate --scenario=figure8_3d --sensor_profile=gentle --out=" + out);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return out;
+  }();
+  return path;
+}
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The command run with its standard input and output on pipes.
+class Child {
+ public:
+  explicit Child(const std::vector<std::string>& args,
+                 const std::string& err_path = "/dev/null") {
+    int in[2], out[2];
+    EXPECT_EQ(pipe(in), 0);
+    EXPECT_EQ(pipe(out), 0);
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(in[0], 0);
+      dup2(out[1], 1);
+      const int err =
+          open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (err >= 0) dup2(err, 2);
+      close(in[1]);
+      close(out[0]);
+      std::vector<char*> argv;
+      std::string cli = IMUSYSID_CLI_PATH;
+      argv.push_back(cli.data());
+      std::vector<std::string> copy = args;
+      for (std::string& a : copy) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(cli.c_str(), argv.data());
+      _exit(127);
+    }
+    close(in[0]);
+    close(out[1]);
+    to_ = in[1];
+    from_ = out[0];
+  }
+  void Write(const std::string& text) {
+    std::size_t done = 0;
+    while (done < text.size()) {
+      const ssize_t n = write(to_, text.data() + done, text.size() - done);
+      ASSERT_GT(n, 0);
+      done += static_cast<std::size_t>(n);
+    }
+  }
+  // One line of output, waiting up to `timeout_s`; empty on timeout.
+  std::string ReadLine(double timeout_s) {
+    const auto end = std::chrono::steady_clock::now() +
+                     std::chrono::duration<double>(timeout_s);
+    while (true) {
+      const auto nl = buffer_.find('\n');
+      if (nl != std::string::npos) {
+        std::string line = buffer_.substr(0, nl);
+        buffer_.erase(0, nl + 1);
+        return line;
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          end - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return "";
+      pollfd p{from_, POLLIN, 0};
+      if (poll(&p, 1, static_cast<int>(left.count())) <= 0) continue;
+      char chunk[4096];
+      const ssize_t n = read(from_, chunk, sizeof(chunk));
+      if (n <= 0) return "";
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+    }
+  }
+  // Closes the input; the rest of the output and the exit code.
+  int Finish(std::string* rest) {
+    close(to_);
+    char chunk[4096];
+    ssize_t n;
+    while ((n = read(from_, chunk, sizeof(chunk))) > 0) {
+      buffer_.append(chunk, static_cast<std::size_t>(n));
+    }
+    *rest = buffer_;
+    close(from_);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int to_ = -1, from_ = -1;
+  std::string buffer_;
+};
+
+// The command with `input` on its standard input: exit code, stdout and
+// stderr.
+testing::CommandResult RunWithInput(const std::string& input) {
+  const std::string err_path = testing::MakeTempDir() + "/stderr";
+  Child child({"track", "--log=-"}, err_path);
+  child.Write(input);
+  testing::CommandResult r;
+  r.exit_code = child.Finish(&r.out);
+  r.err = ReadFile(err_path);
+  return r;
+}
+
+TEST(TrackCli, StreamsItsFirstEstimateBeforeTheInputEnds) {
+  const std::string csv = ReadFile(FigureEightCsv());
+  ASSERT_GT(csv.size(), 1000u);
+  const std::size_t half = csv.find('\n', csv.size() / 2) + 1;
+  Child child({"track", "--log=-"});
+  child.Write(csv.substr(0, half));
+  // Half of the rows in, and the pipe still open: an estimate is out.
+  const std::string first = child.ReadLine(20.0);
+  ASSERT_FALSE(first.empty()) << "no estimate before the input ended";
+  const nlohmann::json j = nlohmann::json::parse(first);
+  EXPECT_EQ(j["t"].get<double>(), 0.0);
+  EXPECT_EQ(j["state"], "on_ground");
+  EXPECT_TRUE(j.contains("imu_position_frd_m"));
+  EXPECT_TRUE(j.contains("imu_position_frd_stderr_m"));
+  child.Write(csv.substr(half));
+  std::string rest;
+  EXPECT_EQ(child.Finish(&rest), 0);
+  // One line a second of the 68 s flight, the last ones tracking or, after
+  // touchdown, on the ground; some tracking with a position.
+  std::istringstream lines(rest);
+  std::string line;
+  int tracking = 0, total = 1;
+  while (std::getline(lines, line)) {
+    ++total;
+    const nlohmann::json e = nlohmann::json::parse(line);
+    if (e.value("state", "") == "tracking") {
+      ++tracking;
+      EXPECT_TRUE(e["imu_position_frd_m"][0].is_number()) << line;
+    }
+  }
+  EXPECT_EQ(total, 68);
+  EXPECT_GE(tracking, 25);
+}
+
+TEST(TrackCli, BadRowEndsWithExitTwoAfterTheEstimatesBeforeIt) {
+  const std::string csv = ReadFile(FigureEightCsv());
+  // Cut after ~10 s of rows (the header and metadata first) and append a
+  // row with text in a number.
+  std::istringstream in(csv);
+  std::string line, head;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    head += line + "\n";
+    if (line_no > 10 && line.rfind("10.0025,", 0) == 0) break;
+  }
+  ASSERT_GT(line_no, 4000);
+  const auto r =
+      RunWithInput(head + "10.005,0.1,x1,-9.8,0,0,0,1,0,0,0,0,0,0\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("line " + std::to_string(line_no + 1) +
+                       ", field 'ay': 'x1' is not a number"),
+            std::string::npos)
+      << r.err;
+  // Every estimate before it: t = 0 … 10 s, one a second.
+  std::istringstream out(r.out);
+  int printed = 0;
+  double last_t = -1.0;
+  while (std::getline(out, line)) {
+    last_t = nlohmann::json::parse(line)["t"].get<double>();
+    ++printed;
+  }
+  EXPECT_EQ(printed, 11);
+  // An estimate's time is that of the IMU sample it has reached, the
+  // estimator's delay (20 ms, held until the calibration) behind the input.
+  EXPECT_NEAR(last_t, 10.0, 0.03);
+
+  // Time going backwards and NaN alike.
+  const auto r2 = RunWithInput(head + "9.5,0.1,0,-9.8,0,0,0,1,0,0,0,0,0,0\n");
+  EXPECT_EQ(r2.exit_code, 2);
+  EXPECT_NE(r2.err.find("field 't': time 9.5 does not increase"),
+            std::string::npos)
+      << r2.err;
+  const auto r3 =
+      RunWithInput(head + "10.005,0.1,0,-9.8,nan,0,0,1,0,0,0,0,0,0\n");
+  EXPECT_EQ(r3.exit_code, 2);
+  EXPECT_NE(r3.err.find("field 'gx': 'nan' is not a finite number"),
+            std::string::npos)
+      << r3.err;
+}
+
+TEST(TrackCli, ReportDrawsTheTrack) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "gnuplot not installed";
+  }
+  const std::string dir = testing::MakeTempDir() + "/R";
+  const auto r =
+      testing::RunCli("track --log=" + FigureEightCsv() + " --report=" + dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string svg = ReadFile(dir + "/track.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  // The data beside it: t and, per axis, the estimate and its band.
+  std::istringstream data(ReadFile(dir + "/track.dat"));
+  std::string row;
+  int rows = 0;
+  while (std::getline(data, row)) {
+    std::istringstream cells(row);
+    std::string cell;
+    int n = 0;
+    while (cells >> cell) ++n;
+    EXPECT_EQ(n, 10) << row;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 68);
+}
+
+TEST(TrackCli, HelpAndRefusals) {
+  const auto help = testing::RunCli("track --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("--false_alarm_s"), std::string::npos);
+  EXPECT_NE(help.out.find("--output_hz"), std::string::npos);
+  EXPECT_EQ(testing::RunCli("track").exit_code, 2);
+  EXPECT_EQ(testing::RunCli("track --log=- --format=xml").exit_code, 2);
+  const auto planar =
+      testing::RunCli("track --log=" + testing::DataDir() + "/paper_test1.csv");
+  EXPECT_EQ(planar.exit_code, 2) << planar.err;
+}
+
+}  // namespace
+}  // namespace imusysid
