@@ -85,8 +85,9 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
     // The agreement gates last: the windows' where there are two or more
     // (this flight has one), the halves' always.
     const nlohmann::json& e = d["evidence"];
-    ASSERT_EQ(e.size(), 5u);
+    ASSERT_EQ(e.size(), 6u);
     const char* const gates[] = {"delay_at_limit",
+                                 "unexplained_fraction",
                                  "unexplained_in_band",
                                  "stderr",
                                  "abs_position",
@@ -95,25 +96,29 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
       EXPECT_EQ(e[g]["gate"], gates[g]);
       EXPECT_EQ(e[g]["passed"], true) << e[g];
     }
-    EXPECT_NEAR(e[4]["threshold"].get<double>(), 10.8276, 1e-4);
-    EXPECT_EQ(e[4]["min_difference_m"].get<double>(), 0.005);
     EXPECT_EQ(e[0]["statistic"], j["estimator_delay_s"]);
     EXPECT_NEAR(e[0]["threshold"].get<double>(), 0.06, 1e-12);
+    EXPECT_NEAR(e[1]["statistic"].get<double>(),
+                j["rmse_m_s2"].get<double>() / signal,
+                1e-12);
+    EXPECT_EQ(e[1]["threshold"].get<double>(), 0.3);
     // The unexplained part where the lever arm acts: above 1 Hz.
     const nlohmann::json& band = j["in_band"];
     EXPECT_EQ(band["low_hz"].get<double>(), 1.0);
-    EXPECT_NEAR(e[1]["statistic"].get<double>(),
+    EXPECT_NEAR(e[2]["statistic"].get<double>(),
                 band["residual_rms_m_s2"].get<double>() /
                     band["signal_rms_m_s2"].get<double>(),
                 1e-12);
     EXPECT_LT(band["signal_rms_m_s2"].get<double>(), signal);
-    EXPECT_EQ(e[1]["threshold"].get<double>(), 0.5);
-    EXPECT_EQ(e[2]["statistic"], j["imu_position_frd_stderr_m"][a]);
-    EXPECT_EQ(e[2]["threshold"].get<double>(), 0.005);
-    EXPECT_NEAR(e[3]["statistic"].get<double>(),
+    EXPECT_EQ(e[2]["threshold"].get<double>(), 0.5);
+    EXPECT_EQ(e[3]["statistic"], j["imu_position_frd_stderr_m"][a]);
+    EXPECT_EQ(e[3]["threshold"].get<double>(), 0.005);
+    EXPECT_NEAR(e[4]["statistic"].get<double>(),
                 std::abs(j["fitted_position_frd_m"][a].get<double>()),
                 1e-15);
-    EXPECT_EQ(e[3]["threshold"].get<double>(), 0.5);
+    EXPECT_EQ(e[4]["threshold"].get<double>(), 0.5);
+    EXPECT_NEAR(e[5]["threshold"].get<double>(), 10.8276, 1e-4);
+    EXPECT_EQ(e[5]["min_difference_m"].get<double>(), 0.005);
   }
 }
 
@@ -143,7 +148,7 @@ TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
   EXPECT_EQ(y["advice"], j["advice"][1]);
   EXPECT_TRUE(y["fitted_m"].is_number());
   EXPECT_EQ(y["fitted_m"], j["fitted_position_frd_m"][1]);
-  const nlohmann::json& gate = y["evidence"][2];
+  const nlohmann::json& gate = y["evidence"][3];
   EXPECT_EQ(gate["gate"], "stderr");
   EXPECT_EQ(gate["passed"], false);
   EXPECT_GT(gate["statistic"].get<double>(), 0.005);

@@ -42,14 +42,13 @@ struct Rigid3dReportOptions {
   double max_stderr_m = 0.005;
   // And when the value itself is plausible, |p_i| ≤ this (m).
   double max_abs_position_m = 0.5;
-  // The fit must explain the signal where the lever arm acts: the residual's
-  // RMS at most max_unexplained_in_band of the x/y specific force's in the
-  // lever-arm band (in_band, when the caller computed it), else at most
-  // max_unexplained_fraction of it over the whole spectrum (the RMSE against
-  // the RMS about the mean); else nothing is given. On realistic simulated
-  // flights the band's fraction is 0.10-0.20 (vibration leaking below the
-  // cutoff); a fit that leaves half the band unexplained follows something
-  // other than one rigid body there.
+  // The fit must explain the signal: its RMSE at most
+  // max_unexplained_fraction of the x/y specific force's RMS about its mean,
+  // or its residual's RMS at most max_unexplained_in_band of the specific
+  // force's in the lever-arm band (in_band, when the caller computed it);
+  // else nothing is given. On realistic simulated flights the band's
+  // fraction is 0.06-0.21 (vibration leaking below the cutoff), the whole
+  // spectrum's 0.03-0.05.
   double max_unexplained_in_band = 0.5;
   double max_unexplained_fraction = 0.3;
   // The lower edge of that band, Hz: gusts and prop wash on real flights
@@ -130,11 +129,13 @@ struct Rigid3dGate {
   //   passes; where it is, how far this axis's position moves over the last
   //   20 ms searched (Preprocess3dResult::delay_edge_shift_m, m) against its
   //   σ̂, and fails above (or when that could not be computed).
-  // "unexplained_in_band": the residual's RMS over the x/y signal's in the
-  //   lever-arm band (Rigid3dReportOptions::in_band) against
-  //   max_unexplained_in_band; fails above. Where the band was not
-  //   computed, "unexplained_fraction": fit RMSE over the x/y signal RMS,
-  //   the same limit.
+  // "unexplained_fraction": fit RMSE over the x/y signal RMS against
+  //   max_unexplained_fraction; "unexplained_in_band" (where
+  //   Rigid3dReportOptions::in_band was computed): the residual's RMS over
+  //   the x/y signal's in the lever-arm band against
+  //   max_unexplained_in_band. Each fails above; the axis is withheld only
+  //   when every one judged fails (each view has an innocent reason to fail
+  //   that the other does not share), named by the band's.
   // "stderr": σ̂ (m, statistical and systematic together) against
   //   max_stderr_m; fails above, or when σ̂ is not finite.
   // "abs_position": |p| (m) against max_abs_position_m; fails above.
