@@ -22,8 +22,8 @@ __all__ = ["Error", "read_log", "simulate", "identify", "fit",
            "scenario_names"]
 
 #: Raised for bad input or a failed fit; ``str(e)`` is the library's message
-#: and ``e.code`` its status ("InvalidArgument", "NotFound",
-#: "FailedPrecondition", "IoError", "Internal"). A subclass of ValueError.
+#: and ``e.code`` its status ("INVALID_ARGUMENT", "NOT_FOUND",
+#: "FAILED_PRECONDITION", "IO_ERROR", "INTERNAL"). A subclass of ValueError.
 Error = _imusysid.Error
 
 # Options identify and fit take as keywords, with what each sets.
