@@ -117,7 +117,8 @@ def bench_task(scenario, seed, options):
     noise seed (as `imusysid simulate --seed` writes it) and fitted with
     the same seed, beside the truth."""
     start = time.perf_counter()
-    record = {"status": "ok", "error": "", "worker": _worker_id()}
+    record = {"scenario": scenario, "seed": seed, "status": "ok",
+              "error": "", "worker": _worker_id()}
     try:
         options = dict(options)
         model = options.pop("model", None)
@@ -184,7 +185,7 @@ def load_done(csv_path, retry_errors):
                 records[record["key"]] = record
     elif os.path.exists(csv_path):
         try:
-            frame = pd.read_csv(csv_path)
+            frame = pd.read_csv(csv_path, float_precision="round_trip")
         except (ValueError, OSError) as e:
             raise UsageError(f"{csv_path}: cannot read earlier results: {e}")
         if "key" not in frame.columns or "status" not in frame.columns:

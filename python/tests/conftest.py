@@ -26,3 +26,10 @@ def cli():
                               check=False)
         return done.returncode, done.stdout, done.stderr
     return run
+
+
+def pytest_configure(config):
+    # Debian's Dask 2022.12 on Tornado 6.2 warns of its own event loop use.
+    config.addinivalue_line("filterwarnings",
+                            "ignore:make_current is deprecated"
+                            ":DeprecationWarning")
