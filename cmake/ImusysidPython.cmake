@@ -30,6 +30,16 @@ if(Python_EXECUTABLE)
     if(pybind11_FOUND)
       set(IMUSYSID_PYTHON_FOUND ON)
     endif()
+    # Where the package is installed, relative to the prefix: Python's own
+    # folder there (Debian's dist-packages, which /usr/bin/python3 reads
+    # under /usr/local; site-packages elsewhere).
+    execute_process(
+      COMMAND "${Python_EXECUTABLE}" -c
+              "import sys; print('dist-packages' if any(p.endswith('dist-packages') for p in sys.path) else 'site-packages')"
+      OUTPUT_VARIABLE imusysid_site_name OUTPUT_STRIP_TRAILING_WHITESPACE)
+    set(IMUSYSID_PYTHON_INSTALL_DIR
+        "${CMAKE_INSTALL_LIBDIR}/python${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}/${imusysid_site_name}"
+        CACHE STRING "Where the Python package is installed, relative to the prefix")
   endif()
 endif()
 if(NOT IMUSYSID_PYTHON_FOUND)
