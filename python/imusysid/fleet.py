@@ -304,8 +304,9 @@ def _overhead_text(timing):
 
 
 def _fit_options(args):
-    options = {"model": args.model, "seed": args.seed,
-               "threads": args.threads}
+    options = {"model": args.model, "threads": args.threads}
+    if getattr(args, "seed", None) is not None:
+        options["seed"] = args.seed
     if args.estimator:
         options["estimators"] = args.estimator
     if args.imu is not None:
@@ -382,8 +383,7 @@ def command_bench(args):
         if s not in valid:
             raise UsageError(f"--scenarios: unknown scenario '{s}'; valid: "
                              f"{', '.join(valid)}")
-    options = _fit_options(args)
-    options.pop("seed")  # each task fits with its noise seed
+    options = _fit_options(args)  # each task fits with its noise seed
     tasks = []
     for scenario in scenarios:
         for seed in range(1, args.seeds + 1):

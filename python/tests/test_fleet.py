@@ -13,6 +13,17 @@ import imusysid
 from imusysid import fleet
 
 
+@pytest.fixture(scope="module")
+def scheduler():
+    """A local cluster of two worker processes, shared by the tests that
+    pass its address as --scheduler (starting one takes seconds)."""
+    from distributed import LocalCluster
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1,
+                           processes=True, dashboard_address=None)
+    yield cluster.scheduler_address
+    cluster.close()
+
+
 @pytest.fixture
 def logs(tmp_path, data_dir):
     paths = []
@@ -25,10 +36,11 @@ def logs(tmp_path, data_dir):
     return paths
 
 
-def test_fit_on_two_worker_processes_then_resume(tmp_path, logs, capsys):
+def test_fit_on_two_worker_processes_then_resume(tmp_path, logs, capsys,
+                                                 scheduler):
     out = str(tmp_path / "results.csv")
-    argv = ["fit", *logs, f"--out={out}", "--workers=2", "--estimator=lm",
-            "--no-progress"]
+    argv = ["fit", *logs, f"--out={out}", f"--scheduler={scheduler}",
+            "--estimator=lm", "--no-progress"]
     assert fleet.main(argv) == fleet.EXIT_OK
     rows = pd.read_csv(out, float_precision="round_trip").set_index("log")
     assert sorted(rows.index) == sorted(logs)
@@ -50,8 +62,11 @@ def test_fit_on_two_worker_processes_then_resume(tmp_path, logs, capsys):
     assert {r["key"] for r in records} == set(rows["key"])
 
     # The same command again runs nothing (every key is in the output)
-    # and starts no cluster; --strict reports the bad log's refusal.
+    # and needs no cluster; --strict reports the bad log's refusal.
     capsys.readouterr()
+    # Nothing listens there: a run that tried to connect would fail.
+    argv[argv.index(f"--scheduler={scheduler}")] = \
+        "--scheduler=tcp://127.0.0.1:1"
     assert fleet.main(argv + ["--strict"]) == fleet.EXIT_BAD_INPUT
     assert "3 of 3 tasks already in" in capsys.readouterr().err
     again = pd.read_csv(out)
@@ -86,3 +101,24 @@ def test_one_bench_seed_is_near_the_truth():
     summary = fleet.summarize_bench(pd.DataFrame([row, row]))
     assert summary.loc[0, "seeds"] == 2
     assert summary.loc[0, "bias.r_m"] == pytest.approx(row["error.r_m"])
+
+
+def test_bench_command_writes_rows_summary_and_timing(tmp_path, scheduler,
+                                                      data_dir):
+    out = tmp_path / "mc"
+    argv = ["bench", "--scenarios=paper_test2", "--seeds=2", f"--out={out}",
+            f"--scheduler={scheduler}", "--no-progress"]
+    assert fleet.main(argv) == fleet.EXIT_OK
+    rows = pd.read_csv(out / "monte_carlo.csv", float_precision="round_trip")
+    assert sorted(rows["seed"]) == [1, 2]
+    assert (rows["status"] == "ok").all()
+    # data/paper_test2.csv is this scenario's seed 2: the same fit.
+    bundled = imusysid.identify(data_dir / "paper_test2.csv",
+                                model="consistent", seed=2)
+    assert rows.set_index("seed").loc[2, "r_m"] == bundled["r_m"]
+    assert rows.set_index("seed").loc[1, "r_m"] != bundled["r_m"]
+    summary = pd.read_csv(out / "summary.csv")
+    assert summary.loc[0, "seeds"] == 2
+    assert abs(summary.loc[0, "bias.r_m"]) < 0.02
+    timing = json.loads((out / "timing.json").read_text())
+    assert timing["tasks"] == 2 and timing["workers"] == 2
