@@ -25,6 +25,7 @@ __all__ = ["Error", "read_log", "simulate", "identify", "fit",
 #: and ``e.code`` its status ("INVALID_ARGUMENT", "NOT_FOUND",
 #: "FAILED_PRECONDITION", "IO_ERROR", "INTERNAL"). A subclass of ValueError.
 Error = _imusysid.Error
+Error.__module__ = __name__
 
 # Options identify and fit take as keywords, with what each sets.
 _ESTIMATOR_OPTIONS = {
