@@ -119,10 +119,11 @@ def identify(log, model=None, estimators=None, source=None, **options):
     "all" (default: the model's own). Returns a dict (a list of dicts with
     several estimators, or for a 3-D fit of several IMUs), with one key
     the CLI does not print: ``parameters``, the physical parameters
-    (r_m, beta_deg, ... as printed at the top level) in one dict. Options, as the
-    CLI's flags: seed, threads, max_time_s, covariance, use_measured_fz,
-    trace, estimator_options, imu, frame, allow_damaged, plane, velocity,
-    cutoff_hz, t_start, t_end. The GIL is released while the fit runs.
+    (r_m, beta_deg, ... as printed at the top level) in one dict.
+    Options, as the CLI's flags: seed, threads, max_time_s, covariance,
+    use_measured_fz, trace, estimator_options, imu, frame, allow_damaged,
+    plane, velocity, cutoff_hz, t_start, t_end. The GIL is released
+    while the fit runs.
     """
     call = _call_options(model, estimators, options, log_input=True)
     if isinstance(log, (bytes, bytearray, memoryview)):

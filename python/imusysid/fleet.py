@@ -16,6 +16,7 @@ other tasks go on. docs/python.md.
 
 import argparse
 import hashlib
+import importlib
 import json
 import logging
 import os
@@ -48,8 +49,8 @@ class UsageError(Exception):
 
 def _import_dask():
     try:
-        import distributed  # noqa: F401
-        import pandas  # noqa: F401
+        for name in ("distributed", "pandas"):
+            importlib.import_module(name)
     except ImportError as e:
         raise UsageError(
             f"imusysid.fleet needs Dask distributed and pandas ({e}); on "
@@ -267,9 +268,9 @@ def run_tasks(tasks, csv_path, scheduler=None, workers=None, progress=True,
                 if future.status == "finished":
                     record = future.result()
                 else:  # the worker died or the task could not run
+                    error = future.exception()
                     record = {"status": "error", "error_code": "INTERNAL",
-                                 "error": f"{type(future.exception()).__name__}"
-                                       f": {future.exception()}"}
+                              "error": f"{type(error).__name__}: {error}"}
                 record = {"key": key, **fields, **record}
                 future.release()
                 lines.write(json.dumps(record) + "\n")
