@@ -49,6 +49,10 @@ _LOG_OPTIONS = {
 }
 
 
+# The arrays of a log as read_log returns them.
+_LOG_COLUMNS = ("t", "ax", "ay", "az", "gx", "gy", "gz")
+
+
 def scenario_names():
     """The simulator's scenarios: planar first, then 3-D."""
     return list(_imusysid.scenario_names())
@@ -113,8 +117,11 @@ def _with_parameters(result):
 def identify(log, model=None, estimators=None, source=None, **options):
     """Fit a flight log; returns what ``imusysid fit --format=json`` prints.
 
-    ``log`` is a path (str or os.PathLike) or the log's bytes (then
-    ``source`` names it in messages). ``model``: a registry name (default:
+    ``log`` is a path (str or os.PathLike), the log's bytes, or a log as
+    arrays (a dict as :func:`read_log` and :func:`simulate` return: t,
+    ax ... gz in FLU, optional channels and metadata; written to CSV
+    text for the library, a copy); ``source`` names bytes or arrays in
+    messages. ``model``: a registry name (default:
     the library's choice for the log). ``estimators``: a name, a list, or
     "all" (default: the model's own). Returns a dict (a list of dicts with
     several estimators, or for a 3-D fit of several IMUs), with one key
@@ -126,6 +133,11 @@ def identify(log, model=None, estimators=None, source=None, **options):
     while the fit runs.
     """
     call = _call_options(model, estimators, options, log_input=True)
+    if isinstance(log, dict):
+        source = source or log.get("source") or "<arrays>"
+        log = _imusysid.format_log(
+            source, {k: log[k] for k in _LOG_COLUMNS if k in log},
+            dict(log.get("channels", {})), list(log.get("metadata", [])))
     if isinstance(log, (bytes, bytearray, memoryview)):
         text = _imusysid.identify(source or "<bytes>", bytes(log), call)
     else:

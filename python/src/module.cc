@@ -355,6 +355,45 @@ py::tuple RunSimulate(const std::string& scenario,
   return py::make_tuple(log_dicts, truth, file_bytes, three_d);
 }
 
+// A log given as arrays (what read_log and simulate return) as the CSV
+// text Identify reads, every value written so that it reads back exactly.
+py::bytes FormatLog(
+    const std::string& source,
+    const std::map<std::string, Doubles>& columns,
+    const std::map<std::string, Doubles>& channels,
+    const std::vector<std::pair<std::string, std::string>>& metadata) {
+  FlightLog log;
+  log.source = source;
+  log.metadata = metadata;
+  const std::pair<const char*, std::vector<double>*> required[] = {
+      {"t", &log.t_s},
+      {"ax", &log.ax},
+      {"ay", &log.ay},
+      {"az", &log.az},
+      {"gx", &log.gx},
+      {"gy", &log.gy},
+      {"gz", &log.gz}};
+  for (const auto& [name, values] : required) {
+    const auto it = columns.find(name);
+    if (it == columns.end()) {
+      ThrowIfError(InvalidArgumentError(source + ": the log has no '" +
+                                        std::string(name) + "' array"));
+    }
+    *values = ToVector(it->second, name);
+  }
+  for (const auto& [name, values] : channels) {
+    log.extra.push_back({name, ToVector(values, name.c_str())});
+  }
+  CsvWriteOptions write;
+  write.precision = 0;  // the shortest text that reads back exactly
+  std::string text;
+  {
+    py::gil_scoped_release unlocked;
+    text = ValueOrThrow(FormatCsvLog(log, write));
+  }
+  return py::bytes(text);
+}
+
 void WriteFile(const std::string& path, const py::bytes& contents) {
   std::string text(contents);
   py::gil_scoped_release unlocked;
@@ -433,6 +472,12 @@ PYBIND11_MODULE(_imusysid, m) {
         py::arg("format"),
         py::arg("frame"),
         py::arg("want_files"));
+  m.def("format_log",
+        &imusysid::python::FormatLog,
+        py::arg("source"),
+        py::arg("columns"),
+        py::arg("channels"),
+        py::arg("metadata"));
   m.def("write_file",
         &imusysid::python::WriteFile,
         py::arg("path"),

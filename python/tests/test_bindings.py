@@ -58,6 +58,21 @@ def test_identify_reads_bytes_and_names_the_source(data_dir):
     assert from_bytes["parameters"] == from_file["parameters"]
 
 
+def test_identify_takes_a_log_as_arrays(data_dir):
+    """A log read into arrays and fitted gives the file's own fit: the
+    arrays go back to the library exactly."""
+    path = data_dir / "paper_test2.csv"
+    log = imusysid.read_log(path)
+    from_arrays = imusysid.identify(log, estimators="lm")
+    from_file = imusysid.identify(path, estimators="lm")
+    assert from_arrays["log"] == str(path)
+    assert from_arrays["parameters"] == from_file["parameters"]
+    assert from_arrays["stderr"] == from_file["stderr"]
+    del log["gz"]
+    with pytest.raises(imusysid.Error, match="no 'gz' array"):
+        imusysid.identify(log)
+
+
 def test_read_log_views_the_library_memory(data_dir):
     path = data_dir / "paper_test1.csv"
     log = imusysid.read_log(path)
