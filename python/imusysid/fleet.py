@@ -249,7 +249,10 @@ def run_tasks(tasks, csv_path, scheduler=None, workers=None, progress=True,
     timing = {"tasks": len(todo), "wall_s": 0.0, "task_s": 0.0,
               "workers": 0}
     records = dict(done)
-    lines = open(jsonl_path(csv_path), "a", encoding="utf-8")
+    try:
+        lines = open(jsonl_path(csv_path), "a", encoding="utf-8")
+    except OSError as e:
+        raise UsageError(f"{jsonl_path(csv_path)}: {e.strerror}") from e
     try:
         if todo:
             if own_client:
@@ -318,7 +321,10 @@ def _fit_options(args):
 def command_fit(args):
     tasks = []
     options = _fit_options(args)
+    outputs = {os.path.abspath(p) for p in (args.out, jsonl_path(args.out))}
     for path in args.logs:
+        if os.path.abspath(path) in outputs:
+            raise UsageError(f"{path} is both a log and the output")
         try:
             with open(path, "rb") as f:
                 content = f.read()

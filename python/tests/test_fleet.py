@@ -86,6 +86,13 @@ def test_bad_command_line_is_exit_2(tmp_path, capsys):
     assert e.value.code == 2
     assert fleet.main(["bench", "--preset=nope",
                        f"--out={tmp_path / 'd'}"]) == 2
+    log = str(tmp_path / "log.csv")
+    open(log, "w").close()
+    assert fleet.main(["fit", log, f"--out={log}"]) == 2
+    assert "both a log and the output" in capsys.readouterr().err
+    unwritable = str(tmp_path / "no" / "such" / "r.csv")
+    assert fleet.main(["fit", log, f"--out={unwritable}"]) == 2
+    assert "r.jsonl: No such file or directory" in capsys.readouterr().err
 
 
 def test_one_bench_seed_is_near_the_truth():
