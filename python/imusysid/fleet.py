@@ -68,9 +68,10 @@ def task_key(content, options):
 
 
 def flatten(result):
-    """A fit's JSON as one flat row: nested keys joined with '.', lists as
-    JSON text. A list of fits (several estimators or IMUs): the first, with
-    n_results."""
+    """A fit's JSON as one flat row: a nested object's keys as 'a.b'
+    columns, lists and deeper objects as JSON text. A list of fits
+    (several estimators or IMUs): the first, with n_results (the JSON
+    lines keep them all)."""
     row = {}
     first = result[0] if isinstance(result, list) and result else result
     if isinstance(first, dict):
