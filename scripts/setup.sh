@@ -12,6 +12,9 @@ packages=(
   libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   gnuplot-nox
+  # The Python module (python/) and its tests, and imusysid.fleet on Dask.
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-distributed python3-pandas python3-tqdm
   # The report page's test renders it in a real browser (headless).
   chromium
 )

@@ -2,7 +2,8 @@
 # Installs what is missing, builds imusysid and runs every test:
 #   1. Release build with warnings as errors: every test binary (label unit:
 #      library, CLI and real-log tests), the installed-package consumer test
-#      (package), benchmark smoke runs (benchmark_smoke);
+#      (package), benchmark smoke runs (benchmark_smoke), the Python module's
+#      pytest suite (python: bindings, imusysid.fleet on a local Dask cluster);
 #   2. the input-facing unit tests again under AddressSanitizer +
 #      UndefinedBehaviorSanitizer (IMUSYSID_SANITIZED_TESTS in tests/CMakeLists.txt).
 # Both builds compile the library and the unit tests as a few large sources
@@ -61,14 +62,17 @@ if [ "$sanitizers" = 1 ]; then
   # -O1: sanitizer reports stay readable and the build stays cheap on 2 cores.
   # Warnings are enforced by the Release build above; at -O1 with
   # instrumentation GCC 12 reports false maybe-uninitialized in std::regex.
-  # Only the sanitized unit tests are built: no benchmarks, no accuracy tests.
+  # Only the sanitized unit tests are built: no benchmarks, no accuracy
+  # tests, no Python module (an instrumented extension needs the sanitizer
+  # runtime preloaded into Python).
   # Six shards, not four: the estimator contract's cases cycle through four
   # models, so with four shards every IMU-only-model case (the slowest under
   # the sanitizers) fell in one shard, which ran alone for half a minute.
   cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1" \
     -DIMUSYSID_UNITY_BUILD=ON -DIMUSYSID_TEST_SHARDS=6 \
     -DIMUSYSID_SANITIZERS="address;undefined" -DIMUSYSID_BUILD_BENCHMARKS=OFF \
-    -DIMUSYSID_BUILD_ACCURACY_TESTS=OFF -DIMUSYSID_WERROR=OFF >/dev/null
+    -DIMUSYSID_BUILD_ACCURACY_TESTS=OFF -DIMUSYSID_BUILD_PYTHON=OFF \
+    -DIMUSYSID_WERROR=OFF >/dev/null
   cmake --build build-asan -j"$jobs"
   phase "sanitizer build"
   (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \

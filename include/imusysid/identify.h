@@ -27,6 +27,7 @@
 #include "imusysid/result.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/status.h"
+#include "nlohmann/json.hpp"
 
 namespace imusysid {
 
@@ -188,6 +189,19 @@ struct IdentifySummary {
 // damaged log, ...). The message names the file and the field.
 StatusOr<IdentifySummary> Identify(const IdentifyInput& input,
                                    const IdentifyOptions& options);
+
+// The JSON `fit --format=json` prints for `summary` without --emit, for
+// every front end that reports a fit (the CLI, the Python module): a planar
+// fit's ResultToJson of each result (an array with `all_estimators`, else
+// the first result's object); a 3-D fit's IMU objects (one object for one
+// IMU, else an array).
+nlohmann::ordered_json IdentifySummaryToJson(const IdentifySummary& summary,
+                                             bool all_estimators);
+
+// A 3-D fit's per-IMU objects, as an array: each fitted instance's
+// Rigid3dToJson, then each skipped one's {instance, log, fitted: false,
+// reason}.
+nlohmann::ordered_json FlightImusToJson(const IdentifySummary& summary);
 
 // Registered models that read ProblemData::planar.v (`uses` = true) or
 // integrate their own velocity, planar only, in registration order; and the

@@ -253,13 +253,8 @@ int WritePlanar(IdentifySummary& summary, EmitFormat emit_format) {
   const std::vector<EstimateResult>& results = summary.fits;
   std::string text;
   if (JsonOutput()) {
-    if (FLAGS_estimator == "all") {
-      nlohmann::ordered_json arr = nlohmann::ordered_json::array();
-      for (const auto& r : results) arr.push_back(ResultToJson(r, context));
-      text = DumpJson(arr) + "\n";
-    } else {
-      text = DumpJson(ResultToJson(results.front(), context)) + "\n";
-    }
+    text = DumpJson(IdentifySummaryToJson(summary, FLAGS_estimator == "all")) +
+           "\n";
   } else {
     text = ResultsToTable(results, context);
   }

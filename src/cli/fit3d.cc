@@ -32,23 +32,6 @@ namespace {
 
 const char kCmd[] = "fit";
 
-// One flight's per-IMU objects: each fitted instance's, then each skipped
-// one with why (WriteFit3d adds the emit to the fitted ones; a pooled fit's
-// flights go without it, the pooled one being the parameter file).
-nlohmann::ordered_json FlightImusJson(const IdentifySummary& summary) {
-  nlohmann::ordered_json imus = nlohmann::ordered_json::array();
-  for (const ImuPosition3d& r : summary.imus) imus.push_back(Rigid3dToJson(r));
-  for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
-    nlohmann::ordered_json one;
-    one["instance"] = skipped.instance;
-    one["log"] = summary.source;
-    one["fitted"] = false;
-    one["reason"] = skipped.reason;
-    imus.push_back(std::move(one));
-  }
-  return imus;
-}
-
 // A flight's label on the report page: its file name.
 std::string PageLabel(const std::string& source) {
   std::string label = std::filesystem::path(source).filename();
@@ -106,7 +89,7 @@ int WriteFit3d(const IdentifySummary& summary,
           : nullptr;
   std::string text;
   if (JsonOutput()) {
-    nlohmann::ordered_json j = FlightImusJson(summary);
+    nlohmann::ordered_json j = FlightImusToJson(summary);
     if (emitted != nullptr) {
       for (std::size_t i = 0; i < summary.imus.size(); ++i) {
         j[i]["emit"] = AutopilotParametersToJson(*emitted);
@@ -175,7 +158,7 @@ int WriteFlights3d(const FlightsSummary& summary,
       const IdentifySummary& flight = summary.flights[f];
       nlohmann::ordered_json one;
       one["log"] = flight.source;
-      nlohmann::ordered_json own = FlightImusJson(flight);
+      nlohmann::ordered_json own = FlightImusToJson(flight);
       // Each fitted IMU's agreement with its pool, beside its own fit.
       for (nlohmann::ordered_json& imu : own) {
         if (!imu.contains("fitted_position_frd_m")) continue;

@@ -29,3 +29,13 @@ execute_process(COMMAND ${WORK_DIR}/build/refine3d RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "refine3d returned ${rc}")
 endif()
+# With the Python module: the installed package imports and fits.
+if(PYTHON)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env
+      PYTHONPATH=${WORK_DIR}/prefix/${PYTHON_DIR}
+      ${PYTHON} -c "import imusysid, imusysid.fleet; assert imusysid.__file__.startswith('${WORK_DIR}/prefix'); print(imusysid.identify('${SOURCE_DIR}/data/model_exact.csv', estimators='lm')['parameters'])"
+    RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "the installed Python package failed (${rc})")
+  endif()
+endif()

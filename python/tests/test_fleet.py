@@ -1,0 +1,131 @@
+"""imusysid.fleet on a local Dask cluster of two worker processes: one row
+per log, a bad log kept as an error row, a second run resuming from the
+output; and one Monte Carlo seed against the simulator's truth."""
+
+import json
+import os
+import shutil
+
+import pandas as pd
+import pytest
+
+import imusysid
+from imusysid import fleet
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """A local cluster of two worker processes, shared by the tests that
+    pass its address as --scheduler (starting one takes seconds)."""
+    from distributed import LocalCluster
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1,
+                           processes=True, dashboard_address=None)
+    yield cluster.scheduler_address
+    cluster.close()
+
+
+@pytest.fixture
+def logs(tmp_path, data_dir):
+    paths = []
+    for name in ("paper_test2.csv", "model_exact.csv"):
+        shutil.copy(data_dir / name, tmp_path / name)
+        paths.append(str(tmp_path / name))
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,ax,ay,az,gx,gy,gz\n0,0,0,9.8,0,0,0\n1,0,0,x,0,0,0\n")
+    paths.append(str(bad))
+    return paths
+
+
+def test_fit_on_two_worker_processes_then_resume(tmp_path, logs, capsys,
+                                                 scheduler):
+    out = str(tmp_path / "results.csv")
+    argv = ["fit", *logs, f"--out={out}", f"--scheduler={scheduler}",
+            "--estimator=lm", "--no-progress"]
+    assert fleet.main(argv) == fleet.EXIT_OK
+    rows = pd.read_csv(out, float_precision="round_trip").set_index("log")
+    assert sorted(rows.index) == sorted(logs)
+    # Worker processes did the work, not this one.
+    pids = {w.split(":")[1] for w in rows["worker"]}
+    assert str(os.getpid()) not in pids
+    good = rows.loc[logs[0]]
+    expected = imusysid.identify(logs[0], estimators="lm")
+    assert good["status"] == "ok"
+    assert good["r_m"] == expected["r_m"]
+    assert good["stderr.r_m"] == expected["stderr"]["r_m"]
+    bad = rows.loc[logs[2]]
+    assert bad["status"] == "error"
+    assert bad["error_code"] == "INVALID_ARGUMENT"
+    assert "bad.csv:3" in bad["error"]
+    with open(fleet.jsonl_path(out), encoding="utf-8") as f:
+        records = [json.loads(line) for line in f]
+    assert len(records) == 3
+    assert {r["key"] for r in records} == set(rows["key"])
+
+    # The same command again runs nothing (every key is in the output)
+    # and needs no cluster; --strict reports the bad log's refusal.
+    capsys.readouterr()
+    # Nothing listens there: a run that tried to connect would fail.
+    argv[argv.index(f"--scheduler={scheduler}")] = \
+        "--scheduler=tcp://127.0.0.1:1"
+    assert fleet.main(argv + ["--strict"]) == fleet.EXIT_BAD_INPUT
+    assert "3 of 3 tasks already in" in capsys.readouterr().err
+    again = pd.read_csv(out)
+    assert len(again) == 3
+    # Other options are other work: a new key for every log.
+    keys = {fleet.task_key(b"x", {"seed": 1}), fleet.task_key(b"x",
+                                                              {"seed": 2})}
+    assert len(keys) == 2
+
+
+def test_bad_command_line_is_exit_2(tmp_path, capsys):
+    missing = str(tmp_path / "missing.csv")
+    assert fleet.main(["fit", missing, f"--out={tmp_path / 'r.csv'}"]) == 2
+    assert missing in capsys.readouterr().err
+    with pytest.raises(SystemExit) as e:
+        fleet.main(["bench", "--seeds=x", "--out=d"])
+    assert e.value.code == 2
+    assert fleet.main(["bench", "--preset=nope",
+                       f"--out={tmp_path / 'd'}"]) == 2
+    log = str(tmp_path / "log.csv")
+    open(log, "w").close()
+    assert fleet.main(["fit", log, f"--out={log}"]) == 2
+    assert "both a log and the output" in capsys.readouterr().err
+    unwritable = str(tmp_path / "no" / "such" / "r.csv")
+    assert fleet.main(["fit", log, f"--out={unwritable}"]) == 2
+    assert "r.jsonl: No such file or directory" in capsys.readouterr().err
+
+
+def test_one_bench_seed_is_near_the_truth():
+    record = fleet.bench_task("paper_test2", 5, {"model": "consistent"})
+    assert record["status"] == "ok", record["error"]
+    row = fleet._row(record)
+    assert row["truth.r_m"] == 0.213  # data/paper_test2.truth.json
+    # One seed's error against the truth: the Monte Carlo spread of r on
+    # paper_test2 is a few millimetres (docs/benchmarks.md); 2 cm is far
+    # outside it, so a wrong truth or a wrong seed fails.
+    assert abs(row["error.r_m"]) < 0.02
+    assert abs(row["error.beta_deg"]) < 5.0
+    summary = fleet.summarize_bench(pd.DataFrame([row, row]))
+    assert summary.loc[0, "seeds"] == 2
+    assert summary.loc[0, "bias.r_m"] == pytest.approx(row["error.r_m"])
+
+
+def test_bench_command_writes_rows_summary_and_timing(tmp_path, scheduler,
+                                                      data_dir):
+    out = tmp_path / "mc"
+    argv = ["bench", "--scenarios=paper_test2", "--seeds=2", f"--out={out}",
+            f"--scheduler={scheduler}", "--no-progress"]
+    assert fleet.main(argv) == fleet.EXIT_OK
+    rows = pd.read_csv(out / "monte_carlo.csv", float_precision="round_trip")
+    assert sorted(rows["seed"]) == [1, 2]
+    assert (rows["status"] == "ok").all()
+    # data/paper_test2.csv is this scenario's seed 2: the same fit.
+    bundled = imusysid.identify(data_dir / "paper_test2.csv",
+                                model="consistent", seed=2)
+    assert rows.set_index("seed").loc[2, "r_m"] == bundled["r_m"]
+    assert rows.set_index("seed").loc[1, "r_m"] != bundled["r_m"]
+    summary = pd.read_csv(out / "summary.csv")
+    assert summary.loc[0, "seeds"] == 2
+    assert abs(summary.loc[0, "bias.r_m"]) < 0.02
+    timing = json.loads((out / "timing.json").read_text())
+    assert timing["tasks"] == 2 and timing["workers"] == 2
