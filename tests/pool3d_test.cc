@@ -345,5 +345,50 @@ TEST(PoolFlightsCli, AMovedImuDisagreesAndBadInputIsRefused) {
   EXPECT_THAT(planar.err, HasSubstr("--model=rigid3d or rigid3d_imu only"));
 }
 
+// A flight its data cannot support (a hover: nothing rotates) is named with
+// why and left out; the other is pooled alone, its own position, exit 0. A
+// file that is not there stays an error of the whole command (above).
+TEST(PoolFlightsCli, ARefusedFlightIsNamedAndTheOthersPooled) {
+  const std::string dir = ::imusysid::testing::MakeTempDir();
+  const std::string a = PoolFlightCsv(dir + "/A.csv", 1, 0.0);
+  ASSERT_EQ(RunCli("simulate --scenario=hover_3d --sensor_profile=gentle "
+                   "--out=" +
+                   dir + "/H.csv")
+                .exit_code,
+            0);
+  const std::string h = dir + "/H.csv";
+  const auto r = RunCli("fit --log=" + h + " --log=" + a +
+                        " --model=rigid3d --format=json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["flights"].size(), 2u);
+  const nlohmann::json& refused = j["flights"][0];
+  EXPECT_EQ(refused["log"], h);
+  EXPECT_EQ(refused["fitted"], false);
+  EXPECT_THAT(refused["reason"].get<std::string>(),
+              HasSubstr("no flight window survives"));
+  const nlohmann::json& own = j["flights"][1]["imus"][0];
+  for (int k = 0; k < 3; ++k) {
+    // One flight's inverse-variance mean is itself, to rounding.
+    EXPECT_NEAR(j["imus"][0]["imu_position_frd_m"][k].get<double>(),
+                own["imu_position_frd_m"][k].get<double>(),
+                1e-15)
+        << k;
+    EXPECT_NEAR(j["imus"][0]["imu_position_frd_m"][k].get<double>(),
+                kPoolTruth[k],
+                1.5e-3);
+  }
+  const auto text =
+      RunCli("fit --log=" + h + " --log=" + a + " --model=rigid3d");
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_THAT(text.out, HasSubstr("flight 1 (" + h + ") not pooled: "));
+  EXPECT_THAT(text.out, HasSubstr("IMU 0, 1 flight pooled"));
+  // Every flight refused: the first one's reason, exit 2.
+  const auto none =
+      RunCli("fit --log=" + h + " --log=" + h + " --model=rigid3d");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_THAT(none.err, HasSubstr("flight 1 (" + h + ")"));
+}
+
 }  // namespace
 }  // namespace imusysid

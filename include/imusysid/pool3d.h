@@ -115,8 +115,18 @@ std::vector<PooledImuPosition3d> PoolFlights(
 double ChiSquareUpperTail(double x, int dof);
 
 struct FlightsSummary {
-  // Each flight's own Identify summary, in the inputs' order.
+  // Each fitted flight's own Identify summary, in the inputs' order, and
+  // its place among the inputs (0-based).
   std::vector<IdentifySummary> flights;
+  std::vector<std::size_t> flight_inputs;
+  // A flight the data could not support (FailedPrecondition: a hover, a
+  // ground log, a log too slow): named with why, and left out of the pool.
+  struct RefusedFlight {
+    std::size_t input = 0;  // its place among the inputs (0-based)
+    std::string source;
+    std::string reason;
+  };
+  std::vector<RefusedFlight> refused;
   std::vector<PooledImuPosition3d> imus;
   // IdentifyOptions::emit: the pooled positions (determined axes only).
   std::optional<AutopilotParameters> emit;
@@ -125,9 +135,13 @@ struct FlightsSummary {
 };
 
 // Identify on each input with `options` (a 3-D model; each flight gets its
-// own bias, wind, delay, misalignment and drags), then PoolFlights.
-// InvalidArgument for fewer than two inputs or a planar model; a flight's
-// own error is returned prefixed with its source.
+// own bias, wind, delay, misalignment and drags), then PoolFlights over the
+// flights fitted. A flight its data cannot support (FailedPrecondition) is
+// recorded in `refused` and the others are pooled; any other error of a
+// flight (a file that is not there, a damaged log, wrong options) is the
+// answer, prefixed with the flight's source, as is the first refusal when
+// every flight is refused. InvalidArgument for fewer than two inputs or a
+// planar model.
 StatusOr<FlightsSummary> IdentifyFlights(
     const std::vector<IdentifyInput>& inputs,
     const IdentifyOptions& options,

@@ -153,7 +153,16 @@ int WriteFlights3d(const FlightsSummary& summary,
       imus.push_back(PooledToJson(p));
     }
     j["imus"] = std::move(imus);
-    nlohmann::ordered_json flights = nlohmann::ordered_json::array();
+    // Every input in order: a refused flight with why, beside the fitted.
+    std::vector<nlohmann::ordered_json> by_input(summary.flights.size() +
+                                                 summary.refused.size());
+    for (const FlightsSummary::RefusedFlight& r : summary.refused) {
+      nlohmann::ordered_json one;
+      one["log"] = r.source;
+      one["fitted"] = false;
+      one["reason"] = r.reason;
+      if (r.input < by_input.size()) by_input[r.input] = std::move(one);
+    }
     for (std::size_t f = 0; f < summary.flights.size(); ++f) {
       const IdentifySummary& flight = summary.flights[f];
       nlohmann::ordered_json one;
@@ -169,13 +178,24 @@ int WriteFlights3d(const FlightsSummary& summary,
         }
       }
       one["imus"] = std::move(own);
-      flights.push_back(std::move(one));
+      const std::size_t input =
+          f < summary.flight_inputs.size() ? summary.flight_inputs[f] : f;
+      if (input < by_input.size()) by_input[input] = std::move(one);
+    }
+    nlohmann::ordered_json flights = nlohmann::ordered_json::array();
+    for (nlohmann::ordered_json& one : by_input) {
+      if (!one.is_null()) flights.push_back(std::move(one));
     }
     j["flights"] = std::move(flights);
     if (emitted != nullptr) j["emit"] = AutopilotParametersToJson(*emitted);
     text = DumpJson(j) + "\n";
   } else {
-    // The instances a flight did not fit are in the table, each with why.
+    // The instances a flight did not fit are in the table, each with why;
+    // a flight refused as a whole is named first.
+    for (const FlightsSummary::RefusedFlight& r : summary.refused) {
+      text += "flight " + std::to_string(r.input + 1) + " (" + r.source +
+              ") not pooled: " + r.reason + "\n";
+    }
     for (const PooledImuPosition3d& p : summary.imus) text += PooledToText(p);
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }

@@ -315,11 +315,18 @@ StatusOr<FlightsSummary> IdentifyFlights(
   one.emit = EmitFormat::kNone;
   FlightsSummary out;
   std::vector<FlightImus> imus;
+  Status first_refusal = Status::Ok();
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     StatusOr<IdentifySummary> s = Identify(inputs[i], one);
     if (!s.ok()) {
-      return s.status().WithPrefix("flight " + std::to_string(i + 1) + " (" +
-                                   inputs[i].source() + ")");
+      Status named = s.status().WithPrefix("flight " + std::to_string(i + 1) +
+                                           " (" + inputs[i].source() + ")");
+      // What the data cannot support leaves the other flights to pool;
+      // anything else (a missing file, damage, options) is the answer.
+      if (s.status().code() != StatusCode::kFailedPrecondition) return named;
+      if (first_refusal.ok()) first_refusal = named;
+      out.refused.push_back({i, inputs[i].source(), s.status().message()});
+      continue;
     }
     if (!s->three_d) {
       return InvalidArgumentError(
@@ -329,7 +336,9 @@ StatusOr<FlightsSummary> IdentifyFlights(
     }
     imus.push_back({s->source, s->imus, s->skipped_imus});
     out.flights.push_back(std::move(s).value());
+    out.flight_inputs.push_back(i);
   }
+  if (out.flights.empty()) return first_refusal;
   out.imus = PoolFlights(imus, pool_options);
   if (options.emit != EmitFormat::kNone) {
     StatusOr<AutopilotParameters> emitted = Rigid3dAutopilotParameters(
@@ -394,8 +403,9 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
 
 std::string PooledToText(const PooledImuPosition3d& imu) {
   std::ostringstream s;
-  s << "IMU " << imu.instance << ", " << imu.flights.size()
-    << " flights pooled: position, CoM -> IMU, FRD (mm, 1-sigma)\n";
+  s << "IMU " << imu.instance << ", " << imu.flights.size() << " flight"
+    << (imu.flights.size() == 1 ? "" : "s")
+    << " pooled: position, CoM -> IMU, FRD (mm, 1-sigma)\n";
   std::size_t width = 6;
   for (const PooledImuPosition3d::Flight& f : imu.flights) {
     width = std::max(width, f.source.size());
