@@ -707,9 +707,13 @@ std::string DecisionWords(const ImuPosition3d& imu, int axis) {
   const auto i = static_cast<std::size_t>(axis);
   if (imu.determined[i]) {
     return std::string("determined: 1σ̂ ") +
-           FormatFixed(imu.stderr_m[axis] * 1e3, 2) +
-           " mm, within the 5 mm that makes a position usable, and the "
-           "windows agree; written to the parameter file";
+           FormatFixed(imu.stderr_m[axis] * 1e3, 2) + " mm (statistical " +
+           FormatFixed(imu.decisions[i].stderr_statistical_m * 1e3, 2) +
+           ", systematic " +
+           FormatFixed(imu.decisions[i].stderr_systematic_m * 1e3, 2) +
+           "), within the 5 mm that makes a position usable, and the "
+           "flight's windows and halves agree; written to the parameter "
+           "file";
   }
   return "withheld: " + imu.advice[i];
 }
