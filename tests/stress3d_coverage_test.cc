@@ -12,6 +12,7 @@
 #include <functional>
 #include <string>
 
+#include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "imusysid/identify.h"
 #include "imusysid/rigid3d_report.h"
@@ -20,6 +21,8 @@
 
 namespace imusysid {
 namespace {
+
+using ::testing::HasSubstr;
 
 enum class Format { kUlog, kDataFlash, kCsvReadAsFlu };
 
@@ -75,35 +78,38 @@ int ExpectNoConfidentWrongAxis(const IdentifySummary& s,
   return given;
 }
 
+// A true IMU position by instance, from the options and the flight.
+using TruthFn = std::function<Eigen::Vector3d(
+    const Simulator3dOptions&, const Simulated3dFlight&, int)>;
+
 // Seeds 1 and 2 of the realistic figure-eight with one IMU, as ULog then
-// DataFlash, with `change` applied; `truth` as above from the options and
-// the flight.
-void RunStressCase(
-    const std::string& what,
-    const std::function<void(Simulator3dOptions*)>& change,
-    const std::function<Eigen::Vector3d(
-        const Simulator3dOptions&, const Simulated3dFlight&, int)>& truth,
-    bool csv_as_flu = false) {
+// DataFlash, with `change` applied, each fit judged against every truth in
+// `truths`. Returns how many axes were given.
+int RunStressCase(const std::string& what,
+                  const std::function<void(Simulator3dOptions*)>& change,
+                  const std::vector<TruthFn>& truths) {
+  int given = 0;
   for (int seed = 1; seed <= 2; ++seed) {
     Simulator3dOptions o = testing::RealisticScenario3d("figure8_3d");
     o.seed = static_cast<std::uint64_t>(seed);
     o.imus.resize(1);
-    if (csv_as_flu) o.rate_hz = 400.0;  // what `simulate --out=F.csv` flies
     change(&o);
-    const Format format = csv_as_flu  ? Format::kCsvReadAsFlu
-                          : seed == 1 ? Format::kUlog
-                                      : Format::kDataFlash;
+    const Format format = seed == 1 ? Format::kUlog : Format::kDataFlash;
     Simulated3dFlight flight;
     StatusOr<IdentifySummary> s = FitAs(o, format, &flight);
-    if (!s.ok()) {
-      // A refused fit gives no axis: not wrong.
-      continue;
+    EXPECT_TRUE(s.ok()) << what << " seed " << seed << ": "
+                        << s.status().ToString();
+    if (!s.ok()) continue;
+    for (std::size_t k = 0; k < truths.size(); ++k) {
+      const int n = ExpectNoConfidentWrongAxis(
+          *s,
+          [&](int instance) { return truths[k](o, flight, instance); },
+          what + " seed " + std::to_string(seed) + " truth " +
+              std::to_string(k));
+      if (k == 0) given += n;
     }
-    ExpectNoConfidentWrongAxis(
-        *s,
-        [&](int instance) { return truth(o, flight, instance); },
-        what + " seed " + std::to_string(seed));
   }
+  return given;
 }
 
 Eigen::Vector3d Nominal(const Simulator3dOptions& o,
@@ -113,64 +119,87 @@ Eigen::Vector3d Nominal(const Simulator3dOptions& o,
 }
 
 TEST(Stress3dCoverage, PayloadShiftOfThreeCentimetres) {
-  // 0.409 kg at (0.1, 0.1, 0.05) m: the CoM moves by 0.2 of that, 3 cm, at
-  // mid-manoeuvre. Judged against the positions after the change (the
-  // longer part of the flight, 30 of the manoeuvre's 52 s).
-  RunStressCase(
+  // 0.409 kg at (0.1, 0.1, 0.05) m: the CoM moves by 0.2 of that, (2, 2, 1)
+  // cm, at 47 s, halfway through the doublets that carry most of the
+  // information, so the fit sees half the flight at each position. Judged
+  // against both. Over 30 seeds z was given every time, 5.5 mm from the
+  // position after (4.5 from the one before) at σ̂ 2.8 mm: never outside 3σ̂,
+  // but inside 2σ̂ only 40-63 % of the time; x and y were withheld (stderr).
+  const int given = RunStressCase(
       "payload",
       [](Simulator3dOptions* o) {
-        o->payload_change.t_s = 30.0;
+        o->payload_change.t_s = 47.0;
         o->payload_change.mass_kg = 0.409;
         o->payload_change.offset_frd_m = Eigen::Vector3d(0.1, 0.1, 0.05);
       },
-      [](const Simulator3dOptions&, const Simulated3dFlight& f, int k) {
-        return f.p_after_frd_m[static_cast<std::size_t>(k)];
-      });
+      {Nominal,
+       [](const Simulator3dOptions&, const Simulated3dFlight& f, int k) {
+         return f.p_after_frd_m[static_cast<std::size_t>(k)];
+       }});
+  EXPECT_GE(given, 2);  // z at least, on both seeds
 }
 
 TEST(Stress3dCoverage, FlexibleMount) {
-  RunStressCase(
-      "flexible mount",
-      [](Simulator3dOptions* o) {
-        o->flexible_mount.freq_hz = 12.0;
-        o->flexible_mount.amplitude_m = 0.001;
-      },
-      Nominal);
+  // 12 Hz, 1 mm: 5.7 m/s² of extra accelerometer tone. Every axis was
+  // given over 30 seeds, none wrong (errors up to 2.1 mm).
+  const int given = RunStressCase("flexible mount",
+                                  [](Simulator3dOptions* o) {
+                                    o->flexible_mount.freq_hz = 12.0;
+                                    o->flexible_mount.amplitude_m = 0.001;
+                                  },
+                                  {Nominal});
+  EXPECT_EQ(given, 6);
 }
 
 TEST(Stress3dCoverage, PeriodicForce) {
-  RunStressCase(
-      "periodic force",
-      [](Simulator3dOptions* o) {
-        o->periodic_force.freq_hz = 1.5;
-        o->periodic_force.amplitude_mps2 = 0.5;
-      },
-      Nominal);
+  // 1.5 Hz, 0.5 m/s² along body (1, 1, 0)/√2: over 30 seeds every axis was
+  // withheld (unexplained_in_band), so this checks only that none is given
+  // wrong.
+  RunStressCase("periodic force",
+                [](Simulator3dOptions* o) {
+                  o->periodic_force.freq_hz = 1.5;
+                  o->periodic_force.amplitude_mps2 = 0.5;
+                },
+                {Nominal});
 }
 
 TEST(Stress3dCoverage, EstimatorYawReset) {
-  RunStressCase(
-      "yaw reset",
-      [](Simulator3dOptions* o) {
-        o->estimator_glitch.t_s = 30.0;
-        o->estimator_glitch.yaw_deg = 15.0;
-      },
-      Nominal);
+  // A 15° yaw reset mid-manoeuvre: over 30 seeds every axis was given, y
+  // 3.5 mm off on average but with σ̂ widened to 3.2 mm; none wrong.
+  const int given = RunStressCase("yaw reset",
+                                  [](Simulator3dOptions* o) {
+                                    o->estimator_glitch.t_s = 30.0;
+                                    o->estimator_glitch.yaw_deg = 15.0;
+                                  },
+                                  {Nominal});
+  EXPECT_EQ(given, 6);
 }
 
 TEST(Stress3dCoverage, EstimatorVelocityGlitch) {
-  RunStressCase(
-      "velocity glitch",
-      [](Simulator3dOptions* o) {
-        o->estimator_glitch.t_s = 30.0;
-        o->estimator_glitch.velocity_mps = 2.0;
-      },
-      Nominal);
+  // 2 m/s north for 0.5 s: every axis given over 30 seeds, none wrong.
+  const int given = RunStressCase("velocity glitch",
+                                  [](Simulator3dOptions* o) {
+                                    o->estimator_glitch.t_s = 30.0;
+                                    o->estimator_glitch.velocity_mps = 2.0;
+                                  },
+                                  {Nominal});
+  EXPECT_EQ(given, 6);
 }
 
-TEST(Stress3dCoverage, FrdCsvReadAsFlu) {
-  RunStressCase(
-      "FRD CSV read as FLU", [](Simulator3dOptions*) {}, Nominal, true);
+TEST(Stress3dCoverage, FrdCsvReadAsFluIsRefused) {
+  // An FRD CSV fitted as FLU (`fit --frame=flu`): gravity reads −g on z,
+  // and the fit refuses the log outright rather than give any axis (30 of
+  // 30 seeds in scripts/coverage3d.sh --formats=csv --fit_args=--frame=flu).
+  for (int seed = 1; seed <= 2; ++seed) {
+    Simulator3dOptions o = testing::RealisticScenario3d("figure8_3d");
+    o.seed = static_cast<std::uint64_t>(seed);
+    o.imus.resize(1);
+    o.rate_hz = 400.0;  // what `simulate --out=F.csv` flies
+    Simulated3dFlight flight;
+    StatusOr<IdentifySummary> s = FitAs(o, Format::kCsvReadAsFlu, &flight);
+    ASSERT_FALSE(s.ok()) << "seed " << seed;
+    EXPECT_THAT(s.status().message(), HasSubstr("the frame looks wrong"));
+  }
 }
 
 }  // namespace
