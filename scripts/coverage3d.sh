@@ -6,10 +6,18 @@
 # ±2σ̂ of the fitted value (every axis, given or withheld), σ̂ against the
 # seed-to-seed spread of the error, the mean error, how often the axis was
 # given, and the confident wrong axes (given, outside 3σ̂ and more than 5 mm
-# from the truth). The table is Markdown on standard output.
+# from the truth), with the decisions' reasons. The table is Markdown on
+# standard output.
 # Usage: scripts/coverage3d.sh [--seeds=30] [--scenarios=figure8_3d,...]
-#          [--formats=ulg,bin] [--imusysid=build/imusysid] [--jobs=N]
+#          [--formats=ulg,bin,csv] [--imusysid=build/imusysid] [--jobs=N]
 #          [--set=name=value,...]   (simulator overrides, as simulate's --set)
+#          [--sim_args="..."]  (more flags for every `imusysid simulate`, e.g.
+#                               "--flexible_mount=12,0.001")
+#          [--fit_args="..."]  (more flags for every `imusysid fit`, e.g.
+#                               "--frame=flu")
+#          [--truth=before|after]  (with --payload_change in --sim_args: judge
+#                               against the IMU positions before or after it)
+# A csv format fits IMU 1's log only (simulate writes one CSV per IMU).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,6 +27,9 @@ formats=ulg,bin
 tool=build/imusysid
 jobs=$(nproc)
 set_flag=""
+sim_args=""
+fit_args=""
+truth_side=before
 for arg in "$@"; do
   case "$arg" in
     --seeds=*) seeds=${arg#*=} ;;
@@ -27,7 +38,10 @@ for arg in "$@"; do
     --imusysid=*) tool=${arg#*=} ;;
     --jobs=*) jobs=${arg#*=} ;;
     --set=*) set_flag="--set=${arg#*=}" ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --sim_args=*) sim_args=${arg#*=} ;;
+    --fit_args=*) fit_args=${arg#*=} ;;
+    --truth=before|--truth=after) truth_side=${arg#*=} ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
     *) echo "coverage3d.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -51,24 +65,29 @@ for s in ${scenarios//,/ }; do
     done
   done
 done
-export tool work set_flag
+export tool work set_flag sim_args fit_args
 run_one() {
   local s=$1 f=$2 seed=$3 base="$work/$1.$2.$3"
+  # shellcheck disable=SC2086 # the extra arguments are word lists
   "$tool" simulate --scenario="$s" --seed="$seed" --out="$base.$f" $set_flag \
-    >/dev/null 2>&1 || { echo "simulate $s $seed failed" >&2; return 0; }
+    $sim_args >/dev/null 2>"$base.sim.err" ||
+    { echo "simulate $s $seed failed: $(head -1 "$base.sim.err")" >&2; return 0; }
   # A fit that fails (exit 2 with no JSON) is recorded as such.
-  "$tool" fit --log="$base.$f" --model=rigid3d --format=json \
+  # shellcheck disable=SC2086
+  "$tool" fit --log="$base.$f" --model=rigid3d --format=json $fit_args \
     >"$base.json" 2>"$base.err" || true
-  rm -f "$base.$f"
+  rm -f "$base.$f" "$base".imu*.csv
 }
 export -f run_one
 xargs -P "$jobs" -L 1 bash -c 'run_one "$@"' _ <"$jobs_list"
 
-python3 - "$work" "$scenarios" "$formats" "$seeds" <<'EOF'
-import json, math, os, sys
+python3 - "$work" "$scenarios" "$formats" "$seeds" "$truth_side" <<'EOF'
+import collections, json, math, os, sys
 work, scenarios, formats, seeds = sys.argv[1], sys.argv[2].split(','), sys.argv[3].split(','), int(sys.argv[4])
-print("| scenario | format | IMU | axis | fits | covered ±2σ̂ | mean σ̂ mm | spread mm | σ̂/spread | mean error mm | given | confident wrong | in-band unexplained, max |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+truth_side = sys.argv[5]
+print("| scenario | format | IMU | axis | fits | covered ±2σ̂ | mean σ̂ mm | spread mm | σ̂/spread | mean error mm | given | confident wrong | in-band unexplained, max | reasons |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+judged_after = 0
 failed = 0
 not_fitted = 0
 for s in scenarios:
@@ -85,6 +104,10 @@ for s in scenarios:
             if isinstance(fits, dict):
                 fits = [fits]
             p_true = {i["instance"] - 1: i["p_frd_m"] for i in truth["imus"]}
+            if truth_side == "after" and "payload_change" in truth:
+                judged_after += 1
+                p_true = {i["instance"] - 1: i["p_after_frd_m"]
+                          for i in truth["payload_change"]["imus"]}
             for fit in fits:
                 if "fitted_position_frd_m" not in fit:
                     not_fitted += 1
@@ -99,20 +122,25 @@ for s in scenarios:
                     band = fit.get("in_band", {})
                     frac = (band["residual_rms_m_s2"] / band["signal_rms_m_s2"]
                             if band.get("residual_rms_m_s2") and band.get("signal_rms_m_s2") else float("nan"))
-                    rows.setdefault((inst, a), []).append((err, se, fit["determined"][a], frac))
+                    reason = fit["decisions"][a]["reason"] if "decisions" in fit else "?"
+                    rows.setdefault((inst, a), []).append((err, se, fit["determined"][a], frac, reason))
         for (inst, a), r in sorted(rows.items()):
             n = len(r)
-            errs = [e for e, _, _, _ in r]
+            errs = [e for e, _, _, _, _ in r]
             mean = sum(errs) / n
             spread = math.sqrt(sum((e - mean) ** 2 for e in errs) / max(1, n - 1))
-            mse = sum(se for _, se, _, _ in r) / n
-            covered = sum(abs(e) <= 2 * se for e, se, _, _ in r)
-            given = sum(g for _, _, g, _ in r)
-            wrong = sum(g and abs(e) > 3 * se and abs(e) > 0.005 for e, se, g, _ in r)
-            band_max = max(f for _, _, _, f in r)
+            mse = sum(se for _, se, _, _, _ in r) / n
+            covered = sum(abs(e) <= 2 * se for e, se, _, _, _ in r)
+            given = sum(g for _, _, g, _, _ in r)
+            wrong = sum(g and abs(e) > 3 * se and abs(e) > 0.005 for e, se, g, _, _ in r)
+            band_max = max(f for _, _, _, f, _ in r)
+            reasons = collections.Counter(x for _, _, _, _, x in r)
+            reason_text = ", ".join(f"{k} {v}" for k, v in sorted(reasons.items()))
             print(f"| {s} | {f} | {inst} | {'xyz'[a]} | {n} | {covered}/{n} ({100 * covered / n:.0f} %) | "
                   f"{mse * 1e3:.2f} | {spread * 1e3:.2f} | {mse / spread if spread > 0 else float('nan'):.2f} | "
-                  f"{mean * 1e3:+.2f} | {given} | {wrong} | {band_max:.2f} |")
+                  f"{mean * 1e3:+.2f} | {given} | {wrong} | {band_max:.2f} | {reason_text} |")
+if truth_side == "after":
+    print(f"\njudged against the IMU positions after the payload change ({judged_after} flights with one)")
 if failed:
     print(f"\n{failed} simulation(s) or fit(s) gave no result")
 if not_fitted:

@@ -56,6 +56,51 @@ struct PayloadChange3d {
   }
 };
 
+// A soft (vibration-isolating) IMU mount: every IMU oscillates about its
+// nominal position p on the frame, p(t) = p + amplitude_m · sin(2π freq_hz
+// t) · d (d = direction_frd normalised, body FRD), the same for every IMU.
+// The accelerometer reads the body's specific force at the moving point plus
+// the mount's own relative acceleration and Coriolis term,
+// f_cm + ω̇ × p(t) + ω × (ω × p(t)) + 2 ω × ṗ(t) + p̈(t), with
+// p̈(t) = −(2π freq_hz)² · amplitude_m · sin(2π freq_hz t) · d; the mount
+// translates without rocking, so the gyros read the body rate. The fitted
+// models know nothing of it; the truth's p is the mean position.
+struct FlexibleMount3d {
+  double freq_hz = 0.0;
+  double amplitude_m = 0.0;  // 0: a rigid mount (the default)
+  Eigen::Vector3d direction_frd = Eigen::Vector3d(1.0, 1.0, 1.0);
+
+  bool enabled() const { return amplitude_m > 0.0; }
+};
+
+// An unmodelled periodic body force (a loose part, a propeller imbalance):
+// an acceleration amplitude_mps2 · sin(2π freq_hz t) · d (d = direction_frd
+// normalised, body FRD) added to v̇ in the dynamics while airborne, so the
+// vehicle moves with it and every IMU measures it. The fitted models know
+// nothing of it.
+struct PeriodicForce3d {
+  double freq_hz = 0.0;
+  double amplitude_mps2 = 0.0;  // 0: none (the default)
+  Eigen::Vector3d direction_frd = Eigen::Vector3d(1.0, 1.0, 0.0);
+
+  bool enabled() const { return amplitude_mps2 > 0.0; }
+};
+
+// Faults of the autopilot's estimator, in the logged estimates only (the
+// truth and the controller are untouched): from t_s on every published
+// attitude is turned by yaw_deg about NED down (a yaw reset to a wrong
+// heading, as an EKF's magnetometer reset can do), and during
+// [t_s, t_s + velocity_duration_s) the published velocity is off by
+// velocity_mps along north (a GNSS velocity glitch).
+struct EstimatorGlitch3d {
+  double t_s = -1.0;  // < 0: no glitch (the default)
+  double yaw_deg = 0.0;
+  double velocity_mps = 0.0;
+  double velocity_duration_s = 0.5;
+
+  bool enabled() const { return t_s >= 0.0; }
+};
+
 // Every setting of one simulated 3-D flight. The defaults are the
 // "figure8_3d" scenario.
 struct Simulator3dOptions {
@@ -165,6 +210,10 @@ struct Simulator3dOptions {
 
   // A payload change in flight; none by default.
   PayloadChange3d payload_change;
+  // Stress effects outside the fitted models; all off by default.
+  FlexibleMount3d flexible_mount;
+  PeriodicForce3d periodic_force;
+  EstimatorGlitch3d estimator_glitch;
 
   // The profile's total length, s.
   double duration_s() const;
@@ -216,6 +265,9 @@ struct Simulated3dFlight {
   // The slow unmodelled force per unit mass acting at each sample, NED,
   // m/s² (zero on the ground and in the "gentle" profile).
   std::vector<Eigen::Vector3d> slow_force_ned;
+  // The periodic force per unit mass acting at each sample, body FRD, m/s²
+  // (zero on the ground and without PeriodicForce3d).
+  std::vector<Eigen::Vector3d> periodic_force_frd;
   // Thrust at each sample over the hover thrust m g (the vibration's scale).
   std::vector<double> thrust_ratio;
   // Samples (over all IMUs and axes) that reached the sensor's range.

@@ -62,6 +62,25 @@ DEFINE_string(payload_change,
               "(DM < 0) DM kg at (DX, DY, DZ) m from the CoM (body FRD) at "
               "T s; the CoM moves by DM/(M+DM) times that offset and the "
               "truth records every IMU position before and after.");
+DEFINE_string(flexible_mount,
+              "",
+              "3-D scenarios: F_HZ,AMPLITUDE_M[,DX,DY,DZ] puts every IMU on a "
+              "soft mount oscillating at F_HZ with AMPLITUDE_M m peak along "
+              "(DX, DY, DZ) body FRD (default (1, 1, 1)); the truth's p is "
+              "the mean position.");
+DEFINE_string(periodic_force,
+              "",
+              "3-D scenarios: F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ] adds an "
+              "unmodelled body force per unit mass AMPLITUDE_MPS2 sin(2 pi "
+              "F_HZ t) along (DX, DY, DZ) body FRD (default (1, 1, 0)) in "
+              "flight (a loose part, a propeller imbalance).");
+DEFINE_string(estimator_glitch,
+              "",
+              "3-D scenarios: T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S] turns the "
+              "logged estimator attitude by YAW_DEG about down from T_S s on "
+              "(a yaw reset) and adds VEL_MPS north to its velocity for "
+              "VEL_DURATION_S s (default 0.5) from T_S; the truth is "
+              "untouched.");
 DEFINE_bool(list_settings,
             false,
             "Print every simulator setting of the scenario with its value, "
@@ -269,6 +288,89 @@ StatusOr<PayloadChange3d> ParsePayloadChange(const std::string& text) {
   return change;
 }
 
+// --NAME=a,b,...: between min_count and max_count finite numbers.
+StatusOr<std::vector<double>> ParseNumbers(const std::string& flag,
+                                           const std::string& text,
+                                           std::size_t min_count,
+                                           std::size_t max_count,
+                                           const std::string& usage) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string cell;
+  while (std::getline(in, cell, ',')) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(cell, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != cell.size() || !std::isfinite(value)) {
+      return InvalidArgumentError("--" + flag + "=" + text + ": '" + cell +
+                                  "' is not a number (required " + usage + ")");
+    }
+    values.push_back(value);
+  }
+  if (values.size() < min_count || values.size() > max_count) {
+    return InvalidArgumentError("--" + flag + "=" + text + ": required " +
+                                usage);
+  }
+  return values;
+}
+
+// --flexible_mount, --periodic_force and --estimator_glitch into `o`.
+Status ApplyStressFlags(Simulator3dOptions* o) {
+  if (FlagWasSet("flexible_mount")) {
+    const std::string usage = "F_HZ,AMPLITUDE_M[,DX,DY,DZ]";
+    const StatusOr<std::vector<double>> parsed =
+        ParseNumbers("flexible_mount", FLAGS_flexible_mount, 2, 5, usage);
+    if (!parsed.ok()) return parsed.status();
+    const std::vector<double>& v = *parsed;
+    if (v.size() != 2 && v.size() != 5) {
+      return InvalidArgumentError("--flexible_mount=" + FLAGS_flexible_mount +
+                                  ": required " + usage);
+    }
+    o->flexible_mount.freq_hz = v[0];
+    o->flexible_mount.amplitude_m = v[1];
+    if (v.size() == 5) {
+      o->flexible_mount.direction_frd = Eigen::Vector3d(v[2], v[3], v[4]);
+    }
+  }
+  if (FlagWasSet("periodic_force")) {
+    const std::string usage = "F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ]";
+    const StatusOr<std::vector<double>> parsed =
+        ParseNumbers("periodic_force", FLAGS_periodic_force, 2, 5, usage);
+    if (!parsed.ok()) return parsed.status();
+    const std::vector<double>& v = *parsed;
+    if (v.size() != 2 && v.size() != 5) {
+      return InvalidArgumentError("--periodic_force=" + FLAGS_periodic_force +
+                                  ": required " + usage);
+    }
+    o->periodic_force.freq_hz = v[0];
+    o->periodic_force.amplitude_mps2 = v[1];
+    if (v.size() == 5) {
+      o->periodic_force.direction_frd = Eigen::Vector3d(v[2], v[3], v[4]);
+    }
+  }
+  if (FlagWasSet("estimator_glitch")) {
+    const std::string usage = "T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S], T_S >= 0";
+    const StatusOr<std::vector<double>> parsed =
+        ParseNumbers("estimator_glitch", FLAGS_estimator_glitch, 3, 4, usage);
+    if (!parsed.ok()) return parsed.status();
+    const std::vector<double>& v = *parsed;
+    if (v[0] < 0.0) {
+      return InvalidArgumentError(
+          "--estimator_glitch=" + FLAGS_estimator_glitch + ": required " +
+          usage);
+    }
+    o->estimator_glitch.t_s = v[0];
+    o->estimator_glitch.yaw_deg = v[1];
+    o->estimator_glitch.velocity_mps = v[2];
+    if (v.size() == 4) o->estimator_glitch.velocity_duration_s = v[3];
+  }
+  return Status::Ok();
+}
+
 // The 6-DOF scenarios: one FRD CSV per IMU, or one binary log with every IMU
 // as an instance, and one truth sidecar. The planar scenarios' settings do
 // not apply to them.
@@ -309,12 +411,15 @@ int Run3d() {
   if (*kind != LogKind::kCsv) options->rate_hz = 1000.0;
   if (FlagWasSet("rate_hz")) options->rate_hz = FLAGS_rate_hz;
   if (FlagWasSet("seed")) options->seed = FLAGS_seed;
+  Status s = Status::Ok();
   if (FlagWasSet("payload_change")) {
     StatusOr<PayloadChange3d> change = ParsePayloadChange(FLAGS_payload_change);
     if (!change.ok()) return UsageError(cmd, change.status().message());
     options->payload_change = *change;
   }
-  Status s = options->Validate();
+  s = ApplyStressFlags(&*options);
+  if (!s.ok()) return UsageError(cmd, s.message());
+  s = options->Validate();
   if (!s.ok()) return ReportError(cmd, s);
   Sim3dLogOptions log_options;
   log_options.ulog_high_rate_raw_imu = FLAGS_high_rate_raw_imu;
@@ -430,7 +535,10 @@ int RunSimulate(const std::vector<std::string>& positional) {
   for (const char* flag : {"sensor_profile",
                            "log_format",
                            "high_rate_raw_imu",
-                           "payload_change"}) {
+                           "payload_change",
+                           "flexible_mount",
+                           "periodic_force",
+                           "estimator_glitch"}) {
     if (FlagWasSet(flag)) {
       return UsageError(cmd,
                         std::string("--") + flag +
@@ -572,7 +680,20 @@ const Command& SimulateCommand() {
           "  --payload_change=T,DM,DX,DY,DZ: at T s attach (DM > 0 kg) or "
           "drop (DM < 0) a payload\n    at (DX, DY, DZ) m from the CoM, "
           "body FRD; the CoM moves by DM/(M+DM) of that\n    offset, every "
-          "IMU position by minus that; the truth gives p before and after.",
+          "IMU position by minus that; the truth gives p before and after.\n"
+          "  Stress effects outside the fitted models (docs/simulator-3d.md), "
+          "each off unless given:\n"
+          "  --flexible_mount=F_HZ,AMPLITUDE_M[,DX,DY,DZ]: every IMU on a soft "
+          "mount, oscillating\n    at F_HZ with AMPLITUDE_M m peak along "
+          "(DX, DY, DZ) FRD (default (1, 1, 1)); the\n    accelerometers read "
+          "the mount's own acceleration too; truth p is the mean.\n"
+          "  --periodic_force=F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ]: a sinusoidal "
+          "body force per unit\n    mass along (DX, DY, DZ) FRD (default "
+          "(1, 1, 0)) in flight: the vehicle moves with it.\n"
+          "  --estimator_glitch=T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S]: the "
+          "logged estimator's\n    attitude turned by YAW_DEG about down from "
+          "T_S on (a yaw reset), its velocity\n    VEL_MPS off north for "
+          "VEL_DURATION_S s (default 0.5) from T_S.",
       {"scenario",
        "out",
        "seed",
@@ -588,7 +709,10 @@ const Command& SimulateCommand() {
        "sensor_profile",
        "log_format",
        "high_rate_raw_imu",
-       "payload_change"},
+       "payload_change",
+       "flexible_mount",
+       "periodic_force",
+       "estimator_glitch"},
       &RunSimulate};
   return c;
 }

@@ -52,6 +52,9 @@ State3d Derivative3d(const State3d& s,
   d.v = s.q.normalized().toRotationMatrix() * AirborneSpecificForce(s, p) +
         Eigen::Vector3d(0.0, 0.0, kGravity);
   if (!p.slow_force.isZero()) d.v += p.slow_force;
+  if (!p.periodic_force.isZero()) {
+    d.v += s.q.normalized().toRotationMatrix() * p.periodic_force;
+  }
   // q̇ = ½ q ⊗ (0, ω): ω is in body axes, q maps body → NED.
   const Eigen::Quaterniond w_quat(0.0, s.w.x(), s.w.y(), s.w.z());
   d.q.coeffs() = 0.5 * (s.q * w_quat).coeffs();

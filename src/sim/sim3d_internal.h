@@ -47,6 +47,9 @@ struct Plant3d {
   // The slow unmodelled force per unit mass (gusts, prop-wash), NED, m/s²,
   // held over a step; acts only in flight.
   Eigen::Vector3d slow_force = Eigen::Vector3d::Zero();
+  // The periodic force per unit mass (PeriodicForce3d), body FRD, m/s²,
+  // held over a step; acts only in flight.
+  Eigen::Vector3d periodic_force = Eigen::Vector3d::Zero();
 };
 
 struct Commands3d {

@@ -200,6 +200,56 @@ Status Simulator3dOptions::Validate() const {
     IMUSYSID_RETURN_IF_ERROR(VectorInRange(
         "payload_change.offset_frd_m", payload_change.offset_frd_m, -0.5, 0.5));
   }
+  // The stress effects: bounds that keep the flight flyable and the effect
+  // within what a real vehicle shows.
+  if (flexible_mount.enabled()) {
+    IMUSYSID_RETURN_IF_ERROR(InRange(
+        "flexible_mount.amplitude_m", flexible_mount.amplitude_m, 0.0, 0.01));
+    IMUSYSID_RETURN_IF_ERROR(
+        Require(flexible_mount.freq_hz > 0.0 &&
+                    flexible_mount.freq_hz <= 0.45 * rate_hz,
+                "flexible_mount.freq_hz",
+                flexible_mount.freq_hz,
+                "> 0 and <= 0.45 rate_hz"));
+    IMUSYSID_RETURN_IF_ERROR(
+        Require(flexible_mount.direction_frd.allFinite() &&
+                    flexible_mount.direction_frd.norm() > 0.0,
+                "flexible_mount.direction_frd.norm()",
+                flexible_mount.direction_frd.norm(),
+                "> 0 and finite"));
+  }
+  if (periodic_force.enabled()) {
+    IMUSYSID_RETURN_IF_ERROR(InRange("periodic_force.amplitude_mps2",
+                                     periodic_force.amplitude_mps2,
+                                     0.0,
+                                     5.0));
+    IMUSYSID_RETURN_IF_ERROR(InRange("periodic_force.freq_hz",
+                                     periodic_force.freq_hz,
+                                     0.01,
+                                     0.45 * rate_hz));
+    IMUSYSID_RETURN_IF_ERROR(
+        Require(periodic_force.direction_frd.allFinite() &&
+                    periodic_force.direction_frd.norm() > 0.0,
+                "periodic_force.direction_frd.norm()",
+                periodic_force.direction_frd.norm(),
+                "> 0 and finite"));
+  }
+  if (estimator_glitch.enabled()) {
+    IMUSYSID_RETURN_IF_ERROR(Require(estimator_glitch.t_s < duration_s(),
+                                     "estimator_glitch.t_s",
+                                     estimator_glitch.t_s,
+                                     "< the flight's duration"));
+    IMUSYSID_RETURN_IF_ERROR(InRange(
+        "estimator_glitch.yaw_deg", estimator_glitch.yaw_deg, -180.0, 180.0));
+    IMUSYSID_RETURN_IF_ERROR(InRange("estimator_glitch.velocity_mps",
+                                     estimator_glitch.velocity_mps,
+                                     -20.0,
+                                     20.0));
+    IMUSYSID_RETURN_IF_ERROR(InRange("estimator_glitch.velocity_duration_s",
+                                     estimator_glitch.velocity_duration_s,
+                                     0.0,
+                                     10.0));
+  }
   return Status::Ok();
 }
 
@@ -316,6 +366,28 @@ std::string Truth3dJson(const Simulator3dOptions& o,
              {"mass_after_kg", o.mass_kg + o.payload_change.mass_kg},
              {"com_shift_frd_m", Vec(flight.com_shift_frd_m)},
              {"imus", after}};
+  }
+  // Only a flight with a stress effect has its key; every other truth is as
+  // it always was.
+  if (o.flexible_mount.enabled()) {
+    j["flexible_mount"] = Json{
+        {"freq_hz", o.flexible_mount.freq_hz},
+        {"amplitude_m", o.flexible_mount.amplitude_m},
+        {"direction_frd", Vec(o.flexible_mount.direction_frd.normalized())},
+        {"p_frd_m", "the mean position of the oscillation"}};
+  }
+  if (o.periodic_force.enabled()) {
+    j["periodic_force"] = Json{
+        {"freq_hz", o.periodic_force.freq_hz},
+        {"amplitude_mps2", o.periodic_force.amplitude_mps2},
+        {"direction_frd", Vec(o.periodic_force.direction_frd.normalized())}};
+  }
+  if (o.estimator_glitch.enabled()) {
+    j["estimator_glitch"] =
+        Json{{"t_s", o.estimator_glitch.t_s},
+             {"yaw_deg", o.estimator_glitch.yaw_deg},
+             {"velocity_mps", o.estimator_glitch.velocity_mps},
+             {"velocity_duration_s", o.estimator_glitch.velocity_duration_s}};
   }
   j["profile_s"] = Json{{"motors_off_start", o.motors_off_start_s},
                         {"idle", o.idle_s},

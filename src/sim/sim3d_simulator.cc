@@ -218,10 +218,30 @@ class Recorder {
                     std::sin(f.vibration_phase + kVibrationPhase[axis]);
       }
     }
+    // The soft mount's displacement of every IMU from its place on the
+    // frame, and what its own motion adds to the reading (relative
+    // acceleration and Coriolis).
+    Eigen::Vector3d mount_offset = Eigen::Vector3d::Zero();
+    Eigen::Vector3d mount_force = Eigen::Vector3d::Zero();
+    const FlexibleMount3d& mount = o_.flexible_mount;
+    if (mount.enabled()) {
+      const Eigen::Vector3d dir = mount.direction_frd.normalized();
+      const double omega = 2.0 * kPi * mount.freq_hz;
+      const double phase = omega * t;
+      mount_offset = mount.amplitude_m * std::sin(phase) * dir;
+      const Eigen::Vector3d rate =
+          mount.amplitude_m * omega * std::cos(phase) * dir;
+      mount_force = -omega * omega * mount_offset + 2.0 * w.cross(rate);
+    }
     for (std::size_t k = 0; k < units_.size(); ++k) {
       ImuUnit& unit = units_[k];
-      const Eigen::Vector3d f_p =
-          f_cm + w_dot.cross(unit.p) + w.cross(w.cross(unit.p));
+      Eigen::Vector3d f_p;
+      if (mount.enabled()) {
+        const Eigen::Vector3d p = unit.p + mount_offset;
+        f_p = f_cm + w_dot.cross(p) + w.cross(w.cross(p)) + mount_force;
+      } else {
+        f_p = f_cm + w_dot.cross(unit.p) + w.cross(w.cross(unit.p));
+      }
       Eigen::Vector3d acc = unit.body_to_sensor * f_p;
       Eigen::Vector3d gyr = unit.body_to_sensor * w;
       // Six draws per sample in a fixed order.
@@ -254,6 +274,8 @@ class Recorder {
     flight_.on_ground.push_back(f.grounded);
     flight_.slow_force_ned.push_back(f.grounded ? Eigen::Vector3d::Zero()
                                                 : plant_.slow_force);
+    flight_.periodic_force_frd.push_back(f.grounded ? Eigen::Vector3d::Zero()
+                                                    : plant_.periodic_force);
     flight_.thrust_ratio.push_back(level);
   }
 
@@ -313,6 +335,12 @@ class Recorder {
       e.t_published =
           std::max(e.t_published, estimates_.back().t_published + 1e-6);
     }
+    const EstimatorGlitch3d& glitch = o_.estimator_glitch;
+    if (glitch.enabled() && t >= glitch.t_s) {
+      q = Eigen::Quaterniond(Eigen::AngleAxisd(glitch.yaw_deg * kDegToRad,
+                                               Eigen::Vector3d::UnitZ())) *
+          q;
+    }
     e.q << q.w(), q.x(), q.y(), q.z();
     // q and −q are one attitude; keep the sequence continuous so that
     // interpolating the components between two estimates is meaningful.
@@ -322,6 +350,10 @@ class Recorder {
       e.q = -e.q;
     }
     e.v = s.v + dv;
+    if (glitch.enabled() && t >= glitch.t_s &&
+        t < glitch.t_s + glitch.velocity_duration_s) {
+      e.v.x() += glitch.velocity_mps;
+    }
     estimates_.push_back(e);
     Estimator3dSample sample;
     sample.t_s = e.t_published;
@@ -565,6 +597,15 @@ StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& o) {
         const double height = std::clamp(
             -f.body.p.z() / internal::kSlowForceFullHeightM, 0.0, 1.0);
         plant.slow_force = height * slow_force.At(t);
+      }
+      if (o.periodic_force.enabled()) {
+        // Faded in towards the ground as the slow force is.
+        const double height = std::clamp(
+            -f.body.p.z() / internal::kSlowForceFullHeightM, 0.0, 1.0);
+        plant.periodic_force =
+            height * o.periodic_force.amplitude_mps2 *
+            std::sin(2.0 * kPi * o.periodic_force.freq_hz * t) *
+            o.periodic_force.direction_frd.normalized();
       }
       if (j == 0) {
         recorder.RecordSample(static_cast<double>(i) / o.rate_hz, motors_on, f);
