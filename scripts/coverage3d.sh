@@ -10,7 +10,6 @@
 # standard output.
 # Usage: scripts/coverage3d.sh [--seeds=30] [--scenarios=figure8_3d,...]
 #          [--formats=ulg,bin,csv] [--imusysid=build/imusysid] [--jobs=N]
-#          [--set=name=value,...]   (simulator overrides, as simulate's --set)
 #          [--sim_args="..."]  (more flags for every `imusysid simulate`, e.g.
 #                               "--flexible_mount=12,0.001")
 #          [--fit_args="..."]  (more flags for every `imusysid fit`, e.g.
@@ -26,7 +25,6 @@ scenarios=figure8_3d,pitch_laps_3d,roll_laps_3d
 formats=ulg,bin
 tool=build/imusysid
 jobs=$(nproc)
-set_flag=""
 sim_args=""
 fit_args=""
 truth_side=before
@@ -37,11 +35,10 @@ for arg in "$@"; do
     --formats=*) formats=${arg#*=} ;;
     --imusysid=*) tool=${arg#*=} ;;
     --jobs=*) jobs=${arg#*=} ;;
-    --set=*) set_flag="--set=${arg#*=}" ;;
     --sim_args=*) sim_args=${arg#*=} ;;
     --fit_args=*) fit_args=${arg#*=} ;;
     --truth=before|--truth=after) truth_side=${arg#*=} ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "coverage3d.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -65,11 +62,11 @@ for s in ${scenarios//,/ }; do
     done
   done
 done
-export tool work set_flag sim_args fit_args
+export tool work sim_args fit_args
 run_one() {
   local s=$1 f=$2 seed=$3 base="$work/$1.$2.$3"
   # shellcheck disable=SC2086 # the extra arguments are word lists
-  "$tool" simulate --scenario="$s" --seed="$seed" --out="$base.$f" $set_flag \
+  "$tool" simulate --scenario="$s" --seed="$seed" --out="$base.$f" \
     $sim_args >/dev/null 2>"$base.sim.err" ||
     { echo "simulate $s $seed failed: $(head -1 "$base.sim.err")" >&2; return 0; }
   # A fit that fails (exit 2 with no JSON) is recorded as such.
