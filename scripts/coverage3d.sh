@@ -38,7 +38,7 @@ for arg in "$@"; do
     --sim_args=*) sim_args=${arg#*=} ;;
     --fit_args=*) fit_args=${arg#*=} ;;
     --truth=before|--truth=after) truth_side=${arg#*=} ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *) echo "coverage3d.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
