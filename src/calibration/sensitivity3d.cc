@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "src/preprocess/signal.h"
 
 namespace imusysid {
 namespace internal {
@@ -16,6 +17,13 @@ namespace {
 // The position where the search stopped is compared with the one this much
 // earlier: two steps of the search's coarse grid.
 constexpr double kEdgeS = 0.02;
+// The variants that can be formed from the filtered signals (the
+// derivative's width: ω̇ re-derived from the filtered rates; a lower cutoff:
+// a further low-pass on the filtered signals, the two in cascade) are formed
+// on a copy thinned to about this rate, twenty times the default cutoff:
+// refiltering every window of a 1 kHz log per variant was most of a
+// ten-minute fit's time. Only the higher cutoff needs the log itself.
+constexpr double kMidRateHz = 100.0;
 
 // rigid3d's linear position on `thin` at the delay and wind.
 StatusOr<Eigen::Vector3d> PositionAt(const Conditioned3d& thin,
@@ -29,6 +37,25 @@ StatusOr<Eigen::Vector3d> PositionAt(const Conditioned3d& thin,
       FitRigid3dLinear(*data, /*find_wind=*/false, correlation_samples);
   if (!fit.ok()) return fit.status();
   return fit->position_m;
+}
+
+// The position with `windows` and `options` in place of the thin copy's
+// for one fit (DataAt filters the estimator's channels at the options'
+// cutoff).
+StatusOr<Eigen::Vector3d> PositionWithWindows(
+    std::vector<WindowImu> windows,
+    const Preprocess3dOptions& options,
+    double delay_s,
+    double wind_n,
+    double wind_e,
+    Conditioned3d* thin) {
+  std::swap(thin->windows, windows);
+  const Preprocess3dOptions used = thin->options;
+  thin->options = options;
+  StatusOr<Eigen::Vector3d> p = PositionAt(*thin, delay_s, wind_n, wind_e);
+  thin->options = used;
+  std::swap(thin->windows, windows);
+  return p;
 }
 
 // The position with the IMU filtered and differentiated as `options` says
@@ -51,15 +78,44 @@ StatusOr<Eigen::Vector3d> PositionWithOptions(
     ThinWindow(step, &*imu);
     windows.push_back(std::move(*imu));
   }
-  // The variant's windows and cutoff in place of the thin copy's for one
-  // fit (DataAt filters the estimator's channels at the options' cutoff).
-  std::swap(thin->windows, windows);
-  const Preprocess3dOptions used = thin->options;
-  thin->options = options;
-  StatusOr<Eigen::Vector3d> p = PositionAt(*thin, delay_s, wind_n, wind_e);
-  thin->options = used;
-  std::swap(thin->windows, windows);
-  return p;
+  return PositionWithWindows(
+      std::move(windows), options, delay_s, wind_n, wind_e, thin);
+}
+
+// The windows of `mid` (filtered, at mid_rate_hz) low-passed further at
+// extra_cutoff_hz (0: not), ω̇ re-derived with a half-width of
+// half_width_s, then thinned by `step`.
+StatusOr<std::vector<WindowImu>> MidVariant(const std::vector<WindowImu>& mid,
+                                            const Preprocess3dOptions& o,
+                                            double extra_cutoff_hz,
+                                            double half_width_s,
+                                            double mid_rate_hz,
+                                            std::size_t step) {
+  std::vector<WindowImu> out = mid;
+  const int half =
+      std::max(o.derivative_degree,
+               static_cast<int>(std::lround(half_width_s * mid_rate_hz)));
+  for (WindowImu& w : out) {
+    if (extra_cutoff_hz > 0) {
+      std::vector<std::vector<double>*> series;
+      for (std::size_t a = 0; a < 3; ++a) {
+        series.push_back(&w.f[a]);
+        series.push_back(&w.omega[a]);
+      }
+      for (auto& product : w.omega_products) series.push_back(&product);
+      IMUSYSID_RETURN_IF_ERROR(ZeroPhaseLowPassEachOnTimes(
+          w.t, series, extra_cutoff_hz, o.filter_order));
+    }
+    StatusOr<std::vector<std::vector<double>>> d =
+        SavitzkyGolayDerivativeEach(w.t,
+                                    {&w.omega[0], &w.omega[1], &w.omega[2]},
+                                    half,
+                                    o.derivative_degree);
+    if (!d.ok()) return d.status();
+    for (std::size_t a = 0; a < 3; ++a) w.omega_dot[a] = std::move((*d)[a]);
+    ThinWindow(step, &w);
+  }
+  return out;
 }
 
 }  // namespace
@@ -113,35 +169,80 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   }
 
   std::vector<ChoiceSensitivity3d> choices;
-  // A preprocessing choice: anywhere in its range.
-  auto preprocessing = [&](const char* name,
-                           double Preprocess3dOptions::*field) -> Status {
+  // The copy the filtered-signal variants are formed on, and their base:
+  // the position with the default cutoff and width formed there.
+  const auto mid_step = static_cast<std::size_t>(
+      std::max(1.0, std::floor(conditioned.sample_rate_hz / kMidRateHz)));
+  const double mid_rate_hz =
+      conditioned.sample_rate_hz / static_cast<double>(mid_step);
+  const auto mid_to_search = static_cast<std::size_t>(
+      std::max(1.0, std::floor(mid_rate_hz / kSearchRateHz3d)));
+  std::vector<WindowImu> mid;
+  mid.reserve(conditioned.windows.size());
+  for (const WindowImu& w : conditioned.windows) {
+    mid.push_back(w);
+    ThinWindow(mid_step, &mid.back());
+  }
+  auto from_mid = [&](const Preprocess3dOptions& variant,
+                      double extra_cutoff_hz) -> StatusOr<Eigen::Vector3d> {
+    StatusOr<std::vector<WindowImu>> windows =
+        MidVariant(mid,
+                   variant,
+                   extra_cutoff_hz,
+                   variant.derivative_half_width_s,
+                   mid_rate_hz,
+                   mid_to_search);
+    if (!windows.ok()) return windows.status();
+    return PositionWithWindows(
+        std::move(windows).value(), variant, delay, wind_n, wind_e, &thin);
+  };
+  StatusOr<Eigen::Vector3d> mid_base = from_mid(o, 0.0);
+  if (!mid_base.ok()) return mid_base.status();
+  auto share_of_range = [](ChoiceSensitivity3d* c) {
+    c->stderr_m =
+        c->shift_low_m.cwiseAbs().cwiseMax(c->shift_high_m.cwiseAbs()) /
+        std::sqrt(3.0);
+  };
+  // The cutoff: lower by a further low-pass on the filtered signals, higher
+  // by refiltering the log's own samples (against the full-rate base).
+  if (o.cutoff_hz > 0) {
     ChoiceSensitivity3d c;
-    c.choice = name;
-    c.used = o.*field;
+    c.choice = "cutoff_hz";
+    c.used = o.cutoff_hz;
+    c.low = o.cutoff_hz * o.systematic_low_factor;
+    c.high = o.cutoff_hz * o.systematic_high_factor;
+    Preprocess3dOptions low = o;
+    low.cutoff_hz = c.low;
+    StatusOr<Eigen::Vector3d> p_low =
+        c.low < o.cutoff_hz ? from_mid(low, c.low) : mid_base;
+    if (!p_low.ok()) return p_low.status();
+    c.shift_low_m = *p_low - *mid_base;
+    Preprocess3dOptions high = o;
+    high.cutoff_hz = c.high;
+    StatusOr<Eigen::Vector3d> p_high =
+        PositionWithOptions(high, step, delay, wind_n, wind_e, *out, &thin);
+    if (!p_high.ok()) return p_high.status();
+    c.shift_high_m = *p_high - *p0;
+    share_of_range(&c);
+    choices.push_back(std::move(c));
+  }
+  // The derivative's width: ω̇ re-derived from the filtered rates.
+  {
+    ChoiceSensitivity3d c;
+    c.choice = "derivative_half_width_s";
+    c.used = o.derivative_half_width_s;
     c.low = c.used * o.systematic_low_factor;
     c.high = c.used * o.systematic_high_factor;
-    for (const bool high : {false, true}) {
+    for (const bool at_high : {false, true}) {
       Preprocess3dOptions variant = o;
-      variant.*field = high ? c.high : c.low;
-      StatusOr<Eigen::Vector3d> p = PositionWithOptions(
-          variant, step, delay, wind_n, wind_e, *out, &thin);
+      variant.derivative_half_width_s = at_high ? c.high : c.low;
+      StatusOr<Eigen::Vector3d> p = from_mid(variant, 0.0);
       if (!p.ok()) return p.status();
-      (high ? c.shift_high_m : c.shift_low_m) = *p - *p0;
+      (at_high ? c.shift_high_m : c.shift_low_m) = *p - *mid_base;
     }
-    c.stderr_m = c.shift_low_m.cwiseAbs().cwiseMax(c.shift_high_m.cwiseAbs()) /
-                 std::sqrt(3.0);
+    share_of_range(&c);
     choices.push_back(std::move(c));
-    return Status::Ok();
-  };
-  // No low-pass: no cutoff to vary.
-  if (o.cutoff_hz > 0) {
-    IMUSYSID_RETURN_IF_ERROR(
-        preprocessing("cutoff_hz", &Preprocess3dOptions::cutoff_hz));
   }
-  IMUSYSID_RETURN_IF_ERROR(
-      preprocessing("derivative_half_width_s",
-                    &Preprocess3dOptions::derivative_half_width_s));
 
   // The delay: the plausible range is a 2σ interval, so a quarter of the
   // position's change across it.
