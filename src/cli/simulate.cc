@@ -318,39 +318,47 @@ StatusOr<std::vector<double>> ParseNumbers(const std::string& flag,
   return values;
 }
 
+// An oscillation flag's F_HZ,AMPLITUDE[,DX,DY,DZ] (`name` its flag, `value`
+// its text): the frequency, amplitude and, when given, direction.
+Status ParseOscillation(const char* name,
+                        const std::string& value,
+                        const std::string& usage,
+                        double* freq_hz,
+                        double* amplitude,
+                        Eigen::Vector3d* direction) {
+  const StatusOr<std::vector<double>> parsed =
+      ParseNumbers(name, value, 2, 5, usage);
+  if (!parsed.ok()) return parsed.status();
+  const std::vector<double>& v = *parsed;
+  if (v.size() != 2 && v.size() != 5) {
+    return InvalidArgumentError(std::string("--") + name + "=" + value +
+                                ": required " + usage);
+  }
+  *freq_hz = v[0];
+  *amplitude = v[1];
+  if (v.size() == 5) *direction = Eigen::Vector3d(v[2], v[3], v[4]);
+  return Status::Ok();
+}
+
 // --flexible_mount, --periodic_force and --estimator_glitch into `o`.
 Status ApplyStressFlags(Simulator3dOptions* o) {
   if (FlagWasSet("flexible_mount")) {
-    const std::string usage = "F_HZ,AMPLITUDE_M[,DX,DY,DZ]";
-    const StatusOr<std::vector<double>> parsed =
-        ParseNumbers("flexible_mount", FLAGS_flexible_mount, 2, 5, usage);
-    if (!parsed.ok()) return parsed.status();
-    const std::vector<double>& v = *parsed;
-    if (v.size() != 2 && v.size() != 5) {
-      return InvalidArgumentError("--flexible_mount=" + FLAGS_flexible_mount +
-                                  ": required " + usage);
-    }
-    o->flexible_mount.freq_hz = v[0];
-    o->flexible_mount.amplitude_m = v[1];
-    if (v.size() == 5) {
-      o->flexible_mount.direction_frd = Eigen::Vector3d(v[2], v[3], v[4]);
-    }
+    IMUSYSID_RETURN_IF_ERROR(
+        ParseOscillation("flexible_mount",
+                         FLAGS_flexible_mount,
+                         "F_HZ,AMPLITUDE_M[,DX,DY,DZ]",
+                         &o->flexible_mount.freq_hz,
+                         &o->flexible_mount.amplitude_m,
+                         &o->flexible_mount.direction_frd));
   }
   if (FlagWasSet("periodic_force")) {
-    const std::string usage = "F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ]";
-    const StatusOr<std::vector<double>> parsed =
-        ParseNumbers("periodic_force", FLAGS_periodic_force, 2, 5, usage);
-    if (!parsed.ok()) return parsed.status();
-    const std::vector<double>& v = *parsed;
-    if (v.size() != 2 && v.size() != 5) {
-      return InvalidArgumentError("--periodic_force=" + FLAGS_periodic_force +
-                                  ": required " + usage);
-    }
-    o->periodic_force.freq_hz = v[0];
-    o->periodic_force.amplitude_mps2 = v[1];
-    if (v.size() == 5) {
-      o->periodic_force.direction_frd = Eigen::Vector3d(v[2], v[3], v[4]);
-    }
+    IMUSYSID_RETURN_IF_ERROR(
+        ParseOscillation("periodic_force",
+                         FLAGS_periodic_force,
+                         "F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ]",
+                         &o->periodic_force.freq_hz,
+                         &o->periodic_force.amplitude_mps2,
+                         &o->periodic_force.direction_frd));
   }
   if (FlagWasSet("estimator_glitch")) {
     const std::string usage = "T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S], T_S >= 0";
