@@ -95,16 +95,13 @@ def _worker_id():
     return f"{socket.gethostname()}:{os.getpid()}"
 
 
-def fit_task(path, options):
-    """One log's fit, run on a worker: the result, or the error."""
+def _recorded(record, work):
+    """Runs work(record, start) on a worker and returns `record` with its
+    status: an error is recorded with its message and code, never raised, so
+    that one bad task cannot lose the others."""
     start = time.perf_counter()
-    record = {"status": "ok", "error": "", "worker": _worker_id()}
     try:
-        options = dict(options)
-        model = options.pop("model", None)
-        estimators = options.pop("estimators", None)
-        record["result"] = imusysid.identify(path, model=model,
-                                             estimators=estimators, **options)
+        work(record, start)
     except imusysid.Error as e:
         record.update(status="error", error=str(e), error_code=e.code)
     except Exception as e:  # a bug must not lose the other tasks
@@ -112,36 +109,43 @@ def fit_task(path, options):
                       error_code="INTERNAL")
     record["task_s"] = time.perf_counter() - start
     return record
+
+
+def _split_options(options):
+    """(model, estimators, the other options) of a task's options."""
+    options = dict(options)
+    return options.pop("model", None), options.pop("estimators", None), options
+
+
+def fit_task(path, options):
+    """One log's fit, run on a worker: the result, or the error."""
+    def work(record, start):
+        model, estimators, rest = _split_options(options)
+        record["result"] = imusysid.identify(path, model=model,
+                                             estimators=estimators, **rest)
+
+    return _recorded({"status": "ok", "error": "", "worker": _worker_id()},
+                     work)
 
 
 def bench_task(scenario, seed, options):
     """One Monte Carlo seed, run on a worker: the scenario flown with this
     noise seed (as `imusysid simulate --seed` writes it) and fitted with
     the same seed, beside the truth."""
-    start = time.perf_counter()
-    record = {"scenario": scenario, "seed": seed, "status": "ok",
-              "error": "", "worker": _worker_id()}
-    try:
-        options = dict(options)
-        model = options.pop("model", None)
-        estimators = options.pop("estimators", None)
+    def work(record, start):
+        model, estimators, rest = _split_options(options)
         sim = imusysid.simulate(scenario, seed=seed, return_bytes=True)
         record["sim_s"] = time.perf_counter() - start
-        result = imusysid.identify(
+        record["result"] = imusysid.identify(
             sim["bytes"][0], source=f"{scenario}.csv (seed {seed})",
-            model=model, estimators=estimators, seed=seed, **options)
-        record["result"] = result
+            model=model, estimators=estimators, seed=seed, **rest)
         truth = sim["truth"]
         record["truth"] = {k: truth[k] for k in
                            ("r_m", "beta_deg", "alpha_deg", "mu",
                             "alpha_effective_deg") if k in truth}
-    except imusysid.Error as e:
-        record.update(status="error", error=str(e), error_code=e.code)
-    except Exception as e:  # a bug must not lose the other tasks
-        record.update(status="error", error=f"{type(e).__name__}: {e}",
-                      error_code="INTERNAL")
-    record["task_s"] = time.perf_counter() - start
-    return record
+
+    return _recorded({"scenario": scenario, "seed": seed, "status": "ok",
+                      "error": "", "worker": _worker_id()}, work)
 
 
 def _row(record):

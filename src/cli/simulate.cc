@@ -255,39 +255,6 @@ int Write3dBinary(LogKind kind,
   return kExitOk;
 }
 
-// --payload_change=T,DM,DX,DY,DZ: five finite numbers, T >= 0.
-StatusOr<PayloadChange3d> ParsePayloadChange(const std::string& text) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string cell;
-  while (std::getline(in, cell, ',')) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(cell, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != cell.size() || !std::isfinite(value)) {
-      return InvalidArgumentError("--payload_change=" + text + ": '" + cell +
-                                  "' is not a number (required "
-                                  "T,DM,DX,DY,DZ: s, kg, m, m, m)");
-    }
-    values.push_back(value);
-  }
-  if (values.size() != 5 || values[0] < 0.0) {
-    return InvalidArgumentError(
-        "--payload_change=" + text +
-        ": required T,DM,DX,DY,DZ (time >= 0 s, mass change kg, the "
-        "payload's offset from the CoM in body FRD m)");
-  }
-  PayloadChange3d change;
-  change.t_s = values[0];
-  change.mass_kg = values[1];
-  change.offset_frd_m = Eigen::Vector3d(values[2], values[3], values[4]);
-  return change;
-}
-
 // --NAME=a,b,...: between min_count and max_count finite numbers.
 StatusOr<std::vector<double>> ParseNumbers(const std::string& flag,
                                            const std::string& text,
@@ -316,6 +283,29 @@ StatusOr<std::vector<double>> ParseNumbers(const std::string& flag,
                                 usage);
   }
   return values;
+}
+
+// --payload_change=T,DM,DX,DY,DZ: five finite numbers, T >= 0.
+StatusOr<PayloadChange3d> ParsePayloadChange(const std::string& text) {
+  const StatusOr<std::vector<double>> parsed =
+      ParseNumbers("payload_change",
+                   text,
+                   0,
+                   std::numeric_limits<std::size_t>::max(),
+                   "T,DM,DX,DY,DZ: s, kg, m, m, m");
+  if (!parsed.ok()) return parsed.status();
+  const std::vector<double>& values = *parsed;
+  if (values.size() != 5 || values[0] < 0.0) {
+    return InvalidArgumentError(
+        "--payload_change=" + text +
+        ": required T,DM,DX,DY,DZ (time >= 0 s, mass change kg, the "
+        "payload's offset from the CoM in body FRD m)");
+  }
+  PayloadChange3d change;
+  change.t_s = values[0];
+  change.mass_kg = values[1];
+  change.offset_frd_m = Eigen::Vector3d(values[2], values[3], values[4]);
+  return change;
 }
 
 // An oscillation flag's F_HZ,AMPLITUDE[,DX,DY,DZ] (`name` its flag, `value`

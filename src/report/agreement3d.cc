@@ -6,7 +6,6 @@
 #include "Eigen/LU"
 #include "Eigen/QR"
 #include "imusysid/pool3d.h"
-#include "imusysid/rigid3d_report.h"
 #include "src/report/uncertainty3d.h"
 
 namespace imusysid {
@@ -36,33 +35,6 @@ Eigen::Vector3d PositionVariances(const Eigen::MatrixXd& information) {
     if (std::isfinite(inverse(a, a)) && inverse(a, a) > 0) v[a] = inverse(a, a);
   }
   return v;
-}
-
-// The delete-one-block jackknife σ̂ of the position from the factors of a
-// piece's blocks (each leave-one-out fit from the stacked others).
-Eigen::Vector3d StackedFactorsJackknife(
-    const std::vector<Eigen::MatrixXd>& factors) {
-  const Eigen::Index cols = factors.front().cols();
-  const Eigen::Index m = cols - 1;
-  const auto blocks = static_cast<Eigen::Index>(factors.size());
-  std::vector<Eigen::Vector3d> estimates;
-  for (Eigen::Index left = 0; left < blocks; ++left) {
-    Eigen::MatrixXd stack((blocks - 1) * cols, cols);
-    Eigen::Index row = 0;
-    for (Eigen::Index b = 0; b < blocks; ++b) {
-      if (b == left) continue;
-      stack.middleRows(row, cols) = factors[static_cast<std::size_t>(b)];
-      row += cols;
-    }
-    const Eigen::VectorXd coef =
-        stack.leftCols(m).colPivHouseholderQr().solve(stack.col(m));
-    if (!coef.allFinite()) {
-      return Eigen::Vector3d::Constant(
-          std::numeric_limits<double>::quiet_NaN());
-    }
-    estimates.push_back(coef.head<3>());
-  }
-  return JackknifeFromEstimates(estimates);
 }
 
 }  // namespace
@@ -110,7 +82,7 @@ std::vector<PieceEstimate> EstimatePieces(std::string_view model,
     whole =
         whole.size() == 0 ? information : Eigen::MatrixXd(whole + information);
     informations.push_back(information);
-    jackknives.push_back(StackedFactorsJackknife(factors));
+    jackknives.push_back(JackknifeOfBlockFactors(factors));
     PieceEstimate e;
     e.t0 = piece.t0;
     e.t1 = piece.t1;

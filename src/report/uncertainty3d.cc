@@ -48,24 +48,7 @@ Eigen::Vector3d StackedFactorJackknife(const Model& model, int blocks) {
     }
     factors.push_back(std::move(r));
   }
-  const Eigen::Index cols = factors.front().cols();
-  const Eigen::Index m = cols - 1;
-  std::vector<Eigen::Vector3d> estimates;
-  for (int left = 0; left < blocks; ++left) {
-    Eigen::MatrixXd stack((blocks - 1) * cols, cols);
-    Eigen::Index row = 0;
-    for (int b = 0; b < blocks; ++b) {
-      if (b == left) continue;
-      stack.middleRows(row, cols) = factors[static_cast<std::size_t>(b)];
-      row += cols;
-    }
-    const Eigen::MatrixXd a = stack.leftCols(m);
-    const Eigen::VectorXd y = stack.col(m);
-    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(y);
-    if (!coef.allFinite()) return kNoStderr;
-    estimates.push_back(coef.head<3>());
-  }
-  return JackknifeFromEstimates(estimates);
+  return internal::JackknifeOfBlockFactors(factors);
 }
 
 // The same by refitting: a model that integrates across the whole span
@@ -97,6 +80,30 @@ Eigen::Vector3d RefitJackknife(const Problem& problem,
 }  // namespace
 
 namespace internal {
+
+Eigen::Vector3d JackknifeOfBlockFactors(
+    const std::vector<Eigen::MatrixXd>& factors) {
+  const auto blocks = static_cast<int>(factors.size());
+  if (blocks < 1) return kNoStderr;
+  const Eigen::Index cols = factors.front().cols();
+  const Eigen::Index m = cols - 1;
+  std::vector<Eigen::Vector3d> estimates;
+  for (int left = 0; left < blocks; ++left) {
+    Eigen::MatrixXd stack((blocks - 1) * cols, cols);
+    Eigen::Index row = 0;
+    for (int b = 0; b < blocks; ++b) {
+      if (b == left) continue;
+      stack.middleRows(row, cols) = factors[static_cast<std::size_t>(b)];
+      row += cols;
+    }
+    const Eigen::MatrixXd a = stack.leftCols(m);
+    const Eigen::VectorXd y = stack.col(m);
+    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(y);
+    if (!coef.allFinite()) return kNoStderr;
+    estimates.push_back(coef.head<3>());
+  }
+  return JackknifeFromEstimates(estimates);
+}
 
 bool SliceFactor(std::string_view model_name,
                  const ProblemData& data,

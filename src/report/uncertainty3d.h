@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <string_view>
+#include <vector>
 
 #include "Eigen/Core"
 #include "imusysid/extend/model.h"
@@ -26,6 +27,13 @@ bool SliceFactor(std::string_view model_name,
                  std::size_t i1,
                  Eigen::MatrixXd* r,
                  const Model* whole = nullptr);
+
+// The delete-one-block jackknife σ̂ of the position (JackknifeFromEstimates)
+// from the triangular factors of contiguous blocks: each leave-one-out fit
+// solved from the stacked factors of the others. NaN when a fit is not
+// finite or there are fewer than three blocks.
+Eigen::Vector3d JackknifeOfBlockFactors(
+    const std::vector<Eigen::MatrixXd>& factors);
 
 }  // namespace internal
 }  // namespace imusysid
