@@ -7,12 +7,14 @@
 
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "Eigen/Core"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/rigid3d.h"
 #include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
 #include "tests/test_util.h"
@@ -173,6 +175,34 @@ TEST(PoolFlights, TheSystematicFloorIsNotAveragedAway) {
   EXPECT_NEAR(x.chi_square, 0.5 / 1.0625, 1e-12);
 }
 
+// A: 1 mm statistical, 0.25 mm systematic; B: 1 mm and 12 mm (a delay
+// its flight cannot settle). The weights are the whole σ̂'s: w_A = 1/1.0625,
+// w_B = 1/145, so the mean rests 99.27 % on A, and the pooled systematic
+// part is each flight's share times its own, 0.99273·0.25 + 0.00727·12 =
+// 0.3355 mm, where the largest of the flights' (12 mm) would have made the
+// pool worse than A alone.
+TEST(PoolFlights, AFlightThePoolHardlyRestsOnAddsLittleOfItsSystematicPart) {
+  const double a = std::hypot(1.0, 0.25);
+  const double b = std::hypot(1.0, 12.0);
+  const std::vector<FlightImus> flights = {
+      OneFlight("A.ulg", MadeUpFit(0, {10, 0, 0}, {a, a, a}, 0.25)),
+      OneFlight("B.ulg", MadeUpFit(0, {11, 0, 0}, {b, b, b}, 12.0))};
+  const PooledAxis x = PoolFlights(flights).at(0).axes[0];
+  const double w_a = 1 / 1.0625;
+  const double w_b = 1 / 145.0;
+  const double lambda_a = w_a / (w_a + w_b);
+  EXPECT_NEAR(
+      x.position_m, (10 * lambda_a + 11 * (1 - lambda_a)) * 1e-3, 1e-15);
+  EXPECT_NEAR(x.stderr_systematic_m,
+              (lambda_a * 0.25 + (1 - lambda_a) * 12) * 1e-3,
+              1e-15);
+  EXPECT_NEAR(x.stderr_systematic_m, 0.3355e-3, 0.0001e-3);
+  // The statistical part: Σ λ_f² σ_stat,f² = λ_A² + λ_B² (mm²).
+  EXPECT_NEAR(
+      x.stderr_statistical_m, std::hypot(lambda_a, 1 - lambda_a) * 1e-3, 1e-15);
+  EXPECT_EQ(x.reason, "given");
+}
+
 // x withheld in each flight for its σ̂ alone (6 mm against 5 mm): two
 // flights pool to 6/√2 = 4.24 mm and give it, saying so; three flights at
 // 9 mm pool to 9/√3 = 5.20 mm, still withheld.
@@ -235,6 +265,251 @@ TEST(PoolFlights, GatesOtherThanStderrKeepAFlightOut) {
   const PooledAxis none = PoolFlights({b, b}).at(0).axes[0];
   EXPECT_EQ(none.reason, "no_flight");
   EXPECT_THAT(none.advice, HasSubstr("B.ulg: delay_at_limit"));
+}
+
+// --- The joint fit against the stacked least squares it stands for ---
+
+// The rigid3d columns several flights share (kSharedParameterNames' order).
+constexpr int kSharedColumns[kNumSharedParameters] = {
+    kPx, kPy, kPz, kThrustToX, kThrustToY};
+
+// One flight of a linear model with rigid3d's eleven columns: random
+// regressors, the shared parameters `shared`, its own others, noise σ.
+struct LinearFlight {
+  Eigen::MatrixXd a;
+  Eigen::VectorXd y;
+  double sigma = 1.0;
+};
+
+LinearFlight MakeLinearFlight(std::mt19937* rng,
+                              const Eigen::VectorXd& shared,
+                              double sigma,
+                              int rows) {
+  std::normal_distribution<double> normal;
+  LinearFlight f;
+  f.sigma = sigma;
+  f.a.resize(rows, kNumRigid3dParameters);
+  for (int i = 0; i < rows; ++i) {
+    for (int c = 0; c < kNumRigid3dParameters; ++c) f.a(i, c) = normal(*rng);
+  }
+  // Correlated columns, as rigid3d's are: z rides on e_x, y on x.
+  f.a.col(kPz) += 0.8 * f.a.col(kThrustToX);
+  f.a.col(kPy) += 0.5 * f.a.col(kPx);
+  Eigen::VectorXd theta(kNumRigid3dParameters);
+  for (int c = 0; c < kNumRigid3dParameters; ++c) theta[c] = normal(*rng);
+  for (int k = 0; k < kNumSharedParameters; ++k) {
+    theta[kSharedColumns[k]] = shared[k];
+  }
+  f.y = f.a * theta;
+  for (int i = 0; i < rows; ++i) f.y[i] += sigma * normal(*rng);
+  return f;
+}
+
+// The flight's own least-squares fit as Rigid3dReport reports it: the
+// position, parameters and shared covariance σ²(AᵀA)⁻¹, `reasons` per axis.
+ImuPosition3d FitLinearFlight(const LinearFlight& f,
+                              const std::array<std::string, 3>& reasons = {
+                                  "given", "given", "given"}) {
+  const Eigen::MatrixXd normal = f.a.transpose() * f.a;
+  const Eigen::MatrixXd covariance =
+      f.sigma * f.sigma *
+      normal.ldlt().solve(Eigen::MatrixXd::Identity(kNumRigid3dParameters,
+                                                    kNumRigid3dParameters));
+  ImuPosition3d r;
+  r.usable = true;
+  r.parameters = normal.ldlt().solve(f.a.transpose() * f.y);
+  r.position_m = r.parameters.head<3>();
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    r.stderr_m[a] = std::sqrt(covariance(a, a));
+    r.decisions[i].reason = reasons[i];
+    r.decisions[i].stderr_statistical_m = r.stderr_m[a];
+    r.decisions[i].stderr_systematic_m = 0.0;
+    r.determined[i] = reasons[i] == "given";
+  }
+  r.covariance = r.stderr_m.array().square().matrix().asDiagonal();
+  for (int i = 0; i < kNumSharedParameters; ++i) {
+    for (int j = 0; j < kNumSharedParameters; ++j) {
+      r.shared_covariance(i, j) =
+          covariance(kSharedColumns[i], kSharedColumns[j]);
+    }
+  }
+  const double ex = r.parameters[kThrustToX];
+  const double ey = r.parameters[kThrustToY];
+  r.misalignment_pitch_deg = -std::asin(ex) * 180 / M_PI;
+  r.misalignment_roll_deg = std::asin(ey) * 180 / M_PI;
+  return r;
+}
+
+// All flights' rows weighted by 1/σ_f in one least-squares problem: the
+// columns `shared_by_all[k]` one for every flight, the others one per
+// flight. Returns the solution's shared parameters and their 1σ (NaN where
+// not shared by all).
+struct StackedFit {
+  Eigen::VectorXd shared =
+      Eigen::VectorXd::Constant(kNumSharedParameters, kPoolNaN);
+  Eigen::VectorXd stderr =
+      Eigen::VectorXd::Constant(kNumSharedParameters, kPoolNaN);
+};
+
+StackedFit StackedLeastSquares(
+    const std::vector<LinearFlight>& flights,
+    const std::vector<std::array<bool, kNumSharedParameters>>& shares) {
+  // Column map: each (flight, rigid3d column) to a stacked column.
+  std::vector<std::vector<int>> map(flights.size(),
+                                    std::vector<int>(kNumRigid3dParameters));
+  int columns = kNumSharedParameters;  // the common ones first
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    for (int c = 0; c < kNumRigid3dParameters; ++c) {
+      int common = -1;
+      for (int k = 0; k < kNumSharedParameters; ++k) {
+        if (kSharedColumns[k] == c && shares[f][static_cast<std::size_t>(k)]) {
+          common = k;
+        }
+      }
+      map[f][static_cast<std::size_t>(c)] = common >= 0 ? common : columns++;
+    }
+  }
+  Eigen::Index rows = 0;
+  for (const LinearFlight& f : flights) rows += f.a.rows();
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(rows, columns);
+  Eigen::VectorXd y(rows);
+  Eigen::Index row = 0;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    const LinearFlight& one = flights[f];
+    for (Eigen::Index i = 0; i < one.a.rows(); ++i, ++row) {
+      for (int c = 0; c < kNumRigid3dParameters; ++c) {
+        x(row, map[f][static_cast<std::size_t>(c)]) += one.a(i, c) / one.sigma;
+      }
+      y[row] = one.y[i] / one.sigma;
+    }
+  }
+  const Eigen::MatrixXd normal = x.transpose() * x;
+  const Eigen::VectorXd solution = normal.ldlt().solve(x.transpose() * y);
+  const Eigen::MatrixXd covariance =
+      normal.ldlt().solve(Eigen::MatrixXd::Identity(columns, columns));
+  StackedFit out;
+  for (int k = 0; k < kNumSharedParameters; ++k) {
+    out.shared[k] = solution[k];
+    out.stderr[k] = std::sqrt(covariance(k, k));
+  }
+  return out;
+}
+
+// Three flights of a linear model with rigid3d's columns, noise 0.5, 1 and
+// 2, correlated regressors: the pool's position, its σ̂ and the
+// misalignment are the one weighted least-squares fit of all rows with the
+// position and e shared, to rounding. The third flight kept out of x (its
+// delay at the limit) is that fit with the third flight's x its own.
+TEST(PoolFlights, TheJointFitIsTheStackedLeastSquares) {
+  std::mt19937 rng(7);
+  Eigen::VectorXd shared(kNumSharedParameters);
+  shared << 0.05, -0.02, -0.03, 0.01, -0.02;
+  std::vector<LinearFlight> linear;
+  for (double sigma : {0.5, 1.0, 2.0}) {
+    linear.push_back(MakeLinearFlight(&rng, shared, sigma, 300));
+  }
+  const std::array<bool, kNumSharedParameters> all = {
+      true, true, true, true, true};
+  for (const bool third_out_of_x : {false, true}) {
+    std::vector<FlightImus> flights;
+    for (std::size_t f = 0; f < linear.size(); ++f) {
+      std::array<std::string, 3> reasons = {"given", "given", "given"};
+      if (third_out_of_x && f == 2) reasons[0] = "delay_at_limit";
+      flights.push_back(OneFlight("F" + std::to_string(f),
+                                  FitLinearFlight(linear[f], reasons)));
+    }
+    std::vector<std::array<bool, kNumSharedParameters>> shares(3, all);
+    if (third_out_of_x) shares[2][0] = false;
+    const StackedFit stacked = StackedLeastSquares(linear, shares);
+    const PooledImuPosition3d p = PoolFlights(flights).at(0);
+    for (int a = 0; a < 3; ++a) {
+      const PooledAxis& axis = p.axes[static_cast<std::size_t>(a)];
+      EXPECT_NEAR(axis.position_m, stacked.shared[a], 1e-12) << a;
+      EXPECT_NEAR(axis.stderr_statistical_m, stacked.stderr[a], 1e-12) << a;
+      EXPECT_EQ(axis.flights, third_out_of_x && a == 0 ? 2 : 3);
+    }
+    ASSERT_EQ(p.misalignment.reason, "given") << p.misalignment.advice;
+    EXPECT_EQ(p.misalignment.flights, 3);
+    EXPECT_NEAR(p.misalignment.angle_deg[0],
+                std::asin(stacked.shared[4]) * 180 / M_PI,
+                1e-9);
+    EXPECT_NEAR(p.misalignment.angle_deg[1],
+                -std::asin(stacked.shared[3]) * 180 / M_PI,
+                1e-9);
+    EXPECT_NEAR(p.misalignment.stderr_statistical_deg[1],
+                stacked.stderr[3] /
+                    std::sqrt(1 - stacked.shared[3] * stacked.shared[3]) * 180 /
+                    M_PI,
+                1e-9);
+    // The joint fit's χ² on (3·5 − 1 kept out) − 5 dof.
+    EXPECT_EQ(p.joint_dof, third_out_of_x ? 9 : 10);
+    EXPECT_GT(p.joint_p_value, 1e-3);
+    // Not the per-axis weighted mean: the correlations move it.
+    double information = 0.0;
+    double sum = 0.0;
+    for (const FlightImus& f : flights) {
+      const double w = 1.0 / (f.imus[0].stderr_m[1] * f.imus[0].stderr_m[1]);
+      information += w;
+      sum += w * f.imus[0].position_m[1];
+    }
+    EXPECT_GT(std::abs(sum / information - stacked.shared[1]), 1e-4);
+  }
+}
+
+// The second flight's board tilted by 2° more in pitch: the flights'
+// e_x disagree (140σ apart, noise 0.005 on 400 rows), the misalignment is not
+// shared and says why, and the position is the stacked fit with e each
+// flight's own.
+TEST(PoolFlights, ATiltThatDiffersIsNotShared) {
+  std::mt19937 rng(11);
+  Eigen::VectorXd shared(kNumSharedParameters);
+  shared << 0.05, -0.02, -0.03, 0.0, 0.0;
+  std::vector<LinearFlight> linear = {
+      MakeLinearFlight(&rng, shared, 0.005, 400)};
+  shared[3] = -std::sin(2.0 * M_PI / 180);
+  linear.push_back(MakeLinearFlight(&rng, shared, 0.005, 400));
+  const std::vector<FlightImus> flights = {
+      OneFlight("A.ulg", FitLinearFlight(linear[0])),
+      OneFlight("B.ulg", FitLinearFlight(linear[1]))};
+  const PooledImuPosition3d p = PoolFlights(flights).at(0);
+  EXPECT_EQ(p.misalignment.reason, "flights_disagree");
+  EXPECT_LT(p.misalignment.p_value[1], 1e-3);  // pitch
+  EXPECT_GT(p.misalignment.p_value[0], 1e-3);  // roll
+  EXPECT_TRUE(std::isnan(p.misalignment.angle_deg[1]));
+  EXPECT_THAT(p.warnings,
+              ::testing::Contains(HasSubstr("disagree on the IMU's tilt")));
+  const std::array<bool, kNumSharedParameters> position_only = {
+      true, true, true, false, false};
+  const StackedFit stacked =
+      StackedLeastSquares(linear, {position_only, position_only});
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(p.axes[static_cast<std::size_t>(a)].position_m,
+                stacked.shared[a],
+                1e-12);
+    EXPECT_EQ(p.axes[static_cast<std::size_t>(a)].reason, "given");
+  }
+  EXPECT_EQ(p.joint_dof, 3);
+}
+
+// Two flights whose e_x are σ = 0.001 each and d apart (every other
+// parameter uncorrelated): p = erfc(d/2σ); 4.60σ shares the tilt, 4.70σ
+// does not.
+TEST(PoolFlights, TheTiltAgreementThresholdIsOneInAThousand) {
+  for (const double d : {4.60, 4.70}) {
+    std::vector<FlightImus> flights;
+    for (int f = 0; f < 2; ++f) {
+      ImuPosition3d r = MadeUpFit(0, {10, 20, 30}, {1, 1, 1});
+      r.parameters = Eigen::VectorXd::Zero(kNumRigid3dParameters);
+      r.parameters[kThrustToX] = f * d * 1e-3;
+      r.shared_covariance.setZero();
+      r.shared_covariance.diagonal() << 1e-6, 1e-6, 1e-6, 1e-6, 1e-6;
+      flights.push_back(OneFlight(f == 0 ? "A.ulg" : "B.ulg", r));
+    }
+    const PooledMisalignment m = PoolFlights(flights).at(0).misalignment;
+    EXPECT_NEAR(m.p_value[1], std::erfc(d / 2), 1e-12) << d;
+    EXPECT_EQ(m.reason, d < 4.65 ? "given" : "flights_disagree") << d;
+  }
 }
 
 // --- The command line, on simulated flights of one vehicle ---

@@ -1,7 +1,8 @@
 // Several flights of one vehicle, pooled (3-D models): each flight fitted on
-// its own by Identify, then per IMU instance the inverse-variance weighted
-// mean of the flights' positions, with a chi-square test of their agreement
-// deciding, axis by axis, whether the pooled position is given.
+// its own by Identify, then per IMU instance one least-squares fit of the
+// position and misalignment all flights share (their biases, wind, delay and
+// drags their own), with a chi-square test of their agreement deciding, axis
+// by axis, whether the pooled position is given.
 
 #ifndef IMUSYSID_POOL3D_H_
 #define IMUSYSID_POOL3D_H_
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "Eigen/Core"
 #include "imusysid/autopilot.h"
 #include "imusysid/identify.h"
 #include "imusysid/rigid3d_report.h"
@@ -19,6 +21,8 @@
 #include "nlohmann/json.hpp"
 
 namespace imusysid {
+
+inline constexpr double kPoolNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct PoolOptions {
   // An axis is withheld ("flights_disagree") when the chi-square p-value of
@@ -75,9 +79,10 @@ struct PooledAxis {
   bool pool_only = false;
   std::string advice;  // why withheld, or the pool-only note; "" otherwise
   double position_m = std::numeric_limits<double>::quiet_NaN();
-  // σ̂ = sqrt(σ̄_stat² + σ_sys²): the statistical parts pooled from their
-  // summed information, the systematic floor (the largest of the flights')
-  // kept whole: it is the part of the model error every flight shares.
+  // σ̂ = sqrt(σ̄_stat² + σ_sys²): the joint fit's statistical covariance
+  // (what the flights' statistical parts give the weighted solution), the
+  // systematic floor (the largest of the flights') kept whole: it is the
+  // part of the model error every flight shares.
   double stderr_m = std::numeric_limits<double>::quiet_NaN();
   double stderr_statistical_m = std::numeric_limits<double>::quiet_NaN();
   double stderr_systematic_m = std::numeric_limits<double>::quiet_NaN();
@@ -87,6 +92,38 @@ struct PooledAxis {
   double chi_square = std::numeric_limits<double>::quiet_NaN();
   int dof = 0;
   double p_value = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The misalignment pooled: the thrust axis seen on x and y, e_x = −sin
+// pitch and e_y = sin roll (rigid3d.h), shared by the joint fit where the
+// flights agree on it.
+struct PooledMisalignment {
+  // "given": the flights agree and share one tilt; "flights_disagree": an
+  // angle's chi-square about the flights' weighted mean is below
+  // PoolOptions::min_agreement_p_value (a remounted board), so each flight
+  // keeps its own and the positions are pooled with it free; "no_flight":
+  // no flight enters (a flight enters where it enters any position axis).
+  std::string reason = "no_flight";
+  std::string advice;  // why not given; "" otherwise
+  int flights = 0;
+  // Degrees, (roll, pitch) in every pair below.
+  Eigen::Vector2d angle_deg = Eigen::Vector2d::Constant(kPoolNaN);
+  Eigen::Vector2d stderr_deg = Eigen::Vector2d::Constant(kPoolNaN);
+  Eigen::Vector2d stderr_statistical_deg = Eigen::Vector2d::Constant(kPoolNaN);
+  Eigen::Vector2d stderr_systematic_deg = Eigen::Vector2d::Constant(kPoolNaN);
+  // Each angle's flights about their weighted mean: Σ (e_f − ē)²/σ_f², on
+  // flights − 1 dof, and its upper-tail p-value (NaN with one flight).
+  Eigen::Vector2d chi_square = Eigen::Vector2d::Constant(kPoolNaN);
+  int dof = 0;
+  Eigen::Vector2d p_value = Eigen::Vector2d::Constant(kPoolNaN);
+  // Per flight, in the flights' order: its own angles and σ̂ (NaN when not
+  // fitted) and whether it entered.
+  struct Flight {
+    bool entered = false;
+    Eigen::Vector2d angle_deg = Eigen::Vector2d::Constant(kPoolNaN);
+    Eigen::Vector2d stderr_deg = Eigen::Vector2d::Constant(kPoolNaN);
+  };
+  std::vector<Flight> flights_own;
 };
 
 struct PooledImuPosition3d {
@@ -100,13 +137,29 @@ struct PooledImuPosition3d {
   };
   std::vector<Flight> flights;
   std::array<PooledAxis, 3> axes;
+  PooledMisalignment misalignment;
+  // The joint fit's own test: Σ_f (θ_f − θ̂)ᵀ W_f (θ_f − θ̂) over the
+  // shared parameters (kSharedParameterNames) each flight entered, W_f the
+  // inverse of the flight's covariance of them, on (parameters entered,
+  // summed over the flights) − (parameters solved) dof; NaN, 0 where that
+  // is none. Evidence only: the decisions are the axes' own tests.
+  double joint_chi_square = kPoolNaN;
+  int joint_dof = 0;
+  double joint_p_value = kPoolNaN;
   std::vector<std::string> warnings;  // prose, one sentence each
 };
 
 // Pools the flights' fits instance by instance (matched by instance number;
-// every instance any flight fitted, ascending). The flights' own σ̂ (the
-// diagonal of ImuPosition3d::covariance, which is diagonal) weight the
-// mean per axis, so that a flight can enter on some axes only.
+// every instance any flight fitted, ascending). The pooled position and
+// misalignment are the joint least-squares fit in which every flight shares
+// them and keeps its own bias, wind and drags: for a model linear in its
+// parameters (rigid3d) that is exactly θ̂ = (Σ W_f)⁻¹ Σ W_f θ_f, θ_f the
+// flight's own fit of the shared parameters and W_f the inverse of their
+// covariance with its other parameters free (ImuPosition3d::
+// shared_covariance, with the systematic parts on its diagonal). A flight
+// enters each position axis on its own decision, and the misalignment where
+// it enters any; what it does not enter is left free in its W_f. The axes'
+// agreement tests are per axis, on the flights' own values.
 std::vector<PooledImuPosition3d> PoolFlights(
     const std::vector<FlightImus>& flights, const PoolOptions& options = {});
 

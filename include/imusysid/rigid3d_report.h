@@ -179,6 +179,13 @@ struct Rigid3dAxisDecision {
   double stderr_systematic_m = std::numeric_limits<double>::quiet_NaN();
 };
 
+// The parameters several flights of one IMU share when pooled: the
+// position and the thrust axis seen on x and y (the misalignment), as
+// ImuPosition3d::shared_covariance orders them.
+inline constexpr int kNumSharedParameters = 5;
+inline constexpr const char* kSharedParameterNames[kNumSharedParameters] = {
+    "x", "y", "z", "e_x", "e_y"};
+
 struct ImuPosition3d {
   int instance = 0;  // the log's IMU instance (0-based)
   std::string source;
@@ -210,6 +217,15 @@ struct ImuPosition3d {
   double misalignment_pitch_deg = 0.0;
   Eigen::Vector2d misalignment_stderr_deg = Eigen::Vector2d::Constant(
       std::numeric_limits<double>::quiet_NaN());  // roll, pitch
+  // The statistical covariance of the parameters flights of one vehicle
+  // share when pooled (pool3d.h), in kSharedParameterNames' order: the
+  // position (m) and the misalignment's e_x, e_y (rigid3d.h). The fit's
+  // own covariance, so the correlations are the fit's, with each position
+  // axis scaled to its statistical σ̂ (the jackknife's where larger). NaN
+  // when the fit has none.
+  Eigen::Matrix<double, 5, 5> shared_covariance =
+      Eigen::Matrix<double, 5, 5>::Constant(
+          std::numeric_limits<double>::quiet_NaN());
   // position_m and the rest are in the IMU's own axes as the autopilot
   // applies them (after its board rotation): the frame EKF2_IMU_POS_* and
   // INS_POSn_* take. The fitted position (every axis, given or withheld)

@@ -10,13 +10,18 @@
 #include <utility>
 #include <vector>
 
+#include "Eigen/Cholesky"
+#include "imusysid/rigid3d.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
 namespace {
 
-constexpr double kPoolNan = std::numeric_limits<double>::quiet_NaN();
 const char* const kPoolAxisNames[3] = {"x", "y", "z"};
+constexpr double kPoolRadToDeg = 57.29577951308232;
+constexpr int kShared = kNumSharedParameters;
+using SharedVector = Eigen::Matrix<double, kShared, 1>;
+using SharedMatrix = Eigen::Matrix<double, kShared, kShared>;
 
 std::string PoolMm(double metres) {
   return FormatFixed(metres * 1e3, 1, NonFiniteStyle::kPrintf);
@@ -34,19 +39,245 @@ double SystematicPart(const ImuPosition3d& r, int axis) {
   return std::isfinite(s) && s > 0 ? s : 0.0;
 }
 
-// One axis of one instance pooled over `fits` (null where a flight has no
-// fit of the instance); fills the flights' parts and the pooled axis.
-void PoolAxis(int axis,
-              const std::vector<const ImuPosition3d*>& fits,
-              const PoolOptions& options,
-              std::vector<PooledImuPosition3d::Flight>* flights,
-              PooledAxis* out) {
+// One flight's shared parameters (kSharedParameterNames) as the joint fit
+// takes them.
+struct SharedFlight {
+  SharedVector theta = SharedVector::Constant(kPoolNaN);
+  SharedMatrix statistical = SharedMatrix::Constant(kPoolNaN);
+  SharedVector systematic = SharedVector::Zero();
+  std::array<bool, kShared> entered = {false, false, false, false, false};
+};
+
+// The flight's parameters and covariance; the position axes enter as the
+// flight entered them (PooledFlightAxis::entered), the misalignment where
+// the fit has a covariance for it and `misalignment_may_enter`.
+SharedFlight SharedOf(const ImuPosition3d& r,
+                      const PooledImuPosition3d::Flight& flight,
+                      bool misalignment_may_enter) {
+  SharedFlight f;
+  for (int a = 0; a < 3; ++a) {
+    const auto ai = static_cast<std::size_t>(a);
+    f.theta[a] = r.position_m[a];
+    f.systematic[a] = SystematicPart(r, a);
+    f.entered[ai] = flight.axes[ai].entered;
+  }
+  if (r.parameters.size() == kNumRigid3dParameters) {
+    f.theta[3] = r.parameters[kThrustToX];
+    f.theta[4] = r.parameters[kThrustToY];
+  }
+  if (r.shared_covariance.allFinite()) {
+    f.statistical = r.shared_covariance;
+  } else {
+    // No covariance from the fit: the position axes as their σ̂ say,
+    // uncorrelated, and no misalignment.
+    f.statistical.setZero();
+    for (int a = 0; a < 3; ++a) {
+      const double total = r.stderr_m[a];
+      const double stat2 = total * total - f.systematic[a] * f.systematic[a];
+      f.statistical(a, a) = stat2 > 0 ? stat2 : total * total;
+    }
+    misalignment_may_enter = false;
+  }
+  const bool any_axis = f.entered[0] || f.entered[1] || f.entered[2];
+  const bool misalignment = misalignment_may_enter && any_axis &&
+                            std::isfinite(f.theta[3]) &&
+                            std::isfinite(f.theta[4]) &&
+                            f.statistical(3, 3) > 0 && f.statistical(4, 4) > 0;
+  f.entered[3] = misalignment;
+  f.entered[4] = misalignment;
+  return f;
+}
+
+// The joint fit of the shared parameters over the flights (see PoolFlights).
+struct JointFit {
+  std::array<bool, kShared> solved = {false, false, false, false, false};
+  SharedVector value = SharedVector::Constant(kPoolNaN);
+  SharedVector stderr_statistical = SharedVector::Constant(kPoolNaN);
+  SharedVector stderr_systematic = SharedVector::Constant(kPoolNaN);
+  double chi_square = kPoolNaN;
+  int dof = 0;
+};
+
+JointFit SolveJoint(const std::vector<SharedFlight>& flights) {
+  JointFit out;
+  std::vector<int> solved;  // the parameters some flight enters
+  for (int k = 0; k < kShared; ++k) {
+    for (const SharedFlight& f : flights) {
+      if (f.entered[static_cast<std::size_t>(k)]) {
+        out.solved[static_cast<std::size_t>(k)] = true;
+      }
+    }
+    if (out.solved[static_cast<std::size_t>(k)]) solved.push_back(k);
+  }
+  const auto n = static_cast<Eigen::Index>(solved.size());
+  if (n == 0) return out;
+  std::vector<int> column(kShared, -1);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    column[static_cast<std::size_t>(solved[static_cast<std::size_t>(i)])] =
+        static_cast<int>(i);
+  }
+  // Per flight, over the parameters it entered (L): W = (C_stat + diag(s²))⁻¹
+  // — its information about them with its other parameters free — added
+  // into the normal equations H θ = g, and W C_stat W into the statistical
+  // part of the sandwich H⁻¹ (Σ W C_stat W) H⁻¹.
+  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd meat = Eigen::MatrixXd::Zero(n, n);
+  std::vector<Eigen::MatrixXd> weights(flights.size());
+  std::vector<std::vector<int>> entered(flights.size());
+  int entered_count = 0;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    const SharedFlight& one = flights[f];
+    for (int k = 0; k < kShared; ++k) {
+      if (one.entered[static_cast<std::size_t>(k)]) entered[f].push_back(k);
+    }
+    const auto m = static_cast<Eigen::Index>(entered[f].size());
+    if (m == 0) continue;
+    Eigen::MatrixXd total(m, m);
+    Eigen::MatrixXd statistical(m, m);
+    Eigen::VectorXd theta(m);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const int ki = entered[f][static_cast<std::size_t>(i)];
+      theta[i] = one.theta[ki];
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const int kj = entered[f][static_cast<std::size_t>(j)];
+        statistical(i, j) = one.statistical(ki, kj);
+      }
+    }
+    total = statistical;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const double s = one.systematic[entered[f][static_cast<std::size_t>(i)]];
+      total(i, i) += s * s;
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(total);
+    Eigen::MatrixXd w = ldlt.solve(Eigen::MatrixXd::Identity(m, m));
+    if (ldlt.info() != Eigen::Success || !w.allFinite()) continue;
+    const Eigen::MatrixXd w_stat_w = w * statistical * w;
+    const Eigen::VectorXd w_theta = w * theta;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const int ci = column[static_cast<std::size_t>(
+          entered[f][static_cast<std::size_t>(i)])];
+      gradient[ci] += w_theta[i];
+      for (Eigen::Index j = 0; j < m; ++j) {
+        const int cj = column[static_cast<std::size_t>(
+            entered[f][static_cast<std::size_t>(j)])];
+        information(ci, cj) += w(i, j);
+        meat(ci, cj) += w_stat_w(i, j);
+      }
+    }
+    weights[f] = std::move(w);
+    entered_count += static_cast<int>(m);
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> normal(information);
+  const Eigen::MatrixXd covariance =
+      normal.solve(Eigen::MatrixXd::Identity(n, n));
+  const Eigen::VectorXd value = normal.solve(gradient);
+  if (normal.info() != Eigen::Success || !value.allFinite() ||
+      !covariance.allFinite()) {
+    out.solved.fill(false);
+    return out;
+  }
+  const Eigen::MatrixXd statistical = covariance * meat * covariance;
+  // θ̂ = Σ K_f θ_f with K_f = H⁻¹ W_f. The systematic parts are not
+  // averaged away: a model error may push every flight the same way, so
+  // each flight's share of the solution carries its whole systematic part,
+  // Σ_f Σ_j |K_f(k, j)| s_f,j. Equal parts s stay s (the gain K sums to the
+  // identity); a flight the solution hardly rests on adds hardly any of its
+  // own.
+  Eigen::VectorXd systematic = Eigen::VectorXd::Zero(n);
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    if (weights[f].size() == 0) continue;
+    const auto m = static_cast<Eigen::Index>(entered[f].size());
+    Eigen::MatrixXd spread(n, m);  // H⁻¹ scattered onto the flight's columns
+    for (Eigen::Index j = 0; j < m; ++j) {
+      spread.col(j) = covariance.col(column[static_cast<std::size_t>(
+          entered[f][static_cast<std::size_t>(j)])]);
+    }
+    const Eigen::MatrixXd gain = spread * weights[f];
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const double s =
+          flights[f].systematic[entered[f][static_cast<std::size_t>(j)]];
+      systematic += gain.col(j).cwiseAbs() * s;
+    }
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int k = solved[static_cast<std::size_t>(i)];
+    out.value[k] = value[i];
+    out.stderr_statistical[k] = std::sqrt(std::max(statistical(i, i), 0.0));
+    out.stderr_systematic[k] = systematic[i];
+  }
+  // The joint fit's residual sum of squares: each flight's distance from
+  // the shared solution in its own metric.
+  double chi2 = 0.0;
+  for (std::size_t f = 0; f < flights.size(); ++f) {
+    if (weights[f].size() == 0) continue;
+    const auto m = static_cast<Eigen::Index>(entered[f].size());
+    Eigen::VectorXd d(m);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const int k = entered[f][static_cast<std::size_t>(i)];
+      d[i] = flights[f].theta[k] - out.value[k];
+    }
+    chi2 += d.dot(weights[f] * d);
+  }
+  out.dof = entered_count - static_cast<int>(n);
+  out.chi_square = out.dof > 0 ? chi2 : kPoolNaN;
+  return out;
+}
+
+// The flights' agreement on one quantity: their inverse-variance weighted
+// mean, χ² = Σ (v_f − v̄)²/σ_f² on flights − 1 dof and its p-value, and each
+// flight's deviation over its own 1σ, (v_f − v̄)/sqrt(σ_f² − σ̄²) (v̄ holds
+// v_f, hence the smaller variance). Entries with `entered` false are
+// skipped; deviations NaN for them or when fewer than two entered.
+struct Agreement {
+  double mean = kPoolNaN;
+  double chi_square = kPoolNaN;
+  int dof = 0;
+  double p_value = kPoolNaN;
+  std::vector<double> deviation_sigmas;
+  std::vector<double> chi_square_terms;
+};
+
+Agreement AgreementOf(const std::vector<double>& value,
+                      const std::vector<double>& sigma,
+                      const std::vector<bool>& entered) {
+  Agreement out;
+  out.deviation_sigmas.assign(value.size(), kPoolNaN);
+  out.chi_square_terms.assign(value.size(), kPoolNaN);
+  double information = 0.0;
+  double weighted_sum = 0.0;
+  int count = 0;
+  for (std::size_t f = 0; f < value.size(); ++f) {
+    if (!entered[f]) continue;
+    const double w = 1.0 / (sigma[f] * sigma[f]);
+    information += w;
+    weighted_sum += w * value[f];
+    ++count;
+  }
+  if (count == 0) return out;
+  out.mean = weighted_sum / information;
+  if (count < 2) return out;
+  const double pooled_var = 1.0 / information;
+  double chi2 = 0.0;
+  for (std::size_t f = 0; f < value.size(); ++f) {
+    if (!entered[f]) continue;
+    const double d = value[f] - out.mean;
+    const double s2 = sigma[f] * sigma[f];
+    out.chi_square_terms[f] = d * d / s2;
+    chi2 += out.chi_square_terms[f];
+    out.deviation_sigmas[f] = d / std::sqrt(std::max(s2 - pooled_var, 0.0));
+  }
+  out.chi_square = chi2;
+  out.dof = count - 1;
+  out.p_value = ChiSquareUpperTail(chi2, out.dof);
+  return out;
+}
+
+// Which flights enter one position axis, and each flight's part in it.
+void EnterAxis(int axis,
+               const std::vector<const ImuPosition3d*>& fits,
+               std::vector<PooledImuPosition3d::Flight>* flights) {
   const auto ai = static_cast<std::size_t>(axis);
-  double information = 0.0;       // Σ 1/σ_f²
-  double weighted_sum = 0.0;      // Σ p_f/σ_f²
-  double stat_information = 0.0;  // Σ 1/σ_stat,f²
-  double systematic = 0.0;
-  bool any_given = false;
   for (std::size_t f = 0; f < fits.size(); ++f) {
     PooledFlightAxis& part = (*flights)[f].axes[ai];
     const ImuPosition3d* r = fits[f];
@@ -63,19 +294,32 @@ void PoolAxis(int axis,
                    (part.reason == "given" || part.reason == "stderr") &&
                    std::isfinite(part.position_m) &&
                    std::isfinite(part.stderr_m) && part.stderr_m > 0;
+  }
+}
+
+// One position axis pooled: its value and σ̂ from the joint fit, its
+// agreement and decision from the flights' own values on it.
+void PoolAxis(int axis,
+              const JointFit& joint,
+              const std::vector<const ImuPosition3d*>& fits,
+              const PoolOptions& options,
+              std::vector<PooledImuPosition3d::Flight>* flights,
+              PooledAxis* out) {
+  const auto ai = static_cast<std::size_t>(axis);
+  std::vector<double> value(fits.size(), kPoolNaN);
+  std::vector<double> sigma(fits.size(), kPoolNaN);
+  std::vector<bool> entered(fits.size(), false);
+  bool any_given = false;
+  for (std::size_t f = 0; f < fits.size(); ++f) {
+    const PooledFlightAxis& part = (*flights)[f].axes[ai];
+    entered[f] = part.entered;
+    value[f] = part.position_m;
+    sigma[f] = part.stderr_m;
     if (!part.entered) continue;
-    const double w = 1.0 / (part.stderr_m * part.stderr_m);
-    information += w;
-    weighted_sum += w * part.position_m;
-    const double sys = SystematicPart(*r, axis);
-    systematic = std::max(systematic, sys);
-    const double stat2 = part.stderr_m * part.stderr_m - sys * sys;
-    stat_information +=
-        stat2 > 0 ? 1.0 / stat2 : std::numeric_limits<double>::infinity();
     any_given = any_given || part.reason == "given";
     ++out->flights;
   }
-  if (out->flights == 0) {
+  if (out->flights == 0 || !joint.solved[ai]) {
     out->reason = "no_flight";
     std::string why;
     for (std::size_t f = 0; f < fits.size(); ++f) {
@@ -86,26 +330,24 @@ void PoolAxis(int axis,
                   " is withheld: no flight enters the pool (" + why + ")";
     return;
   }
-  const double mean = weighted_sum / information;
-  const double pooled_var = 1.0 / information;
-  out->position_m = mean;
-  out->stderr_statistical_m = std::sqrt(1.0 / stat_information);
-  out->stderr_systematic_m = systematic;
-  out->stderr_m = std::hypot(out->stderr_statistical_m, systematic);
+  out->position_m = joint.value[axis];
+  out->stderr_statistical_m = joint.stderr_statistical[axis];
+  out->stderr_systematic_m = joint.stderr_systematic[axis];
+  out->stderr_m =
+      std::hypot(out->stderr_statistical_m, out->stderr_systematic_m);
   if (out->flights >= 2) {
-    double chi2 = 0.0;
+    // σ_f here is the whole σ̂, floor included, so that a model error the
+    // flights share (which cancels in their differences) never reads as
+    // disagreement.
+    const Agreement agreement = AgreementOf(value, sigma, entered);
     double worst = -1.0;
     std::size_t worst_flight = 0;
     bool any_named = false;
     for (std::size_t f = 0; f < fits.size(); ++f) {
       PooledFlightAxis& part = (*flights)[f].axes[ai];
       if (!part.entered) continue;
-      const double d = part.position_m - mean;
-      const double s2 = part.stderr_m * part.stderr_m;
-      part.chi_square_term = d * d / s2;
-      chi2 += part.chi_square_term;
-      // p_f − p̄ has variance σ_f² − σ̄² (p̄ holds p_f with weight σ̄²/σ_f²).
-      part.deviation_sigmas = d / std::sqrt(std::max(s2 - pooled_var, 0.0));
+      part.chi_square_term = agreement.chi_square_terms[f];
+      part.deviation_sigmas = agreement.deviation_sigmas[f];
       const double z = std::abs(part.deviation_sigmas);
       part.disagrees =
           std::erfc(z / std::sqrt(2.0)) < options.min_agreement_p_value;
@@ -115,9 +357,9 @@ void PoolAxis(int axis,
         worst_flight = f;
       }
     }
-    out->chi_square = chi2;
-    out->dof = out->flights - 1;
-    out->p_value = ChiSquareUpperTail(chi2, out->dof);
+    out->chi_square = agreement.chi_square;
+    out->dof = agreement.dof;
+    out->p_value = agreement.p_value;
     if (out->p_value < options.min_agreement_p_value) {
       if (!any_named) (*flights)[worst_flight].axes[ai].disagrees = true;
       std::string named;
@@ -133,10 +375,12 @@ void PoolAxis(int axis,
       out->advice =
           std::string(kPoolAxisNames[axis]) +
           " is withheld: the flights disagree (chi-square " +
-          FormatNumber(chi2, 4) + " on " + std::to_string(out->dof) +
+          FormatNumber(agreement.chi_square, 4) + " on " +
+          std::to_string(out->dof) +
           " dof, p = " + FormatNumber(out->p_value, 2) + " < " +
-          FormatNumber(options.min_agreement_p_value, 2) + ") against the " +
-          "pooled " + PoolMm(mean) + " mm; furthest out: " + named +
+          FormatNumber(options.min_agreement_p_value, 2) +
+          ") against their weighted mean " + PoolMm(agreement.mean) +
+          " mm; furthest out: " + named +
           (out->flights == 2 ? " (with two flights neither can be singled "
                                "out)"
                              : "") +
@@ -152,10 +396,10 @@ void PoolAxis(int axis,
                   PoolMm(options.max_stderr_m) + " mm)";
     return;
   }
-  if (std::abs(mean) > options.max_abs_position_m) {
+  if (std::abs(out->position_m) > options.max_abs_position_m) {
     out->reason = "abs_position";
     out->advice = std::string(kPoolAxisNames[axis]) + " = " +
-                  FormatNumber(mean, 3) +
+                  FormatNumber(out->position_m, 3) +
                   " m is further from the centre of mass than any flight "
                   "controller sits: the pool is not credible";
     return;
@@ -170,10 +414,87 @@ void PoolAxis(int axis,
   }
 }
 
+// e (the thrust axis seen on x or y) as degrees, and its σ through
+// d(asin e)/de = 1/√(1 − e²): roll = asin(e_y), pitch = −asin(e_x).
+double AngleDeg(double e, double sign) {
+  return sign * std::asin(std::clamp(e, -1.0, 1.0)) * kPoolRadToDeg;
+}
+double AngleStderrDeg(double e, double sigma) {
+  const double c = std::clamp(e, -1.0, 1.0);
+  return sigma / std::sqrt(1.0 - c * c) * kPoolRadToDeg;
+}
+
+// Do the flights agree on the tilt? Each of e_x, e_y on its own, as a
+// position axis, on every flight the misalignment may enter.
+void AgreeOnMisalignment(const std::vector<SharedFlight>& shared,
+                         const PoolOptions& options,
+                         PooledMisalignment* out) {
+  out->flights = 0;
+  for (const SharedFlight& f : shared) out->flights += f.entered[3] ? 1 : 0;
+  if (out->flights == 0) {
+    out->reason = "no_flight";
+    out->advice = "the misalignment is not pooled: no flight enters";
+    return;
+  }
+  out->reason = "given";
+  if (out->flights < 2) return;
+  // (roll, pitch) ← (e_y, e_x)
+  const int parameter[2] = {4, 3};
+  std::string disagreeing;
+  for (int angle = 0; angle < 2; ++angle) {
+    const int k = parameter[angle];
+    std::vector<double> value;
+    std::vector<double> sigma;
+    std::vector<bool> entered;
+    for (const SharedFlight& f : shared) {
+      value.push_back(f.theta[k]);
+      sigma.push_back(
+          std::sqrt(f.statistical(k, k) + f.systematic[k] * f.systematic[k]));
+      entered.push_back(f.entered[static_cast<std::size_t>(k)]);
+    }
+    const Agreement a = AgreementOf(value, sigma, entered);
+    out->chi_square[angle] = a.chi_square;
+    out->p_value[angle] = a.p_value;
+    out->dof = a.dof;
+    if (a.p_value < options.min_agreement_p_value) {
+      disagreeing += std::string(disagreeing.empty() ? "" : " and ") +
+                     (angle == 0 ? "roll" : "pitch") + " (chi-square " +
+                     FormatNumber(a.chi_square, 4) + " on " +
+                     std::to_string(a.dof) +
+                     " dof, p = " + FormatNumber(a.p_value, 2) + ")";
+    }
+  }
+  if (!disagreeing.empty()) {
+    out->reason = "flights_disagree";
+    out->advice =
+        "the flights disagree on the IMU's tilt: " + disagreeing + " < " +
+        FormatNumber(options.min_agreement_p_value, 2) +
+        "; each flight keeps its own misalignment and the position is pooled "
+        "without it (was the board remounted between flights?)";
+  }
+}
+
+// The pooled misalignment's angles from the joint fit.
+void MisalignmentFromJoint(const JointFit& joint, PooledMisalignment* out) {
+  if (!joint.solved[3] || !joint.solved[4]) return;
+  const double ex = joint.value[3];
+  const double ey = joint.value[4];
+  out->angle_deg = {AngleDeg(ey, 1.0), AngleDeg(ex, -1.0)};
+  out->stderr_statistical_deg = {
+      AngleStderrDeg(ey, joint.stderr_statistical[4]),
+      AngleStderrDeg(ex, joint.stderr_statistical[3])};
+  out->stderr_systematic_deg = {AngleStderrDeg(ey, joint.stderr_systematic[4]),
+                                AngleStderrDeg(ex, joint.stderr_systematic[3])};
+  out->stderr_deg = {
+      std::hypot(out->stderr_statistical_deg[0], out->stderr_systematic_deg[0]),
+      std::hypot(out->stderr_statistical_deg[1],
+                 out->stderr_systematic_deg[1])};
+}
+
 }  // namespace
 
 double ChiSquareUpperTail(double x, int dof) {
-  if (dof < 1 || !(x >= 0) || std::isnan(x)) return kPoolNan;
+  if (dof < 1 || !(x >= 0) || std::isnan(x)) return kPoolNaN;
   if (std::isinf(x)) return 0.0;
   const double h = 0.5 * x;
   // Q(dof/2, x/2). Even dof = 2m: e^{−h} Σ_{i<m} hⁱ/i!. Odd dof = 2m+1:
@@ -224,8 +545,41 @@ std::vector<PooledImuPosition3d> PoolFlights(
       fits.push_back(fit);
       pooled.flights.push_back(std::move(one));
     }
+    for (int a = 0; a < 3; ++a) EnterAxis(a, fits, &pooled.flights);
+    // The tilt is shared only where the flights agree on it; where they do
+    // not, each keeps its own and the positions are pooled with it free.
+    auto shared_flights = [&](bool misalignment_may_enter) {
+      std::vector<SharedFlight> shared(fits.size());
+      for (std::size_t f = 0; f < fits.size(); ++f) {
+        if (fits[f] == nullptr) continue;
+        shared[f] =
+            SharedOf(*fits[f], pooled.flights[f], misalignment_may_enter);
+      }
+      return shared;
+    };
+    std::vector<SharedFlight> shared = shared_flights(true);
+    AgreeOnMisalignment(shared, options, &pooled.misalignment);
+    if (pooled.misalignment.reason != "given") shared = shared_flights(false);
+    const JointFit joint = SolveJoint(shared);
+    if (pooled.misalignment.reason == "given") {
+      MisalignmentFromJoint(joint, &pooled.misalignment);
+    }
+    for (std::size_t f = 0; f < fits.size(); ++f) {
+      PooledMisalignment::Flight own;
+      if (fits[f] != nullptr && fits[f]->usable) {
+        own.entered = shared[f].entered[3];
+        own.angle_deg = {fits[f]->misalignment_roll_deg,
+                         fits[f]->misalignment_pitch_deg};
+        own.stderr_deg = fits[f]->misalignment_stderr_deg;
+      }
+      pooled.misalignment.flights_own.push_back(own);
+    }
+    pooled.joint_chi_square = joint.chi_square;
+    pooled.joint_dof = joint.dof;
+    pooled.joint_p_value = ChiSquareUpperTail(joint.chi_square, joint.dof);
     for (int a = 0; a < 3; ++a) {
       PoolAxis(a,
+               joint,
                fits,
                options,
                &pooled.flights,
@@ -255,6 +609,9 @@ std::vector<PooledImuPosition3d> PoolFlights(
     for (const PooledAxis& axis : pooled.axes) {
       if (!axis.advice.empty()) pooled.warnings.push_back(axis.advice);
     }
+    if (pooled.misalignment.reason == "flights_disagree") {
+      pooled.warnings.push_back(pooled.misalignment.advice);
+    }
     out.push_back(std::move(pooled));
   }
   return out;
@@ -277,8 +634,9 @@ std::vector<ImuPosition3d> PooledAsImuPositions(
   std::vector<ImuPosition3d> out;
   for (const PooledImuPosition3d& p : imus) {
     ImuPosition3d r;
-    // The nuisance terms (the misalignment the parameter file notes) are
-    // the first fitting flight's: each flight has its own.
+    // The nuisance terms are the first fitting flight's: each flight has
+    // its own. The misalignment the parameter file notes is the pool's
+    // where the flights share it.
     for (const FlightImus& f : flights) {
       for (const ImuPosition3d& one : f.imus) {
         if (one.instance == p.instance && r.source.empty()) r = one;
@@ -288,6 +646,11 @@ std::vector<ImuPosition3d> PooledAsImuPositions(
     r.instance = p.instance;
     r.source = sources;
     r.usable = true;
+    if (p.misalignment.reason == "given") {
+      r.misalignment_roll_deg = p.misalignment.angle_deg[0];
+      r.misalignment_pitch_deg = p.misalignment.angle_deg[1];
+      r.misalignment_stderr_deg = p.misalignment.stderr_deg;
+    }
     for (int a = 0; a < 3; ++a) {
       const auto i = static_cast<std::size_t>(a);
       const PooledAxis& axis = p.axes[i];
@@ -398,6 +761,42 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
     decisions.push_back(std::move(d));
   }
   j["decisions"] = std::move(decisions);
+  const PooledMisalignment& m = imu.misalignment;
+  nlohmann::ordered_json tilt;
+  const bool given = m.reason == "given";
+  tilt["decision"] = given ? "given" : "withheld";
+  tilt["reason"] = m.reason;
+  tilt["advice"] = m.advice;
+  auto angles = [](const Eigen::Vector2d& v) {
+    return nlohmann::ordered_json{{"roll", PoolNum(v[0])},
+                                  {"pitch", PoolNum(v[1])}};
+  };
+  tilt["misalignment_deg"] = angles(m.angle_deg);
+  tilt["misalignment_stderr_deg"] = angles(m.stderr_deg);
+  tilt["misalignment_stderr_statistical_deg"] =
+      angles(m.stderr_statistical_deg);
+  tilt["misalignment_stderr_systematic_deg"] = angles(m.stderr_systematic_deg);
+  tilt["flights_pooled"] = m.flights;
+  tilt["chi_square"] = angles(m.chi_square);
+  tilt["dof"] = m.dof;
+  tilt["p_value"] = angles(m.p_value);
+  nlohmann::ordered_json own = nlohmann::ordered_json::array();
+  for (std::size_t f = 0; f < m.flights_own.size(); ++f) {
+    own.push_back(
+        {{"log", f < imu.flights.size() ? imu.flights[f].source : ""},
+         {"entered", m.flights_own[f].entered},
+         {"misalignment_deg", angles(m.flights_own[f].angle_deg)},
+         {"misalignment_stderr_deg", angles(m.flights_own[f].stderr_deg)}});
+  }
+  tilt["flights"] = std::move(own);
+  j["misalignment"] = std::move(tilt);
+  j["joint_fit"] = {
+      {"shared_parameters",
+       given ? std::vector<std::string>{"x", "y", "z", "e_x", "e_y"}
+             : std::vector<std::string>{"x", "y", "z"}},
+      {"chi_square", PoolNum(imu.joint_chi_square)},
+      {"dof", imu.joint_dof},
+      {"p_value", PoolNum(imu.joint_p_value)}};
   return j;
 }
 
@@ -452,6 +851,16 @@ std::string PooledToText(const PooledImuPosition3d& imu) {
     } else {
       s << "-";
     }
+  }
+  s << "\n  misalignment roll/pitch (deg, 1-sigma):";
+  const PooledMisalignment& m = imu.misalignment;
+  if (m.reason == "given") {
+    s << " pooled " << FormatNumber(m.angle_deg[0], 3) << "/"
+      << FormatNumber(m.angle_deg[1], 3) << " +/- "
+      << FormatNumber(m.stderr_deg[0], 2) << "/"
+      << FormatNumber(m.stderr_deg[1], 2) << ", shared by the joint fit";
+  } else {
+    s << " not pooled (" << m.reason << "), each flight its own";
   }
   s << "\n";
   for (const std::string& w : imu.warnings) s << "  warning: " << w << "\n";

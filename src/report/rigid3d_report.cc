@@ -133,6 +133,30 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
                                    result.standard_errors[kThrustToX] /
                                        std::sqrt(1.0 - ex * ex) * kRadToDeg};
   }
+  // The covariance of (p, e_x, e_y) a pool of flights weights this one by:
+  // the fit's, each position axis widened as its σ̂ was above, so that the
+  // correlations stay the fit's and the variances are the honest ones.
+  if (result.covariance.rows() == kNumRigid3dParameters &&
+      result.covariance.cols() == kNumRigid3dParameters &&
+      result.covariance.allFinite()) {
+    const int index[kNumSharedParameters] = {
+        kPx, kPy, kPz, kThrustToX, kThrustToY};
+    Eigen::Matrix<double, kNumSharedParameters, 1> scale =
+        Eigen::Matrix<double, kNumSharedParameters, 1>::Ones();
+    for (int a = 0; a < 3; ++a) {
+      const double own = std::sqrt(result.covariance(index[a], index[a]));
+      scale[a] = own > 0 ? out.decisions[static_cast<std::size_t>(a)]
+                                   .stderr_statistical_m /
+                               own
+                         : std::numeric_limits<double>::quiet_NaN();
+    }
+    for (int i = 0; i < kNumSharedParameters; ++i) {
+      for (int j = 0; j < kNumSharedParameters; ++j) {
+        out.shared_covariance(i, j) =
+            scale[i] * scale[j] * result.covariance(index[i], index[j]);
+      }
+    }
+  }
   {
     const Eigen::Vector3d fitted(x[0], x[1], x[2]);
     out.fitted_position_thrust_frame_m =
