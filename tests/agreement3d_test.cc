@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "src/report/change3d.h"
 
 namespace imusysid {
 namespace internal {
@@ -77,6 +78,19 @@ TEST(Agreement3d, WeightsByVarianceAndSkipsWhatCannotBeJudged) {
   const AgreementTest one = Agreement({At(0.0, 1e-3)}, 0);
   EXPECT_EQ(one.dof, 0);
   EXPECT_FALSE(one.disagree);
+}
+
+// The change scan's decision (src/report/change3d.h): the best split's
+// p-value times the splits tried against 0.001, and the largest difference
+// of a judged axis against 5 mm, each just inside and just outside.
+TEST(ChangeScan3d, DecidesJustInsideAndOutside) {
+  // Nine splits: p 1.10e-4 is 0.99e-3 over them, 1.12e-4 is 1.008e-3.
+  EXPECT_TRUE(ChangeFound(1.10e-4, 9, 0.0051));
+  EXPECT_FALSE(ChangeFound(1.12e-4, 9, 0.0051));
+  // The same p with one split is far inside; the difference then decides.
+  EXPECT_TRUE(ChangeFound(1.12e-4, 1, 0.0051));
+  EXPECT_FALSE(ChangeFound(1e-30, 9, 0.0049));
+  EXPECT_FALSE(ChangeFound(std::numeric_limits<double>::quiet_NaN(), 9, 0.02));
 }
 
 }  // namespace

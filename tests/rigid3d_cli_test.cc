@@ -83,15 +83,16 @@ TEST(Rigid3dCli, JsonHasThePositionItsErrorsAndWarnings) {
     // The gates in the order they apply, every one passed, each with the
     // number it judged and its limit.
     // The agreement gates last: the windows' where there are two or more
-    // (this flight has one), the halves' always.
+    // (this flight has one), the halves' and the change scan's always.
     const nlohmann::json& e = d["evidence"];
-    ASSERT_EQ(e.size(), 6u);
+    ASSERT_EQ(e.size(), 7u);
     const char* const gates[] = {"delay_at_limit",
                                  "unexplained_fraction",
                                  "unexplained_in_band",
                                  "stderr",
                                  "abs_position",
-                                 "halves_agreement"};
+                                 "halves_agreement",
+                                 "position_change"};
     for (std::size_t g = 0; g < e.size(); ++g) {
       EXPECT_EQ(e[g]["gate"], gates[g]);
       EXPECT_EQ(e[g]["passed"], true) << e[g];

@@ -791,8 +791,10 @@ TEST(Rigid3dGates, WindowAndHalvesGatesAreTheAgreementTestOfTheirPieces) {
 // estimator's own times); searched only up to 2.5 ms, the best is at the
 // limit, but the position moves by far less than σ̂ over those 2.5 ms, so
 // the delay gate passes on every axis; what the wrong delay does to the
-// halves is for their own gate. No axis given is wrong: within 3σ̂ of the
-// truth, and most are given.
+// halves is for their own gate (IMU 1's z halves disagree, and the change
+// scan finds its first 12 s 19 mm off on z, so IMU 1's x and y, which no
+// side pins down, are withheld too). No axis given is wrong: within 3σ̂ of
+// the truth, and most are given.
 TEST(Rigid3dGates, DelayAtTheLimitOnTheFirstInstanceIsJudgedOnEveryInstance) {
   const Simulator3dOptions o = Scenario("figure8_3d");
   StatusOr<Simulated3dFlight> flight = Simulate3d(o);
@@ -824,7 +826,7 @@ TEST(Rigid3dGates, DelayAtTheLimitOnTheFirstInstanceIsJudgedOnEveryInstance) {
           << r.instance << "/" << a;
     }
   }
-  EXPECT_GE(given, 7);
+  EXPECT_GE(given, 6);
 }
 
 // The jackknife's blocks and the report's windows are factored in place on

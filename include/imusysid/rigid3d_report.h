@@ -147,6 +147,12 @@ struct Rigid3dGate {
   //   pieces − 1 degrees of freedom; fails when above and the piece
   //   furthest from the mean in σ̂ (difference_m, window_t0_s..t1_s) is
   //   further than min_difference_m (5 mm).
+  // "position_change" (ImuPosition3d::position_change): the best split's
+  //   p-value over the splits tried against 0.001, its time in
+  //   window_t0_s, and this axis's |before − after| in difference_m (NaN
+  //   where a side does not pin the axis down). Where a change is found it
+  //   fails on every axis but those both sides pin down and that moved by
+  //   min_difference_m (5 mm) or less.
   std::string gate;
   double statistic = std::numeric_limits<double>::quiet_NaN();
   double threshold = std::numeric_limits<double>::quiet_NaN();
@@ -163,7 +169,8 @@ struct Rigid3dGate {
 struct Rigid3dAxisDecision {
   // A stable code: "given", or why withheld: "fit_failed", "delay_at_limit",
   // "unexplained_in_band", "unexplained_fraction", "stderr", "abs_position",
-  // "window_agreement", "halves_agreement" (the first gate that failed, in the
+  // "window_agreement", "halves_agreement", "position_change" (the first
+  // gate that failed, in the
   // order of `evidence`).
   std::string reason = "fit_failed";
   // Every gate that could be judged (none when the fit failed;
@@ -270,6 +277,35 @@ struct ImuPosition3d {
     Eigen::Vector3d stderr_m;
   };
   std::vector<WindowEstimate> window_estimates;
+  // Whether the position moved during the flight (a payload attached or
+  // shifted): the fitted samples cut into 20 blocks, each split from 20 %
+  // to 80 % tried, each side fitted alone with its own block jackknife σ̂,
+  // and the split whose sides differ most significantly on the axes both
+  // pin down to 5 mm kept (docs/model-3d.md, "A position that moves").
+  // Found when that split's p-value times the splits tried is below 0.001
+  // and some judged axis differs by more than 5 mm; only where the model
+  // is linear outright and the fit has 1000 samples or more (else tested
+  // is false).
+  struct PositionChange {
+    bool tested = false;
+    bool found = false;
+    int splits = 0;
+    double t_s = std::numeric_limits<double>::quiet_NaN();
+    Eigen::Vector3d before_m =
+        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Eigen::Vector3d before_stderr_m =
+        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Eigen::Vector3d after_m =
+        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Eigen::Vector3d after_stderr_m =
+        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    std::array<bool, 3> judged = {false, false, false};
+    double chi_square = std::numeric_limits<double>::quiet_NaN();
+    int dof = 0;
+    double p_value_adjusted = std::numeric_limits<double>::quiet_NaN();
+    double largest_difference_m = std::numeric_limits<double>::quiet_NaN();
+  };
+  PositionChange position_change;
   std::vector<std::string> warnings;  // prose, one sentence each
   // From CompareInstances: this IMU's position minus another instance's,
   // on the axes both determine (NaN elsewhere), with its 1σ.

@@ -17,6 +17,7 @@
 #include "imusysid/problem_data.h"
 #include "imusysid/rigid3d.h"
 #include "src/report/agreement3d.h"
+#include "src/report/change3d.h"
 #include "src/report/parameter_file.h"
 #include "src/report/uncertainty3d.h"
 #include "src/tools/format.h"
@@ -386,6 +387,68 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
            {half, n, pre.data.t_s[half], pre.data.t_s[n - 1]}},
           "halves_agreement");
   }
+  if (out.usable) {
+    const internal::ChangeScan scan =
+        internal::ScanForChange(result.model, pre.data, options.fitted_model);
+    ImuPosition3d::PositionChange& c = out.position_change;
+    c.tested = scan.tested;
+    c.found = scan.found;
+    c.splits = scan.splits;
+    c.t_s = scan.t_s;
+    c.before_m = scan.before_m;
+    c.before_stderr_m = scan.before_stderr_m;
+    c.after_m = scan.after_m;
+    c.after_stderr_m = scan.after_stderr_m;
+    for (int a = 0; a < 3; ++a) {
+      c.judged[static_cast<std::size_t>(a)] = scan.judged[a];
+    }
+    c.chi_square = scan.chi_square;
+    c.dof = scan.dof;
+    c.p_value_adjusted = scan.p_value_adjusted;
+    c.largest_difference_m = scan.largest_difference_m;
+    // A position that moved makes the whole flight's a blend of two: every
+    // axis is withheld but those both sides pin down and that moved by no
+    // more than a lever-arm correction can use.
+    std::string sides;
+    for (int a = 0; a < 3; ++a) {
+      if (!scan.judged[a]) continue;
+      sides += std::string(sides.empty() ? "" : ", ") + kAxisNames[a] + " " +
+               Mm(scan.before_m[a]) + " +/- " + Mm(scan.before_stderr_m[a]) +
+               " -> " + Mm(scan.after_m[a]) + " +/- " +
+               Mm(scan.after_stderr_m[a]);
+    }
+    const std::string moved =
+        "the flight before and after " + FormatNumber(scan.t_s, 4) +
+        " s disagrees on the position: fitted alone, the two give " + sides +
+        " mm (chi-square " + FormatNumber(scan.chi_square, 3) + " on " +
+        std::to_string(scan.dof) +
+        " dof, p = " + FormatNumber(scan.p_value_adjusted, 2) + " over " +
+        std::to_string(scan.splits) +
+        " splits tried); the whole flight's position is a blend of the two "
+        "(did a payload or the mounting change? imusysid track follows the "
+        "position through it)";
+    for (int a = 0; c.tested && a < 3; ++a) {
+      const auto i = static_cast<std::size_t>(a);
+      Rigid3dGate g;
+      g.gate = "position_change";
+      g.statistic = scan.p_value_adjusted;
+      g.threshold = internal::kChangeAlpha;
+      g.difference_m = scan.judged[a]
+                           ? std::abs(scan.before_m[a] - scan.after_m[a])
+                           : std::numeric_limits<double>::quiet_NaN();
+      g.min_difference_m = internal::kChangeMinDifferenceM;
+      g.window_t0_s = scan.t_s;
+      g.passed = !scan.found ||
+                 (scan.judged[a] && g.difference_m <= g.min_difference_m);
+      out.decisions[i].evidence.push_back(g);
+      if (out.determined[i] && !g.passed) {
+        out.determined[i] = false;
+        out.decisions[i].reason = "position_change";
+        out.advice[i] = std::string(kAxisNames[a]) + " is withheld: " + moved;
+      }
+    }
+    if (scan.found) out.warnings.push_back(moved);
+  }
   for (const Warning& w : result.warnings) {
     if (w.code == "ill_conditioned" || w.code == "at_bound") continue;
     out.warnings.push_back(w.code + ": " + w.message);
@@ -523,7 +586,8 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
       e["statistic"] = Num(g.statistic);
       e["threshold"] = Num(g.threshold);
       e["passed"] = g.passed;
-      if (g.gate == "window_agreement" || g.gate == "halves_agreement") {
+      if (g.gate == "window_agreement" || g.gate == "halves_agreement" ||
+          g.gate == "position_change") {
         e["difference_m"] = Num(g.difference_m);
         e["min_difference_m"] = Num(g.min_difference_m);
         e["window_s"] = {Num(g.window_t0_s), Num(g.window_t1_s)};
@@ -560,6 +624,24 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
     systematic.push_back(std::move(one));
   }
   j["systematic_sensitivity"] = systematic;
+  // The change scan's best split, found or not.
+  const ImuPosition3d::PositionChange& c = r.position_change;
+  j["position_change"] = {
+      {"tested", c.tested},
+      {"found", c.found},
+      {"t_s", Num(c.t_s)},
+      {"before_frd_m", vector(c.before_m)},
+      {"before_stderr_m", vector(c.before_stderr_m)},
+      {"after_frd_m", vector(c.after_m)},
+      {"after_stderr_m", vector(c.after_stderr_m)},
+      {"judged", {c.judged[0], c.judged[1], c.judged[2]}},
+      {"chi_square", Num(c.chi_square)},
+      {"dof", c.dof},
+      {"p_value_over_splits", Num(c.p_value_adjusted)},
+      {"splits", c.splits},
+      {"largest_difference_m", Num(c.largest_difference_m)},
+      {"threshold_p", internal::kChangeAlpha},
+      {"min_difference_m", internal::kChangeMinDifferenceM}};
   return j;
 }
 

@@ -1,0 +1,127 @@
+#include "src/report/change3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "Eigen/QR"
+#include "imusysid/pool3d.h"
+#include "src/report/agreement3d.h"
+#include "src/report/uncertainty3d.h"
+
+namespace imusysid {
+namespace internal {
+namespace {
+
+// The position of the blocks [b0, b1) stacked, and their own jackknife σ̂.
+struct Side {
+  Eigen::Vector3d position_m;
+  Eigen::Vector3d stderr_m;
+};
+
+Side FitSide(const std::vector<Eigen::MatrixXd>& factors, int b0, int b1) {
+  const std::vector<Eigen::MatrixXd> own(factors.begin() + b0,
+                                         factors.begin() + b1);
+  const Eigen::Index cols = own.front().cols();
+  Eigen::MatrixXd stack(static_cast<Eigen::Index>(own.size()) * cols, cols);
+  for (std::size_t b = 0; b < own.size(); ++b) {
+    stack.middleRows(static_cast<Eigen::Index>(b) * cols, cols) = own[b];
+  }
+  const Eigen::Index m = cols - 1;
+  const Eigen::VectorXd coef =
+      stack.leftCols(m).colPivHouseholderQr().solve(stack.col(m));
+  Side side;
+  side.position_m =
+      coef.allFinite()
+          ? Eigen::Vector3d(coef.head<3>())
+          : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  side.stderr_m = JackknifeOfBlockFactors(own);
+  return side;
+}
+
+}  // namespace
+
+ChangeScan ScanForChange(std::string_view model_name,
+                         const ProblemData& data,
+                         const Model* fitted_model) {
+  ChangeScan out;
+  const std::size_t n = data.size();
+  constexpr std::size_t kMinBlockSamples = 50;
+  if (n < static_cast<std::size_t>(kChangeBlocks) * kMinBlockSamples) {
+    return out;
+  }
+  std::vector<Eigen::MatrixXd> factors;
+  std::vector<std::size_t> starts;
+  for (int b = 0; b < kChangeBlocks; ++b) {
+    const std::size_t i0 = n * static_cast<std::size_t>(b) / kChangeBlocks;
+    const std::size_t i1 = n * static_cast<std::size_t>(b + 1) / kChangeBlocks;
+    Eigen::MatrixXd r;
+    if (!SliceFactor(model_name, data, i0, i1, &r, fitted_model)) return out;
+    factors.push_back(std::move(r));
+    starts.push_back(i0);
+  }
+  struct Split {
+    int k = 0;
+    Side before;
+    Side after;
+    bool judged[3] = {false, false, false};
+    double chi_square = 0.0;
+    int dof = 0;
+    double p_value = 1.0;
+    double largest_difference_m = 0.0;
+  };
+  Split best;
+  bool any = false;
+  for (int k = kChangeMinSideBlocks; k <= kChangeBlocks - kChangeMinSideBlocks;
+       ++k) {
+    Split s;
+    s.k = k;
+    s.before = FitSide(factors, 0, k);
+    s.after = FitSide(factors, k, kChangeBlocks);
+    for (int a = 0; a < 3; ++a) {
+      const double sb = s.before.stderr_m[a];
+      const double sa = s.after.stderr_m[a];
+      const double d = s.before.position_m[a] - s.after.position_m[a];
+      if (!(std::isfinite(d) && sb > 0 && sa > 0 &&
+            sb <= kChangeMaxSideStderrM && sa <= kChangeMaxSideStderrM)) {
+        continue;
+      }
+      s.judged[a] = true;
+      s.chi_square += d * d / (sb * sb + sa * sa);
+      ++s.dof;
+      s.largest_difference_m = std::max(s.largest_difference_m, std::abs(d));
+    }
+    if (s.dof == 0) continue;
+    s.p_value = ChiSquareUpperTail(s.chi_square, s.dof);
+    ++out.splits;
+    if (!any || s.p_value < best.p_value) {
+      best = s;
+      any = true;
+    }
+  }
+  if (!any) return out;
+  out.tested = true;
+  out.t_s = data.t_s[starts[static_cast<std::size_t>(best.k)]];
+  out.before_m = best.before.position_m;
+  out.before_stderr_m = best.before.stderr_m;
+  out.after_m = best.after.position_m;
+  out.after_stderr_m = best.after.stderr_m;
+  for (int a = 0; a < 3; ++a) out.judged[a] = best.judged[a];
+  out.chi_square = best.chi_square;
+  out.dof = best.dof;
+  out.p_value = best.p_value;
+  out.p_value_adjusted = std::min(1.0, best.p_value * out.splits);
+  out.largest_difference_m = best.largest_difference_m;
+  out.found = ChangeFound(out.p_value, out.splits, out.largest_difference_m);
+  return out;
+}
+
+bool ChangeFound(double p_value, int splits, double largest_difference_m) {
+  return std::min(1.0, p_value * splits) < kChangeAlpha &&
+         largest_difference_m > kChangeMinDifferenceM;
+}
+
+}  // namespace internal
+}  // namespace imusysid
