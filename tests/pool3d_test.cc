@@ -6,8 +6,11 @@
 #include "imusysid/pool3d.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <random>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -552,8 +555,10 @@ TEST(PoolFlightsCli, UlogAndDataFlashPoolToTheTruth) {
       0);
   std::ifstream truth_file(dir + "/A.truth.json");
   const nlohmann::json truth = nlohmann::json::parse(truth_file);
+  const bool gnuplot = std::system("command -v gnuplot > /dev/null 2>&1") == 0;
   const auto r = RunCli("fit --log=" + dir + "/A.ulg --log " + dir +
-                        "/B.bin --imu=0 --model=rigid3d --format=json");
+                        "/B.bin --imu=0 --model=rigid3d --format=json" +
+                        (gnuplot ? " --report=" + dir + "/R" : ""));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.is_object());
@@ -579,6 +584,30 @@ TEST(PoolFlightsCli, UlogAndDataFlashPoolToTheTruth) {
       EXPECT_EQ(own["fitted_position_frd_m"][a], d["flights"][f]["fitted_m"]);
       EXPECT_TRUE(own["agreement"][a]["deviation_sigmas"].is_number());
     }
+  }
+  EXPECT_EQ(imu["misalignment"]["reason"], "given");
+  EXPECT_EQ(imu["joint_fit"]["shared_parameters"].size(), 5u);
+  if (!gnuplot) return;
+  // The page's table of the pool holds the pooled values to the bit.
+  std::ifstream page_file(dir + "/R/index.html");
+  std::stringstream page;
+  page << page_file.rdbuf();
+  const std::string html = page.str();
+  const auto table = html.find("<table id=\"pooled\">");
+  ASSERT_NE(table, std::string::npos);
+  const std::string rows =
+      html.substr(table, html.find("</table>", table) - table);
+  const std::regex value_re("<td data-value=\"([^\"]*)\">");
+  std::vector<double> values;
+  for (std::sregex_iterator v(rows.begin(), rows.end(), value_re), e; v != e;
+       ++v) {
+    values.push_back(std::strtod((*v)[1].str().c_str(), nullptr));
+  }
+  // Per axis row: the pooled value, then its ±2σ̂.
+  ASSERT_GE(values.size(), 6u);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_EQ(values[static_cast<std::size_t>(2 * a)],
+              imu["decisions"][a]["pooled_m"].get<double>());
   }
 }
 

@@ -45,7 +45,8 @@ int WriteOutputs(const std::string& text,
                  const AutopilotParameters* emitted,
                  const std::string& emit_out,
                  const std::vector<report::Rigid3dPageFlight>& pages,
-                 const std::string& title) {
+                 const std::string& title,
+                 const std::vector<PooledImuPosition3d>* pooled = nullptr) {
   Status s = EmitOutput(text, FLAGS_out);
   if (!s.ok()) return ReportError(kCmd, s);
   if (!FLAGS_out.empty()) std::cerr << "wrote " << FLAGS_out << "\n";
@@ -58,6 +59,7 @@ int WriteOutputs(const std::string& text,
     report::Rigid3dPageOptions options;
     options.cutoff_hz = FLAGS_cutoff_hz;
     options.title = title;
+    options.pooled = pooled;
     std::vector<report::Figure> figures;
     s = report::WriteRigid3dPage(FLAGS_report, pages, options, &figures);
     if (!s.ok()) return ReportError(kCmd, s.WithPrefix("--report"));
@@ -199,8 +201,7 @@ int WriteFlights3d(const FlightsSummary& summary,
     for (const PooledImuPosition3d& p : summary.imus) text += PooledToText(p);
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }
-  // The page shows each flight on its own (the pooled numbers are in the
-  // output).
+  // The page shows each flight on its own, then the pool.
   std::vector<report::Rigid3dPageFlight> pages;
   std::string labels;
   for (const IdentifySummary& flight : summary.flights) {
@@ -213,7 +214,8 @@ int WriteFlights3d(const FlightsSummary& summary,
       emitted,
       emit_out,
       pages,
-      "imusysid fit --model=" + summary.flights.front().model + ": " + labels);
+      "imusysid fit --model=" + summary.flights.front().model + ": " + labels,
+      &summary.imus);
   if (written != kExitOk) return written;
   return summary.usable() ? kExitOk : kExitBadInput;
 }

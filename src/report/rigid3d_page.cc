@@ -557,6 +557,7 @@ struct Estimate {
 Status DrawEstimates(const std::string& gnuplot,
                      const std::string& dir,
                      const std::vector<Rigid3dPageFlight>& flights,
+                     const std::vector<PooledImuPosition3d>* pool,
                      Page* page) {
   std::vector<int> instances;
   for (const auto& fl : flights) {
@@ -572,9 +573,11 @@ Status DrawEstimates(const std::string& gnuplot,
   std::vector<std::pair<std::size_t, std::size_t>> groups;  // per instance
   for (int instance : instances) {
     const std::size_t first = estimates.size();
-    Eigen::Vector3d weight = Eigen::Vector3d::Zero();
-    Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
-    std::array<bool, 3> pooled_determined = {true, true, true};
+    Estimate pooled{"pooled",
+                    2,
+                    Eigen::Vector3d::Constant(kNaN),
+                    Eigen::Vector3d::Constant(kNaN),
+                    {false, false, false}};
     int fitted = 0;
     for (std::size_t f = 0; f < flights.size(); ++f) {
       const std::string tag =
@@ -592,22 +595,27 @@ Status DrawEstimates(const std::string& gnuplot,
             tag + "flight", 1, imu.position_m, imu.stderr_m, imu.determined};
         estimates.push_back(e);
         ++fitted;
-        for (int a = 0; a < 3; ++a) {
-          const double v = 1.0 / (imu.stderr_m[a] * imu.stderr_m[a]);
-          weight[a] += v;
-          weighted[a] += v * imu.position_m[a];
-          pooled_determined[static_cast<std::size_t>(a)] =
-              pooled_determined[static_cast<std::size_t>(a)] &&
-              imu.determined[static_cast<std::size_t>(a)];
-        }
+        // One flight: its own fit is the pooled value.
+        pooled.position_m = e.position_m;
+        pooled.stderr_m = e.stderr_m;
+        pooled.determined = e.determined;
       }
     }
     if (fitted == 0) continue;
-    Estimate pooled{"pooled",
-                    2,
-                    weighted.cwiseQuotient(weight),
-                    weight.cwiseInverse().cwiseSqrt(),
-                    pooled_determined};
+    if (pool != nullptr) {
+      // Several: the joint fit's (PoolFlights), NaN where it has none.
+      pooled.position_m = pooled.stderr_m = Eigen::Vector3d::Constant(kNaN);
+      pooled.determined = {false, false, false};
+      for (const PooledImuPosition3d& p : *pool) {
+        if (p.instance != instance) continue;
+        for (int a = 0; a < 3; ++a) {
+          const PooledAxis& axis = p.axes[static_cast<std::size_t>(a)];
+          pooled.position_m[a] = axis.position_m;
+          pooled.stderr_m[a] = axis.stderr_m;
+          pooled.determined[static_cast<std::size_t>(a)] = axis.determined;
+        }
+      }
+    }
     estimates.push_back(pooled);
     groups.emplace_back(first, estimates.size());
   }
@@ -698,8 +706,9 @@ Status DrawEstimates(const std::string& gnuplot,
       "it), each flight's fit, and the pooled value (shaded: its ±2σ̂), "
       "grouped by IMU instance. Red hollow: an axis the report withholds "
       "(its fitted value). With one flight the pooled value is that "
-      "flight's; with several, their inverse-variance mean (not a joint "
-      "fit).");
+      "flight's; with several, the joint fit's: one position and tilt "
+      "shared by every flight, each keeping its own bias, wind, delay and "
+      "drags.");
   return Status::Ok();
 }
 
@@ -883,6 +892,69 @@ Status CheckRigid3dPageFolder(const std::string& dir_in) {
   return Status::Ok();
 }
 
+namespace {
+
+// The pool of several flights, per IMU and axis: the decision, the joint
+// fit's value ± 2σ̂, the flights in it and their agreement; then the tilt.
+HtmlTable PooledTable(const std::vector<PooledImuPosition3d>& pool) {
+  HtmlTable t;
+  t.id = "pooled";
+  t.caption =
+      "The flights pooled: one position and tilt shared by every flight "
+      "(mm ± 2σ̂; agreement: the flights' chi-square about their weighted "
+      "mean and its p-value)";
+  t.header = {"IMU",
+              "axis",
+              "decision",
+              "pooled (mm)",
+              "±2σ̂ (mm)",
+              "flights",
+              "chi-square (dof)",
+              "p",
+              "in words"};
+  for (const PooledImuPosition3d& p : pool) {
+    const std::string instance = std::to_string(p.instance);
+    for (int a = 0; a < 3; ++a) {
+      const PooledAxis& axis = p.axes[static_cast<std::size_t>(a)];
+      t.rows.push_back(
+          {instance,
+           kPageAxes[a],
+           axis.determined ? "given" : "withheld (" + axis.reason + ")",
+           MmCell(axis.position_m),
+           MmCell(2 * axis.stderr_m),
+           std::to_string(axis.flights),
+           axis.dof > 0 ? FormatNumber(axis.chi_square, 3) + " (" +
+                              std::to_string(axis.dof) + ")"
+                        : "-",
+           axis.dof > 0 ? FormatNumber(axis.p_value, 2) : "-",
+           axis.advice});
+    }
+    const PooledMisalignment& m = p.misalignment;
+    const bool shared = m.reason == "given";
+    t.rows.push_back({instance,
+                      "tilt roll / pitch (°)",
+                      shared ? "shared" : "not shared (" + m.reason + ")",
+                      shared ? FormatNumber(m.angle_deg[0], 3) + " / " +
+                                   FormatNumber(m.angle_deg[1], 3)
+                             : "-",
+                      shared ? FormatNumber(2 * m.stderr_deg[0], 2) + " / " +
+                                   FormatNumber(2 * m.stderr_deg[1], 2)
+                             : "-",
+                      std::to_string(m.flights),
+                      m.dof > 0 ? FormatNumber(m.chi_square[0], 3) + " / " +
+                                      FormatNumber(m.chi_square[1], 3) + " (" +
+                                      std::to_string(m.dof) + ")"
+                                : "-",
+                      m.dof > 0 ? FormatNumber(m.p_value[0], 2) + " / " +
+                                      FormatNumber(m.p_value[1], 2)
+                                : "-",
+                      m.advice});
+  }
+  return t;
+}
+
+}  // namespace
+
 Status WriteRigid3dPage(const std::string& dir_in,
                         const std::vector<Rigid3dPageFlight>& flights,
                         const Rigid3dPageOptions& options,
@@ -896,6 +968,10 @@ Status WriteRigid3dPage(const std::string& dir_in,
           "the report page shows 3-D fits (a model such as rigid3d); '" +
           fl.label + "' is not one");
     }
+  }
+  if (flights.size() > 1 && options.pooled == nullptr) {
+    return InvalidArgumentError(
+        "several flights on one page need their pool (IdentifyFlights)");
   }
   const std::string gnuplot = FindGnuplot();
   if (gnuplot.empty()) {
@@ -973,8 +1049,11 @@ Status WriteRigid3dPage(const std::string& dir_in,
     if (!st.ok()) return fail(st);
   }
   html << "<h2>Estimates per window, flight and IMU</h2>\n";
-  Status st = DrawEstimates(gnuplot, dir, flights, &page);
+  Status st = DrawEstimates(gnuplot, dir, flights, options.pooled, &page);
   if (!st.ok()) return fail(st);
+  if (options.pooled != nullptr) {
+    html << HtmlTableToString(PooledTable(*options.pooled));
+  }
   if (!windows.rows.empty()) html << HtmlTableToString(windows);
   html << HtmlTableToString(imus);
   html << "<p class=\"note\">Time-series figures are drawn from at most "

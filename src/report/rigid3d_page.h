@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "imusysid/identify.h"
+#include "imusysid/pool3d.h"
 #include "imusysid/status.h"
 #include "src/report/figures.h"
 
@@ -39,6 +40,10 @@ struct Rigid3dPageOptions {
   // sample. 150 k points a line make an SVG of megabytes that a browser
   // draws slowly, and more points than a 1000-pixel plot can show.
   std::size_t max_points_per_line = 4000;
+  // Several flights: their pool (IdentifyFlights; not owned), drawn as each
+  // IMU's pooled value and listed in a table of its own. Null with one
+  // flight, whose own fit is then the pooled value.
+  const std::vector<PooledImuPosition3d>* pooled = nullptr;
 };
 
 // What the page needs before a fit is run, so that a bad folder fails in a
@@ -51,7 +56,8 @@ Status CheckRigid3dPageFolder(const std::string& dir);
 // folder beside `dir` first and moved into place only when all of it was
 // written (a new `dir` is that folder renamed; into an existing one the
 // files are moved one by one), so a failure leaves no half-written page.
-// InvalidArgument when `flights` is empty or holds a planar summary, or when
+// InvalidArgument when `flights` is empty or holds a planar summary, when
+// several flights come without options.pooled, or when
 // the folder beside `dir` cannot be made; FailedPrecondition without
 // gnuplot; IoError when a file cannot be written or gnuplot fails. Appends
 // the figures drawn to `figures` when not null.
