@@ -229,7 +229,7 @@ JointFit SolveJoint(const std::vector<SharedFlight>& flights) {
 // flight's deviation over its own 1σ, (v_f − v̄)/sqrt(σ_f² − σ̄²) (v̄ holds
 // v_f, hence the smaller variance). Entries with `entered` false are
 // skipped; deviations NaN for them or when fewer than two entered.
-struct Agreement {
+struct FlightsAgreement {
   double mean = kPoolNaN;
   double chi_square = kPoolNaN;
   int dof = 0;
@@ -238,10 +238,10 @@ struct Agreement {
   std::vector<double> chi_square_terms;
 };
 
-Agreement AgreementOf(const std::vector<double>& value,
-                      const std::vector<double>& sigma,
-                      const std::vector<bool>& entered) {
-  Agreement out;
+FlightsAgreement AgreementOf(const std::vector<double>& value,
+                             const std::vector<double>& sigma,
+                             const std::vector<bool>& entered) {
+  FlightsAgreement out;
   out.deviation_sigmas.assign(value.size(), kPoolNaN);
   out.chi_square_terms.assign(value.size(), kPoolNaN);
   double information = 0.0;
@@ -339,7 +339,7 @@ void PoolAxis(int axis,
     // σ_f here is the whole σ̂, floor included, so that a model error the
     // flights share (which cancels in their differences) never reads as
     // disagreement.
-    const Agreement agreement = AgreementOf(value, sigma, entered);
+    const FlightsAgreement agreement = AgreementOf(value, sigma, entered);
     double worst = -1.0;
     std::size_t worst_flight = 0;
     bool any_named = false;
@@ -452,7 +452,7 @@ void AgreeOnMisalignment(const std::vector<SharedFlight>& shared,
           std::sqrt(f.statistical(k, k) + f.systematic[k] * f.systematic[k]));
       entered.push_back(f.entered[static_cast<std::size_t>(k)]);
     }
-    const Agreement a = AgreementOf(value, sigma, entered);
+    const FlightsAgreement a = AgreementOf(value, sigma, entered);
     out->chi_square[angle] = a.chi_square;
     out->p_value[angle] = a.p_value;
     out->dof = a.dof;
