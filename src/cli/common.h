@@ -37,7 +37,7 @@ struct Command {
   bool estimator_flags = false;
   // Defaults this command gives a shared flag when it is not set, where
   // they differ from the flag's own (--help shows these): {name, value}.
-  std::vector<std::pair<std::string, std::string>> defaults;
+  std::vector<std::pair<std::string, std::string>> defaults = {};
 };
 
 // Every subcommand, in help order. Each cli_<name>.cc defines one accessor.
