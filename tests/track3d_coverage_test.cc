@@ -3,6 +3,7 @@
 // position found again, no false alarm on a flight without a change. In
 // the accuracy binary (Release only): each case flies the 6-DOF simulator.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -144,31 +145,59 @@ TEST(Track3dAccuracy, FiveCentimetreShiftFoundWithRealisticSensors) {
 }
 
 // No change flown: no alarm, and ±2σ̂ covers the truth on the determined
-// axes in at least 75 % of the estimates (measured 0.88 / 0.99 / 0.83 on
-// x / y / z over ten flights; below the 90 % aimed at: docs/track-3d.md).
+// axes (σ̂ ≤ 5 mm, the batch fit's rule) at least 90 % of the time, on four
+// flights of 90 s and two of five minutes (a 280 s figure-eight, where the
+// slow forces bias a poorly excited axis for minutes). Over 20 flights of
+// each (scripts/track_coverage.sh) the shares are 0.94–1.00 and 0.90–0.94.
 TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
   int n[3] = {0, 0, 0}, inside[3] = {0, 0, 0};
-  for (std::uint64_t seed : {100, 101, 102, 103, 104}) {
-    const Simulator3dOptions o = Realistic(seed);
+  int n_all[3] = {0, 0, 0}, inside_all[3] = {0, 0, 0};
+  const struct {
+    std::uint64_t seed;
+    double maneuver_s;
+  } flights[] = {{100, 74.0},
+                 {101, 74.0},
+                 {102, 74.0},
+                 {103, 74.0},
+                 {104, 280.0},
+                 {105, 280.0}};
+  for (const auto& f : flights) {
+    Simulator3dOptions o = Realistic(f.seed);
+    o.maneuver_s = f.maneuver_s;
     const TrackRun run = FlyAndTrack(o);
     EXPECT_TRUE(run.changes.empty())
-        << "seed " << seed << ": alarm at " << run.changes[0].detected_t_s;
+        << "seed " << f.seed << ": alarm at " << run.changes[0].detected_t_s;
     for (const Track3dEstimate& e : run.estimates) {
       if (!e.valid) continue;
       for (int a = 0; a < 3; ++a) {
+        const bool in = std::abs(e.position_frd_m[a] - o.imus[0].p_frd_m[a]) <=
+                        2.0 * e.stderr_m[a];
+        if (f.maneuver_s < 100.0) {
+          ++n_all[a];
+          inside_all[a] += in ? 1 : 0;
+        }
         if (!e.determined[a]) continue;
         ++n[a];
-        if (std::abs(e.position_frd_m[a] - o.imus[0].p_frd_m[a]) <=
-            2.0 * e.stderr_m[a]) {
-          ++inside[a];
-        }
+        inside[a] += in ? 1 : 0;
       }
     }
   }
   for (int a = 0; a < 3; ++a) {
-    ASSERT_GT(n[a], 20) << "axis " << a;
-    EXPECT_GE(inside[a], 0.75 * n[a])
+    // Enough determined estimates that 90 % is a measurement (the 5 mm rule
+    // leaves y the fewest).
+    ASSERT_GT(n[a], 25) << "axis " << a;
+    std::printf("axis %d: determined %d of %d, every estimate %d of %d\n",
+                a,
+                inside[a],
+                n[a],
+                inside_all[a],
+                n_all[a]);
+    EXPECT_GE(inside[a], 0.9 * n[a])
         << "axis " << a << ": " << inside[a] << " of " << n[a];
+    // Every estimate of the 90 s flights, determined or not: measured
+    // 0.94 / 0.93 / 0.86 over 20 flights.
+    EXPECT_GE(inside_all[a], 0.8 * n_all[a])
+        << "axis " << a << ": " << inside_all[a] << " of " << n_all[a];
   }
 }
 
@@ -398,6 +427,128 @@ TEST(Track3dAccuracy, DISABLED_DetectionSurvey) {
     std::printf("\n");
   }
   std::printf("detected %d of %d\n", detected, flights);
+}
+
+// By hand (scripts/track_detection.sh): for CoM shifts along z of 1, 2, 3
+// and 5 cm (TRK_SHIFTS, in mm) at TRK_CHANGE_S (60 s) during a figure-eight
+// (TRK_MANEUVER_S 120 s: the figure-eight until about 105 s, then the
+// doublets), TRK_FLIGHTS flights (10) each, realistic sensors (gentle with
+// TRK_GENTLE): how many were detected within 2 s and within 10 s, the
+// median delay, and the information bound: the smallest z step a test at
+// the tracker's threshold could see with 50 % power from the 2 s (10 s)
+// after the change, √(χ²/I_zz) with I the tracker's RecentInformation (the
+// coloured noise through its effective sample size), for the 1-dof test
+// along z and the 3-dof one; and 10 s after the change, the position's
+// largest error over the axes and how many flights are within 2 mm.
+// Prints a Markdown table.
+TEST(Track3dAccuracy, DISABLED_DetectionBoundSurvey) {
+  const int flights =
+      std::getenv("TRK_FLIGHTS") ? std::atoi(std::getenv("TRK_FLIGHTS")) : 10;
+  const double t_change = std::getenv("TRK_CHANGE_S")
+                              ? std::atof(std::getenv("TRK_CHANGE_S"))
+                              : 60.0;
+  const double maneuver = std::getenv("TRK_MANEUVER_S")
+                              ? std::atof(std::getenv("TRK_MANEUVER_S"))
+                              : 120.0;
+  std::vector<double> shifts_mm = {10.0, 20.0, 30.0, 50.0};
+  if (const char* e = std::getenv("TRK_SHIFTS")) {
+    shifts_mm.clear();
+    for (const char* c = e; *c != 0;) {
+      char* end = nullptr;
+      shifts_mm.push_back(std::strtod(c, &end));
+      c = *end == ',' ? end + 1 : end;
+      if (end == c && *c != 0) break;
+    }
+  }
+  const bool gentle = std::getenv("TRK_GENTLE") != nullptr;
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  };
+  std::printf(
+      "| shift | detected within 2 s | within 10 s | median delay | bound "
+      "2 s (1 dof / 3 dof) | bound 10 s (1 dof / 3 dof) | max error 10 s "
+      "after, median | within 2 mm | sigma z 10 s after, median |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  for (double shift_mm : shifts_mm) {
+    int within2 = 0, within10 = 0, near = 0;
+    std::vector<double> delays, b2_1, b2_3, b10_1, b10_3, errors, sigmas;
+    for (int i = 0; i < flights; ++i) {
+      Simulator3dOptions o = Realistic(static_cast<std::uint64_t>(200 + i));
+      o.maneuver_s = maneuver;
+      if (gentle) o.sensor_profile = "gentle";
+      o = WithShiftZ(o, t_change, 1e-3 * shift_mm);
+      StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+      ASSERT_TRUE(flight.ok());
+      auto log = std::make_shared<const FlightLog>(flight->logs[0]);
+      StatusOr<Track3dLog> samples = Track3dSamplesOfLog(log);
+      ASSERT_TRUE(samples.ok());
+      Track3dOptions t = SurveyOptions();
+      t.rate_hz = samples->rate_hz;
+      StatusOr<Track3d> tracker = Track3d::Create(t);
+      ASSERT_TRUE(tracker.ok());
+      double delay = std::nan("");
+      bool got2 = false, got10 = false;
+      for (std::size_t k = 0; k < samples->size; ++k) {
+        const Track3dSample s = samples->sample(k);
+        const bool before2 = s.t_s < t_change + 2.0;
+        const bool before10 = s.t_s < t_change + 10.0;
+        if (tracker->Update(s)) {
+          const double d = tracker->last_change().detected_t_s - t_change;
+          if (d >= 0.0 && !std::isfinite(delay)) delay = d;
+        }
+        for (int w = 0; w < 2; ++w) {
+          const double span = w == 0 ? 2.0 : 10.0;
+          bool& got = w == 0 ? got2 : got10;
+          const bool crossing = w == 0 ? before2 : before10;
+          if (got || crossing) continue;
+          got = true;
+          const Eigen::Matrix3d info = tracker->RecentInformation(span);
+          const double izz = info(2, 2);
+          const double b1 = std::sqrt(tracker->change_threshold(1) / izz);
+          const double b3 = std::sqrt(tracker->change_threshold(3) / izz);
+          (w == 0 ? b2_1 : b10_1).push_back(1e3 * b1);
+          (w == 0 ? b2_3 : b10_3).push_back(1e3 * b3);
+          if (w == 1) {
+            const Track3dEstimate e = tracker->Estimate();
+            if (e.valid) {
+              const double err = (e.position_frd_m - flight->p_after_frd_m[0])
+                                     .cwiseAbs()
+                                     .maxCoeff();
+              errors.push_back(1e3 * err);
+              sigmas.push_back(1e3 * e.stderr_m.z());
+              near += err <= 0.002 ? 1 : 0;
+            }
+          }
+        }
+      }
+      if (std::isfinite(delay)) {
+        delays.push_back(delay);
+        within2 += delay <= 2.0 ? 1 : 0;
+        within10 += delay <= 10.0 ? 1 : 0;
+      }
+    }
+    std::printf(
+        "| %.0f mm | %d/%d | %d/%d | %.2f s | %.1f / %.1f mm | %.1f / %.1f "
+        "mm | %.1f mm | %d/%zu | %.1f mm |\n",
+        shift_mm,
+        within2,
+        flights,
+        within10,
+        flights,
+        median(delays),
+        median(b2_1),
+        median(b2_3),
+        median(b10_1),
+        median(b10_3),
+        median(errors),
+        near,
+        errors.size(),
+        median(sigmas));
+    std::fflush(stdout);
+  }
 }
 
 }  // namespace

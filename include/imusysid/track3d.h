@@ -212,8 +212,17 @@ class Track3d {
   Track3dEstimate Estimate() const;
   const Track3dChange& last_change() const;
   int num_changes() const;
-  // The chi-square threshold the change test uses (3 dof).
+  // The chi-square threshold the change test uses (3 dof), and that of
+  // `dof` degrees of freedom (1 to 3).
   double change_threshold() const;
+  double change_threshold(int dof) const;
+  // The Fisher information about a step of p carried by the last `seconds`
+  // of flight (whole blocks), 1/m², with the other coefficients known (a
+  // long stretch before a change fixes them) and the residual's coloured
+  // noise taken into account through the change test's serial-correlation
+  // inflation (its effective sample size): the smallest step d a test at
+  // threshold χ² can see is dᵀ I d ≥ χ². Zero before the first estimate.
+  Eigen::Matrix3d RecentInformation(double seconds) const;
   const Track3dCalibration& calibration() const;
 
  private:

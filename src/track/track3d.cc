@@ -608,6 +608,7 @@ void Pipeline::Restart(int keep) {
   ring_size = keep;
   stale.setZero();
   stale_rows = 0.0;
+  long_inflation.setOnes();
   flight_s = keep * o.block_s;
   RebuildMain();
 }
@@ -637,8 +638,8 @@ void Pipeline::UpdateInflation(const Vec& c) {
     inflation = shorter;
     inflation_known = true;
   }
-  // Kept across restarts as the short one is, until the ring after the
-  // restart holds four long clusters again.
+  // Unlike the short one, not kept across a restart (Restart): it reflects
+  // the motion of the last two minutes as much as the vehicle.
   Eigen::Vector3d longer;
   if (o.correlation_long_cluster_s > 0.0 &&
       RobustInflation(c, o.correlation_long_cluster_s, 16, &longer)) {
@@ -1090,6 +1091,25 @@ const Track3dChange& Track3d::last_change() const {
 }
 int Track3d::num_changes() const { return impl_->pipe->changes; }
 double Track3d::change_threshold() const { return impl_->pipe->threshold; }
+double Track3d::change_threshold(int dof) const {
+  return impl_->pipe->thresholds[std::clamp(dof, 1, 3)];
+}
+
+Eigen::Matrix3d Track3d::RecentInformation(double seconds) const {
+  const Pipeline& m = *impl_->pipe;
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  const int blocks = std::min(
+      m.ring_size, static_cast<int>(std::lround(seconds / m.o.block_s)));
+  if (blocks < 1 || !(m.main_rows > kM + 1)) return info;
+  Factor f = Factor::Zero();
+  for (int i = 1; i <= blocks; ++i) FoldFactor(&f, m.RingAt(m.ring_size - i).r);
+  const double sigma2 = m.main(kM, kM) * m.main(kM, kM) / (m.main_rows - kM);
+  if (!(sigma2 > 0.0)) return info;
+  const Eigen::Matrix<double, kC, 3> a = f.leftCols<3>();
+  const Eigen::Vector3d k = m.inflation.cwiseSqrt().cwiseInverse();
+  info = k.asDiagonal() * (a.transpose() * a) * k.asDiagonal() / sigma2;
+  return info;
+}
 const Track3dCalibration& Track3d::calibration() const {
   return impl_->calibration;
 }
