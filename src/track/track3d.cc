@@ -339,6 +339,9 @@ struct Pipeline {
   Factor stale = Factor::Zero();
   double stale_rows = 0.0;
   int capacity = 0;
+  // The change test's clusters: those the ring held before the long ones
+  // (16 clusters' span less the candidates).
+  int short_clusters = 16;
   double flight_s = 0.0;  // gated-in flight since the restart
   double wind_n = 0.0, wind_e = 0.0;
   // While the calibration waits for its stretch, the gates and filters run
@@ -634,7 +637,7 @@ void Pipeline::UpdateInflation(const Vec& c) {
   // larger of that and 8 s clusters over up to 128 s, which see the slow
   // forces' model error (0.05–1 Hz) that 2 s clusters take for signal.
   Eigen::Vector3d shorter;
-  if (RobustInflation(c, o.correlation_cluster_s, 16, &shorter)) {
+  if (RobustInflation(c, o.correlation_cluster_s, short_clusters, &shorter)) {
     inflation = shorter;
     inflation_known = true;
   }
