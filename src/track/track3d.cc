@@ -410,6 +410,17 @@ struct Pipeline {
     }
     // The ring holds the window, the candidates and 32 s for the
     // serial-correlation estimate.
+    const int short_capacity =
+        std::min(kMaxBlocks,
+                 std::max({WindowBlocks(),
+                           o.change_candidates + 1,
+                           static_cast<int>(std::lround(
+                               16.0 * o.correlation_cluster_s / o.block_s))}));
+    short_clusters =
+        (short_capacity - o.change_candidates) /
+        std::max(
+            1,
+            static_cast<int>(std::lround(o.correlation_cluster_s / o.block_s)));
     capacity = std::min(
         kMaxBlocks,
         std::max({WindowBlocks(),
@@ -649,6 +660,12 @@ void Pipeline::UpdateInflation(const Vec& c) {
     long_inflation = longer;
   }
   estimate_inflation = inflation.cwiseMax(long_inflation);
+  std::fprintf(stderr,
+               "DBG ring %d infl %.3f %.3f %.3f\n",
+               ring_size,
+               inflation[0],
+               inflation[1],
+               inflation[2]);
 }
 
 bool Pipeline::RobustInflation(const Vec& c,
