@@ -22,10 +22,11 @@ for maneuver in 52 74 280; do
   TRK_MANEUVER_S=$maneuver run '*FalseAlarmSurvey*'
 done
 for profile in realistic gentle; do
-  gentle=()
-  [[ $profile == gentle ]] && gentle=(TRK_GENTLE=1)
-  echo "## Shift during the figure-eight (60 s), $profile sensors"
-  env "${gentle[@]}" run '*DetectionBoundSurvey*'
-  echo "## Shift during the doublets (50 s of the default flight), $profile sensors"
-  env "${gentle[@]}" TRK_MANEUVER_S=52 TRK_CHANGE_S=50 run '*DetectionBoundSurvey*'
+  (
+    [[ $profile == gentle ]] && export TRK_GENTLE=1
+    echo "## Shift during the figure-eight (60 s), $profile sensors"
+    run '*DetectionBoundSurvey*'
+    echo "## Shift during the doublets (50 s of the default flight), $profile sensors"
+    TRK_MANEUVER_S=52 TRK_CHANGE_S=50 run '*DetectionBoundSurvey*'
+  )
 done

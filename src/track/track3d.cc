@@ -660,12 +660,6 @@ void Pipeline::UpdateInflation(const Vec& c) {
     long_inflation = longer;
   }
   estimate_inflation = inflation.cwiseMax(long_inflation);
-  std::fprintf(stderr,
-               "DBG ring %d infl %.3f %.3f %.3f\n",
-               ring_size,
-               inflation[0],
-               inflation[1],
-               inflation[2]);
 }
 
 bool Pipeline::RobustInflation(const Vec& c,
