@@ -145,10 +145,13 @@ TEST(Track3dAccuracy, FiveCentimetreShiftFoundWithRealisticSensors) {
 }
 
 // No change flown: no alarm, and ±2σ̂ covers the truth on the determined
-// axes (σ̂ ≤ 5 mm, the batch fit's rule) at least 90 % of the time, on four
-// flights of 90 s and two of five minutes (a 280 s figure-eight, where the
-// slow forces bias a poorly excited axis for minutes). Over 20 flights of
-// each (scripts/track_coverage.sh) the shares are 0.94–1.00 and 0.90–0.94.
+// axes (σ̂ ≤ 5 mm, the batch fit's rule) on four flights of 90 s and two of
+// five minutes (a 280 s figure-eight, where the slow forces bias a poorly
+// excited axis for minutes). Over 20 flights of each
+// (scripts/track_survey.sh) the shares are 0.90–1.00 (docs/track-3d.md);
+// these six give 50–120 estimates per axis, one a second and strongly
+// correlated, so the bound is 0.85: the σ̂ of 2 s clusters alone gave 0.76,
+// 0.63 and 0.46 on the five-minute flights.
 TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
   int n[3] = {0, 0, 0}, inside[3] = {0, 0, 0};
   int n_all[3] = {0, 0, 0}, inside_all[3] = {0, 0, 0};
@@ -192,7 +195,7 @@ TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
                 n[a],
                 inside_all[a],
                 n_all[a]);
-    EXPECT_GE(inside[a], 0.9 * n[a])
+    EXPECT_GE(inside[a], 0.85 * n[a])
         << "axis " << a << ": " << inside[a] << " of " << n[a];
     // Every estimate of the 90 s flights, determined or not: measured
     // 0.94 / 0.93 / 0.86 over 20 flights.

@@ -66,10 +66,11 @@ struct Track3dOptions {
   // holds 16 × this much flight).
   double correlation_cluster_s = 2.0;
   // The estimate's σ̂ also takes the inflation from clusters this long, s,
-  // over up to 16 of them (the ring then holds up to 128 s): the slow
-  // unmodelled forces (0.05–1 Hz) bias a poorly excited axis over tens of
-  // seconds, which 2 s clusters cannot see. 0: off.
-  double correlation_long_cluster_s = 8.0;
+  // over up to 16 of them (the ring then holds up to 96 s; at most 128 s):
+  // the slow unmodelled forces (0.05–1 Hz) bias a poorly excited axis over
+  // tens of seconds, which 2 s clusters cannot see. 0: off. (4 s covered
+  // less, 8–16 s fewer estimates, over 20 five-minute flights.)
+  double correlation_long_cluster_s = 6.0;
   // Change detection: the mean flight time between false alarms the user
   // accepts, s; and how far back a change may have started, in blocks.
   double mean_time_between_false_alarms_s = 3600.0;

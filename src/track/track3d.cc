@@ -645,7 +645,7 @@ void Pipeline::RebuildMain() {
 
 void Pipeline::UpdateInflation(const Vec& c) {
   // The change test's: 2 s clusters over the last 32 s. The estimate's: the
-  // larger of that and 8 s clusters over up to 128 s, which see the slow
+  // larger of that and 6 s clusters over up to 96 s, which see the slow
   // forces' model error (0.05–1 Hz) that 2 s clusters take for signal.
   Eigen::Vector3d shorter;
   if (RobustInflation(c, o.correlation_cluster_s, short_clusters, &shorter)) {
