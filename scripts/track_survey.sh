@@ -15,7 +15,7 @@ build=${1:-build}
 test=$build/tests/track3d_coverage_test
 run() {
   "$test" --gtest_also_run_disabled_tests --gtest_filter="$1" 2>&1 |
-    grep -E '^\||coverage|false alarms in'
+    grep -E '^\||^bound|coverage|false alarms in'
 }
 for maneuver in 52 74 280; do
   echo "## No change, manoeuvre ${maneuver} s, 20 flights"
