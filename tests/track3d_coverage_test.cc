@@ -251,8 +251,6 @@ Track3dOptions SurveyOptions() {
   if (const char* e = std::getenv("TRK_LONG")) {
     t.correlation_long_cluster_s = std::atof(e);
   }
-  if (const char* e = std::getenv("TRK_SYS"))
-    t.stderr_model_error = std::atof(e);
   return t;
 }
 

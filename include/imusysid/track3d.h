@@ -97,13 +97,7 @@ struct Track3dOptions {
   double impact_g = 3.0;
   double max_tilt_deg = 60.0;
   double gate_hold_s = 0.5;
-  // The systematic part of σ̂: a model error of this fraction of the
-  // residual's RMS shared by every row of the memory (n_eff σ_m² P, as the
-  // change test allows; it does not average down). Slow unmodelled forces
-  // bias a poorly excited axis by the same amount for minutes, which no
-  // residual statistic over the memory can see (docs/track-3d.md).
-  double stderr_model_error = 0.0;
-  // And the calibration's systematic part (Track3dCalibration::
+  // The systematic part of σ̂: the calibration's (Track3dCalibration::
   // systematic_ratio), the batch σ̂'s preprocessing and delay sensitivity.
   bool calibration_systematic = true;
   // Model-error floor added in quadrature to σ̂, m (the batch fit's), and

@@ -275,9 +275,6 @@ Status Track3dOptions::Validate() const {
                correlation_long_cluster_s,
                ">= 0 (and correlation_cluster_s >= block_s)");
   }
-  if (!(stderr_model_error >= 0.0)) {
-    return bad("stderr_model_error", stderr_model_error, ">= 0");
-  }
   if (!(max_stderr_m > 0.0)) return bad("max_stderr_m", max_stderr_m, "> 0");
   if (!(stderr_floor_m >= 0.0)) {
     return bad("stderr_floor_m", stderr_floor_m, ">= 0");
@@ -1077,13 +1074,8 @@ Track3dEstimate Track3d::Estimate() const {
   Eigen::Vector3d p;
   Eigen::Matrix3d cov;
   if (!m.PositionOf(r, rows, rows_sq, &p, &cov)) return e;
-  // cov is σ² P Σw²/Σw; a model error of RMS κσ common to every row moves
-  // the estimate by at most κ²σ² Σw P = κ² (Σw)²/Σw² · cov (Cauchy–Schwarz:
-  // the worst alignment with the regressors), (Σw)²/Σw² being the memory's
-  // effective number of rows.
-  const double n_eff = rows * rows / rows_sq;
-  Eigen::Matrix3d systematic =
-      m.o.stderr_model_error * m.o.stderr_model_error * n_eff * cov;
+  // The calibration's systematic variance per unit of white variance.
+  Eigen::Matrix3d systematic = Eigen::Matrix3d::Zero();
   if (m.o.calibration_systematic) {
     systematic.diagonal() += m.systematic_ratio.cwiseProduct(cov.diagonal());
   }
