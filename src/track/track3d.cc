@@ -350,6 +350,7 @@ struct Pipeline {
   bool inflation_known = false;
   // The estimate's: the larger of that and the long clusters'.
   Eigen::Vector3d long_inflation = Eigen::Vector3d::Ones();
+  int long_countdown = 0;
   // The calibration's systematic variance per unit of white variance
   // (Track3dCalibration::systematic_ratio).
   Eigen::Vector3d systematic_ratio = Eigen::Vector3d::Zero();
@@ -651,10 +652,14 @@ void Pipeline::UpdateInflation(const Vec& c) {
   }
   // Unlike the short one, not kept across a restart (Restart): it reflects
   // the motion of the last two minutes as much as the vehicle.
+  // Every 2 s of flight only: its clusters are 6 s, and over the 192
+  // blocks it is most of the per-block cost.
   Eigen::Vector3d longer;
-  if (o.correlation_long_cluster_s > 0.0 &&
-      RobustInflation(c, o.correlation_long_cluster_s, 16, &longer)) {
-    long_inflation = longer;
+  if (o.correlation_long_cluster_s > 0.0 && ++long_countdown >= 4) {
+    long_countdown = 0;
+    if (RobustInflation(c, o.correlation_long_cluster_s, 16, &longer)) {
+      long_inflation = longer;
+    }
   }
   estimate_inflation = inflation.cwiseMax(long_inflation);
 }
