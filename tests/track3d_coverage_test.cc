@@ -3,9 +3,11 @@
 // position found again, no false alarm on a flight without a change. In
 // the accuracy binary (Release only): each case flies the 6-DOF simulator.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -144,31 +146,62 @@ TEST(Track3dAccuracy, FiveCentimetreShiftFoundWithRealisticSensors) {
 }
 
 // No change flown: no alarm, and ±2σ̂ covers the truth on the determined
-// axes in at least 75 % of the estimates (measured 0.88 / 0.99 / 0.83 on
-// x / y / z over ten flights; below the 90 % aimed at: docs/track-3d.md).
+// axes (σ̂ ≤ 5 mm, the batch fit's rule) on four flights of 90 s and two of
+// five minutes (a 280 s figure-eight, where the slow forces bias a poorly
+// excited axis for minutes). Over 20 flights of each
+// (scripts/track_survey.sh) the shares are 0.90–1.00 (docs/track-3d.md);
+// these six give 50–120 estimates per axis, one a second and strongly
+// correlated, so the bound is 0.85: the σ̂ of 2 s clusters alone gave 0.76,
+// 0.63 and 0.46 on the five-minute flights.
 TEST(Track3dAccuracy, NoAlarmWithoutAChangeAndCoverage) {
   int n[3] = {0, 0, 0}, inside[3] = {0, 0, 0};
-  for (std::uint64_t seed : {100, 101, 102, 103, 104}) {
-    const Simulator3dOptions o = Realistic(seed);
+  int n_all[3] = {0, 0, 0}, inside_all[3] = {0, 0, 0};
+  const struct {
+    std::uint64_t seed;
+    double maneuver_s;
+  } flights[] = {{100, 74.0},
+                 {101, 74.0},
+                 {102, 74.0},
+                 {103, 74.0},
+                 {104, 280.0},
+                 {105, 280.0}};
+  for (const auto& f : flights) {
+    Simulator3dOptions o = Realistic(f.seed);
+    o.maneuver_s = f.maneuver_s;
     const TrackRun run = FlyAndTrack(o);
     EXPECT_TRUE(run.changes.empty())
-        << "seed " << seed << ": alarm at " << run.changes[0].detected_t_s;
+        << "seed " << f.seed << ": alarm at " << run.changes[0].detected_t_s;
     for (const Track3dEstimate& e : run.estimates) {
       if (!e.valid) continue;
       for (int a = 0; a < 3; ++a) {
+        const bool in = std::abs(e.position_frd_m[a] - o.imus[0].p_frd_m[a]) <=
+                        2.0 * e.stderr_m[a];
+        if (f.maneuver_s < 100.0) {
+          ++n_all[a];
+          inside_all[a] += in ? 1 : 0;
+        }
         if (!e.determined[a]) continue;
         ++n[a];
-        if (std::abs(e.position_frd_m[a] - o.imus[0].p_frd_m[a]) <=
-            2.0 * e.stderr_m[a]) {
-          ++inside[a];
-        }
+        inside[a] += in ? 1 : 0;
       }
     }
   }
   for (int a = 0; a < 3; ++a) {
-    ASSERT_GT(n[a], 20) << "axis " << a;
-    EXPECT_GE(inside[a], 0.75 * n[a])
+    // Enough determined estimates that 90 % is a measurement (the 5 mm rule
+    // leaves y the fewest).
+    ASSERT_GT(n[a], 25) << "axis " << a;
+    std::printf("axis %d: determined %d of %d, every estimate %d of %d\n",
+                a,
+                inside[a],
+                n[a],
+                inside_all[a],
+                n_all[a]);
+    EXPECT_GE(inside[a], 0.85 * n[a])
         << "axis " << a << ": " << inside[a] << " of " << n[a];
+    // Every estimate of the 90 s flights, determined or not: measured
+    // 0.94 / 0.93 / 0.86 over 20 flights.
+    EXPECT_GE(inside_all[a], 0.8 * n_all[a])
+        << "axis " << a << ": " << inside_all[a] << " of " << n_all[a];
   }
 }
 
@@ -214,14 +247,24 @@ Track3dOptions SurveyOptions() {
     t.correlation_cluster_s = std::atof(e);
   }
   if (const char* e = std::getenv("TRK_FLOOR")) t.stderr_floor_m = std::atof(e);
+  if (std::getenv("TRK_NOCALSYS")) t.calibration_systematic = false;
+  if (const char* e = std::getenv("TRK_LONG")) {
+    t.correlation_long_cluster_s = std::atof(e);
+  }
   return t;
 }
 
 // Per axis, the share of estimates within 2σ̂ of the truth at their time.
+// Also over every valid estimate, determined or not.
 struct Coverage {
   int n[3] = {0, 0, 0};
   int inside[3] = {0, 0, 0};
+  int n_all[3] = {0, 0, 0};
+  int inside_all[3] = {0, 0, 0};
   double Share(int a) const { return inside[a] / std::max(1.0, 1.0 * n[a]); }
+  double ShareAll(int a) const {
+    return inside_all[a] / std::max(1.0, 1.0 * n_all[a]);
+  }
 };
 void AddCoverage(const TrackRun& run,
                  const Simulator3dOptions& o,
@@ -235,11 +278,13 @@ void AddCoverage(const TrackRun& run,
       if (e.t_s > o.payload_change.t_s) truth = flight->p_after_frd_m[0];
     }
     for (int a = 0; a < 3; ++a) {
+      const bool in =
+          std::abs(e.position_frd_m[a] - truth[a]) <= 2.0 * e.stderr_m[a];
+      ++c->n_all[a];
+      c->inside_all[a] += in ? 1 : 0;
       if (!e.determined[a]) continue;
       ++c->n[a];
-      if (std::abs(e.position_frd_m[a] - truth[a]) <= 2.0 * e.stderr_m[a]) {
-        ++c->inside[a];
-      }
+      c->inside[a] += in ? 1 : 0;
     }
   }
 }
@@ -284,7 +329,17 @@ TEST(Track3dAccuracy, DISABLED_FalseAlarmSurvey) {
             e.inflation.z());
       }
     }
-    std::printf("flight %d: %zu false alarms", i, run.changes.size());
+    std::printf(
+        "flight %d: calibration systematic %.1f %.1f %.1f mm (x %.0f "
+        "%.0f %.0f white); %zu false alarms",
+        i,
+        1e3 * run.calibration.systematic_stderr_m.x(),
+        1e3 * run.calibration.systematic_stderr_m.y(),
+        1e3 * run.calibration.systematic_stderr_m.z(),
+        run.calibration.systematic_ratio.x(),
+        run.calibration.systematic_ratio.y(),
+        run.calibration.systematic_ratio.z(),
+        run.changes.size());
     for (const Track3dChange& ch : run.changes) {
       std::printf(" [%.1f s, chi2 %.1f/%.1f dof %d]",
                   ch.detected_t_s,
@@ -306,6 +361,13 @@ TEST(Track3dAccuracy, DISABLED_FalseAlarmSurvey) {
       c.n[1],
       c.Share(2),
       c.n[2]);
+  std::printf(
+      "coverage of 2 sigma on every valid estimate: x %.3f y %.3f z %.3f "
+      "(%d)\n",
+      c.ShareAll(0),
+      c.ShareAll(1),
+      c.ShareAll(2),
+      c.n_all[0]);
 }
 
 // By hand: TRK_FLIGHTS flights with a CoM shift of TRK_SHIFT_M (0.01) along
@@ -367,6 +429,162 @@ TEST(Track3dAccuracy, DISABLED_DetectionSurvey) {
     std::printf("\n");
   }
   std::printf("detected %d of %d\n", detected, flights);
+}
+
+// By hand (scripts/track_survey.sh): for CoM shifts along z of 1, 2, 3 and
+// 5 cm (TRK_SHIFTS, in mm) at TRK_CHANGE_S (60 s) during a figure-eight
+// (TRK_MANEUVER_S 120 s: the figure-eight until about 105 s, then the
+// doublets), TRK_FLIGHTS flights (10) each, realistic sensors (gentle with
+// TRK_GENTLE): how many were detected within 2 s and within 10 s, the
+// median delay, and 10 s after the change the position's largest error
+// over the axes, how many flights are within 2 mm and the median σ̂ of z.
+// First the information bound, from the same flights without the change
+// (the information is the regressors' and the noise's; a step the test
+// has not seen would inflate the residual): the smallest z step a test at
+// the tracker's threshold sees with 50 % power from the 2 s (10 s) after
+// TRK_CHANGE_S, √(χ²/I_zz) with I the tracker's RecentInformation (the
+// coloured noise through its effective sample size), for the 1-dof test
+// along z and the 3-dof one, and with 90 % power (1 dof, (√χ² + 1.28)/√I).
+// Prints Markdown.
+TEST(Track3dAccuracy, DISABLED_DetectionBoundSurvey) {
+  const int flights =
+      std::getenv("TRK_FLIGHTS") ? std::atoi(std::getenv("TRK_FLIGHTS")) : 10;
+  const double t_change = std::getenv("TRK_CHANGE_S")
+                              ? std::atof(std::getenv("TRK_CHANGE_S"))
+                              : 60.0;
+  const double maneuver = std::getenv("TRK_MANEUVER_S")
+                              ? std::atof(std::getenv("TRK_MANEUVER_S"))
+                              : 120.0;
+  std::vector<double> shifts_mm = {10.0, 20.0, 30.0, 50.0};
+  if (const char* e = std::getenv("TRK_SHIFTS")) {
+    shifts_mm.clear();
+    const char* c = e;
+    while (*c != 0) {
+      char* end = nullptr;
+      const double v = std::strtod(c, &end);
+      if (end == c) break;
+      shifts_mm.push_back(v);
+      c = *end == ',' ? end + 1 : end;
+    }
+  }
+  const bool gentle = std::getenv("TRK_GENTLE") != nullptr;
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  };
+  auto flight_options = [&](int i, double shift_mm) {
+    Simulator3dOptions o = Realistic(static_cast<std::uint64_t>(200 + i));
+    o.maneuver_s = maneuver;
+    if (gentle) o.sensor_profile = "gentle";
+    if (shift_mm > 0.0) o = WithShiftZ(o, t_change, 1e-3 * shift_mm);
+    return o;
+  };
+  // Runs the tracker over `o`, calling at_time(tracker, span) once at
+  // t_change + 2 s and once at t_change + 10 s.
+  auto track = [&](const Simulator3dOptions& o,
+                   Simulated3dFlight* flight_out,
+                   double* delay,
+                   const std::function<void(const Track3d&, double)>& at) {
+    StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+    ASSERT_TRUE(flight.ok());
+    auto log = std::make_shared<const FlightLog>(flight->logs[0]);
+    StatusOr<Track3dLog> samples = Track3dSamplesOfLog(log);
+    ASSERT_TRUE(samples.ok());
+    Track3dOptions t = SurveyOptions();
+    t.rate_hz = samples->rate_hz;
+    StatusOr<Track3d> tracker = Track3d::Create(t);
+    ASSERT_TRUE(tracker.ok());
+    *delay = std::nan("");
+    const double spans[2] = {2.0, 10.0};
+    int next = 0;
+    for (std::size_t k = 0; k < samples->size; ++k) {
+      const Track3dSample s = samples->sample(k);
+      if (tracker->Update(s)) {
+        const double d = tracker->last_change().detected_t_s - t_change;
+        if (d >= 0.0 && !std::isfinite(*delay)) *delay = d;
+      }
+      if (next < 2 && s.t_s >= t_change + spans[next]) {
+        at(*tracker, spans[next]);
+        ++next;
+      }
+    }
+    *flight_out = std::move(*flight);
+  };
+  std::vector<double> b2_1, b2_3, b2_90, b10_1, b10_3, b10_90;
+  for (int i = 0; i < flights; ++i) {
+    Simulated3dFlight flight;
+    double delay = 0.0;
+    track(flight_options(i, 0.0),
+          &flight,
+          &delay,
+          [&](const Track3d& tracker, double span) {
+            const double izz = tracker.RecentInformation(span)(2, 2);
+            const double h1 = tracker.change_threshold(1);
+            const double h3 = tracker.change_threshold(3);
+            (span < 5.0 ? b2_1 : b10_1).push_back(1e3 * std::sqrt(h1 / izz));
+            (span < 5.0 ? b2_3 : b10_3).push_back(1e3 * std::sqrt(h3 / izz));
+            (span < 5.0 ? b2_90 : b10_90)
+                .push_back(1e3 * (std::sqrt(h1) + 1.28) / std::sqrt(izz));
+          });
+  }
+  std::printf(
+      "bound, z step seen with 50 %% power (1 dof / 3 dof; 90 %% power, 1 "
+      "dof), median over %d flights: 2 s: %.1f / %.1f mm (%.1f mm); 10 s: "
+      "%.1f / %.1f mm (%.1f mm); range 2 s 1 dof %.1f-%.1f mm\n",
+      flights,
+      median(b2_1),
+      median(b2_3),
+      median(b2_90),
+      median(b10_1),
+      median(b10_3),
+      median(b10_90),
+      *std::min_element(b2_1.begin(), b2_1.end()),
+      *std::max_element(b2_1.begin(), b2_1.end()));
+  std::printf(
+      "| shift | detected within 2 s | within 10 s | median delay | max "
+      "error 10 s after, median | within 2 mm | sigma z 10 s after, median "
+      "|\n| --- | --- | --- | --- | --- | --- | --- |\n");
+  for (double shift_mm : shifts_mm) {
+    int within2 = 0, within10 = 0, near = 0;
+    std::vector<double> delays, errors, sigmas;
+    for (int i = 0; i < flights; ++i) {
+      const Simulator3dOptions o = flight_options(i, shift_mm);
+      Simulated3dFlight flight;
+      double delay = 0.0;
+      Track3dEstimate later;
+      track(o, &flight, &delay, [&](const Track3d& tracker, double span) {
+        if (span > 5.0) later = tracker.Estimate();
+      });
+      if (later.valid) {
+        const double err = (later.position_frd_m - flight.p_after_frd_m[0])
+                               .cwiseAbs()
+                               .maxCoeff();
+        errors.push_back(1e3 * err);
+        sigmas.push_back(1e3 * later.stderr_m.z());
+        near += err <= 0.002 ? 1 : 0;
+      }
+      if (std::isfinite(delay)) {
+        delays.push_back(delay);
+        within2 += delay <= 2.0 ? 1 : 0;
+        within10 += delay <= 10.0 ? 1 : 0;
+      }
+    }
+    std::printf(
+        "| %.0f mm | %d/%d | %d/%d | %.2f s | %.1f mm | %d/%zu | %.1f mm |\n",
+        shift_mm,
+        within2,
+        flights,
+        within10,
+        flights,
+        median(delays),
+        median(errors),
+        near,
+        errors.size(),
+        median(sigmas));
+    std::fflush(stdout);
+  }
 }
 
 }  // namespace

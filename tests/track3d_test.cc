@@ -356,5 +356,22 @@ TEST(TrackCli, HelpAndRefusals) {
   EXPECT_EQ(planar.exit_code, 2) << planar.err;
 }
 
+// --format is shared with fit and inspect, whose default is the table; the
+// help of track must say its own default, JSON lines, and fit's its own.
+TEST(TrackCli, HelpShowsTracksOwnFormatDefault) {
+  const auto help = testing::RunCli("track --help");
+  ASSERT_EQ(help.exit_code, 0);
+  const std::size_t flag = help.out.find("--format=TEXT");
+  ASSERT_NE(flag, std::string::npos) << help.out;
+  const std::size_t line_end =
+      help.out.find('\n', help.out.find('\n', flag) + 1);
+  const std::string entry = help.out.substr(flag, line_end - flag);
+  EXPECT_NE(entry.find("(default: json)"), std::string::npos) << entry;
+  EXPECT_EQ(entry.find("(default: table)"), std::string::npos) << entry;
+  const auto fit = testing::RunCli("fit --help");
+  ASSERT_EQ(fit.exit_code, 0);
+  EXPECT_NE(fit.out.find("(default: table)"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace imusysid

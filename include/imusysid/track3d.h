@@ -65,6 +65,12 @@ struct Track3dOptions {
   // scores of clusters this long, s, over the last 16 clusters (so the ring
   // holds 16 × this much flight).
   double correlation_cluster_s = 2.0;
+  // The estimate's σ̂ also takes the inflation from clusters this long, s,
+  // over up to 16 of them (the ring then holds up to 96 s; at most 128 s):
+  // the slow unmodelled forces (0.05–1 Hz) bias a poorly excited axis over
+  // tens of seconds, which 2 s clusters cannot see. 0: off. (4 s covered
+  // less, 8–16 s fewer estimates, over 20 five-minute flights.)
+  double correlation_long_cluster_s = 6.0;
   // Change detection: the mean flight time between false alarms the user
   // accepts, s; and how far back a change may have started, in blocks.
   double mean_time_between_false_alarms_s = 3600.0;
@@ -91,6 +97,9 @@ struct Track3dOptions {
   double impact_g = 3.0;
   double max_tilt_deg = 60.0;
   double gate_hold_s = 0.5;
+  // The systematic part of σ̂: the calibration's (Track3dCalibration::
+  // systematic_ratio), the batch σ̂'s preprocessing and delay sensitivity.
+  bool calibration_systematic = true;
   // Model-error floor added in quadrature to σ̂, m (the batch fit's), and
   // the σ̂ up to which an axis counts as determined, m.
   double stderr_floor_m = 0.00025;
@@ -128,6 +137,9 @@ struct Track3dEstimate {
   // correlation inflation applied to each axis' variance.
   double flight_s = 0.0;
   Eigen::Vector3d inflation = Eigen::Vector3d::Ones();
+  // The systematic part of σ̂ alone, per axis, m (its statistical part is
+  // √(σ̂² − this² − floor²)).
+  Eigen::Vector3d systematic_stderr_m = Eigen::Vector3d::Zero();
   // The wind the quadratic drag is taken at (north, east), m/s.
   double wind_n = 0.0, wind_e = 0.0;
 };
@@ -158,6 +170,15 @@ struct Track3dCalibration {
   double estimator_delay_s = 0.0;
   bool delay_at_limit = false;
   double wind_n = 0.0, wind_e = 0.0;
+  // The batch preprocessing's systematic σ̂ of the position on the
+  // calibration's stretch (the cutoff, derivative width and plausible
+  // delays moved across their range; Preprocess3dResult::
+  // systematic_stderr_m), m, and as a multiple of that stretch's white
+  // variance: the σ̂ carries it as that multiple of the current white
+  // variance (a systematic shift scales with how poorly the data determine
+  // the axis). Zero where not computed.
+  Eigen::Vector3d systematic_stderr_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d systematic_ratio = Eigen::Vector3d::Zero();
   std::string note;
 };
 
@@ -186,8 +207,17 @@ class Track3d {
   Track3dEstimate Estimate() const;
   const Track3dChange& last_change() const;
   int num_changes() const;
-  // The chi-square threshold the change test uses (3 dof).
+  // The chi-square threshold the change test uses (3 dof), and that of
+  // `dof` degrees of freedom (1 to 3).
   double change_threshold() const;
+  double change_threshold(int dof) const;
+  // The Fisher information about a step of p carried by the last `seconds`
+  // of flight (whole blocks), 1/m², with the other coefficients known (a
+  // long stretch before a change fixes them) and the residual's coloured
+  // noise taken into account through the change test's serial-correlation
+  // inflation (its effective sample size): the smallest step d a test at
+  // threshold χ² can see is dᵀ I d ≥ χ². Zero before the first estimate.
+  Eigen::Matrix3d RecentInformation(double seconds) const;
   const Track3dCalibration& calibration() const;
 
  private:

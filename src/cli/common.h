@@ -35,6 +35,9 @@ struct Command {
   int (*run)(const std::vector<std::string>& positional) = nullptr;
   // Also takes every option the estimators declare (estimator_flags.h).
   bool estimator_flags = false;
+  // Defaults this command gives a shared flag when it is not set, where
+  // they differ from the flag's own (--help shows these): {name, value}.
+  std::vector<std::pair<std::string, std::string>> defaults = {};
 };
 
 // Every subcommand, in help order. Each cli_<name>.cc defines one accessor.

@@ -58,8 +58,14 @@ void PrintCommandHelp(const Command& c) {
                      : info.type == "double" ? std::string("NUM")
                                              : std::string("INT"));
     std::cout << head << "\n      " << info.description;
-    if (!info.default_value.empty()) {
-      std::cout << " (default: " << info.default_value << ")";
+    // A shared flag (--format, --imu) may mean something else by default
+    // here than its declaration says: the command's own default wins.
+    std::string default_value = info.default_value;
+    for (const auto& [flag, value] : c.defaults) {
+      if (flag == name) default_value = value;
+    }
+    if (!default_value.empty()) {
+      std::cout << " (default: " << default_value << ")";
     }
     std::cout << "\n";
   }

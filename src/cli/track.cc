@@ -317,7 +317,9 @@ const Command& TrackCommand() {
        "estimator_delay_s",
        "format",
        "report"},
-      &RunTrack};
+      &RunTrack,
+      /*estimator_flags=*/false,
+      {{"format", "json"}}};
   return c;
 }
 

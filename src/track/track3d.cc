@@ -149,6 +149,31 @@ double ChiSquareQuantile(int dof, double upper_tail) {
   return 0.5 * (lo + hi);
 }
 
+// The Student t distribution's 97.5 % quantile for `dof` degrees of freedom
+// (≥ 1): the table to 15, then its large-dof expansion.
+double StudentT975(int dof) {
+  static constexpr double kTable[] = {12.706,
+                                      4.303,
+                                      3.182,
+                                      2.776,
+                                      2.571,
+                                      2.447,
+                                      2.365,
+                                      2.306,
+                                      2.262,
+                                      2.228,
+                                      2.201,
+                                      2.179,
+                                      2.160,
+                                      2.145,
+                                      2.131};
+  if (dof < 1) return kTable[0];
+  if (dof <= 15) return kTable[dof - 1];
+  const double z = 1.959964, n = dof;
+  return z + (z * z * z + z) / (4.0 * n) +
+         (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
+}
+
 struct Block {
   Factor r = Factor::Zero();
   int rows = 0;
@@ -244,6 +269,12 @@ Status Track3dOptions::Validate() const {
   if (!(change_model_error_m >= 0.0)) {
     return bad("change_model_error_m", change_model_error_m, ">= 0");
   }
+  if (!(correlation_cluster_s >= block_s &&
+        correlation_long_cluster_s >= 0.0)) {
+    return bad("correlation_long_cluster_s",
+               correlation_long_cluster_s,
+               ">= 0 (and correlation_cluster_s >= block_s)");
+  }
   if (!(max_stderr_m > 0.0)) return bad("max_stderr_m", max_stderr_m, "> 0");
   if (!(stderr_floor_m >= 0.0)) {
     return bad("stderr_floor_m", stderr_floor_m, ">= 0");
@@ -305,6 +336,9 @@ struct Pipeline {
   Factor stale = Factor::Zero();
   double stale_rows = 0.0;
   int capacity = 0;
+  // The change test's clusters: those the ring held before the long ones
+  // (16 clusters' span less the candidates).
+  int short_clusters = 16;
   double flight_s = 0.0;  // gated-in flight since the restart
   double wind_n = 0.0, wind_e = 0.0;
   // While the calibration waits for its stretch, the gates and filters run
@@ -314,6 +348,13 @@ struct Pipeline {
   // sensors, kept across restarts; the change test waits for it.
   Eigen::Vector3d inflation = Eigen::Vector3d::Ones();
   bool inflation_known = false;
+  // The estimate's: the larger of that and the long clusters'.
+  Eigen::Vector3d long_inflation = Eigen::Vector3d::Ones();
+  int long_countdown = 0;
+  // The calibration's systematic variance per unit of white variance
+  // (Track3dCalibration::systematic_ratio).
+  Eigen::Vector3d systematic_ratio = Eigen::Vector3d::Zero();
+  Eigen::Vector3d estimate_inflation = Eigen::Vector3d::Ones();
 
   Track3dChange change;
   int changes = 0;
@@ -367,12 +408,26 @@ struct Pipeline {
     }
     // The ring holds the window, the candidates and 32 s for the
     // serial-correlation estimate.
-    capacity =
+    const int short_capacity =
         std::min(kMaxBlocks,
                  std::max({WindowBlocks(),
                            o.change_candidates + 1,
                            static_cast<int>(std::lround(
                                16.0 * o.correlation_cluster_s / o.block_s))}));
+    short_clusters =
+        (short_capacity - o.change_candidates) /
+        std::max(
+            1,
+            static_cast<int>(std::lround(o.correlation_cluster_s / o.block_s)));
+    capacity = std::min(
+        kMaxBlocks,
+        std::max({WindowBlocks(),
+                  o.change_candidates + 1,
+                  static_cast<int>(
+                      std::lround(16.0 * o.correlation_cluster_s / o.block_s)),
+                  static_cast<int>(std::lround(
+                      16.0 * o.correlation_long_cluster_s / o.block_s)) +
+                      o.change_candidates}));
   }
 
   int WindowBlocks() const {
@@ -388,6 +443,10 @@ struct Pipeline {
   void Restart(int keep);
   bool Detect(double t);
   void UpdateInflation(const Vec& c);
+  bool RobustInflation(const Vec& c,
+                       double cluster_s,
+                       int max_clusters,
+                       Eigen::Vector3d* out);
   // p and its covariance from a factor, σ² from its residual and rows.
   bool PositionOf(const Factor& r,
                   double rows,
@@ -561,6 +620,7 @@ void Pipeline::Restart(int keep) {
   ring_size = keep;
   stale.setZero();
   stale_rows = 0.0;
+  long_inflation.setOnes();
   flight_s = keep * o.block_s;
   RebuildMain();
 }
@@ -582,18 +642,44 @@ void Pipeline::RebuildMain() {
 }
 
 void Pipeline::UpdateInflation(const Vec& c) {
-  // Cluster-robust sandwich over the ring's blocks in clusters of 2 s (the
-  // residuals' correlation outlasts one block), against the white
-  // covariance of the same blocks: the ratio per axis scales the white
-  // covariance of every estimate.
-  const int per_cluster = std::max(
-      1, static_cast<int>(std::lround(o.correlation_cluster_s / o.block_s)));
+  // The change test's: 2 s clusters over the last 32 s. The estimate's: the
+  // larger of that and 6 s clusters over up to 96 s, which see the slow
+  // forces' model error (0.05–1 Hz) that 2 s clusters take for signal.
+  Eigen::Vector3d shorter;
+  if (RobustInflation(c, o.correlation_cluster_s, short_clusters, &shorter)) {
+    inflation = shorter;
+    inflation_known = true;
+  }
+  // Unlike the short one, not kept across a restart (Restart): it reflects
+  // the motion of the last two minutes as much as the vehicle.
+  // Every 2 s of flight only: its clusters are 6 s, and over the 192
+  // blocks it is most of the per-block cost.
+  Eigen::Vector3d longer;
+  if (o.correlation_long_cluster_s > 0.0 && ++long_countdown >= 4) {
+    long_countdown = 0;
+    if (RobustInflation(c, o.correlation_long_cluster_s, 16, &longer)) {
+      long_inflation = longer;
+    }
+  }
+  estimate_inflation = inflation.cwiseMax(long_inflation);
+}
+
+bool Pipeline::RobustInflation(const Vec& c,
+                               double cluster_s,
+                               int max_clusters,
+                               Eigen::Vector3d* out) {
+  // Cluster-robust sandwich over the ring's blocks in clusters of
+  // cluster_s (the residuals' correlation outlasts one block), against the
+  // white covariance of the same blocks: the ratio per axis scales the
+  // white covariance of an estimate.
+  const int per_cluster =
+      std::max(1, static_cast<int>(std::lround(cluster_s / o.block_s)));
   // Only blocks older than the change test's candidates: a change within
   // them would read as correlation and blunt the very test that should see
   // it.
   const int usable = ring_size - o.change_candidates;
-  const int clusters = usable / per_cluster;
-  if (clusters < 4) return;
+  const int clusters = std::min(max_clusters, usable / per_cluster);
+  if (clusters < 4) return false;
   const int first = usable - clusters * per_cluster;
   Square info = Square::Zero();
   Square meat = Square::Zero();
@@ -626,7 +712,7 @@ void Pipeline::UpdateInflation(const Vec& c) {
     meat += score * score.transpose();
   }
   const Eigen::LDLT<Square> ldlt(info);
-  if (ldlt.info() != Eigen::Success || rows <= kM) return;
+  if (ldlt.info() != Eigen::Success || rows <= kM) return false;
   const Square p = ldlt.solve(Square::Identity());
   // A few clusters understate the spread: the small-sample factor
   // clusters / (clusters − 1).
@@ -652,17 +738,23 @@ void Pipeline::UpdateInflation(const Vec& c) {
     for (int k = 0; k < clusters; ++k) {
       jack += (left_out[k] - mean).cwiseAbs2();
     }
-    jack *= (clusters - 1.0) / clusters * 1.15 * 1.15;
+    // t(0.975, K − 1) / 1.96, at least the batch fit's 1.15: few
+    // clusters understate the spread.
+    const double t = std::max(1.15, StudentT975(clusters - 1) / 1.96);
+    jack *= (clusters - 1.0) / clusters * t * t;
   }
   const double sigma2 = rss / (rows - kM);
+  bool any = false;
   for (int i = 0; i < 3; ++i) {
     const double white = sigma2 * p(i, i);
     const double robust = std::max(hac(i, i), jack[i]);
+    (*out)[i] = 1.0;
     if (white > 0.0 && std::isfinite(robust)) {
-      inflation[i] = std::max(1.0, robust / white);
-      inflation_known = true;
+      (*out)[i] = std::max(1.0, robust / white);
+      any = true;
     }
   }
+  return any;
 }
 
 bool Pipeline::EndBlock(double t) {
@@ -914,6 +1006,10 @@ struct Track3d::Impl {
       calibration.delay_at_limit = r->delay_at_limit;
       calibration.wind_n = r->data.motion.quadratic_wind_n;
       calibration.wind_e = r->data.motion.quadratic_wind_e;
+      for (int a = 0; a < 3; ++a) {
+        const double sys = r->systematic_stderr_m[a];
+        calibration.systematic_stderr_m[a] = std::isfinite(sys) ? sys : 0.0;
+      }
     } else {
       calibration.estimated = false;
       calibration.estimator_delay_s = o.estimator_delay_s;
@@ -928,6 +1024,19 @@ struct Track3d::Impl {
     bool changed = false;
     for (const Track3dSample& s : buffer) changed = pipe->Update(s) || changed;
     buffer.clear();
+    // The systematic variance against the white variance of the same
+    // stretch (the replayed blocks, unweighted as the batch's fit).
+    Eigen::Vector3d p;
+    Eigen::Matrix3d white;
+    if (pipe->PositionOf(
+            pipe->main, pipe->main_rows, pipe->main_rows_sq, &p, &white)) {
+      for (int a = 0; a < 3; ++a) {
+        const double w = white(a, a);
+        const double sys = calibration.systematic_stderr_m[a];
+        calibration.systematic_ratio[a] = w > 0.0 ? sys * sys / w : 0.0;
+      }
+    }
+    pipe->systematic_ratio = calibration.systematic_ratio;
     return changed;
   }
 };
@@ -954,7 +1063,7 @@ Track3dEstimate Track3d::Estimate() const {
   e.t_s = m.state_t;
   e.state = m.state;
   e.flight_s = m.flight_s;
-  e.inflation = m.inflation;
+  e.inflation = m.estimate_inflation;
   e.wind_n = m.wind_n;
   e.wind_e = m.wind_e;
   if (m.state != Track3dState::kTracking &&
@@ -970,9 +1079,15 @@ Track3dEstimate Track3d::Estimate() const {
   Eigen::Vector3d p;
   Eigen::Matrix3d cov;
   if (!m.PositionOf(r, rows, rows_sq, &p, &cov)) return e;
-  const Eigen::Vector3d k = m.inflation.cwiseSqrt();
-  cov = k.asDiagonal() * cov * k.asDiagonal();
+  // The calibration's systematic variance per unit of white variance.
+  Eigen::Matrix3d systematic = Eigen::Matrix3d::Zero();
+  if (m.o.calibration_systematic) {
+    systematic.diagonal() += m.systematic_ratio.cwiseProduct(cov.diagonal());
+  }
+  const Eigen::Vector3d k = m.estimate_inflation.cwiseSqrt();
+  cov = k.asDiagonal() * cov * k.asDiagonal() + systematic;
   cov.diagonal().array() += m.o.stderr_floor_m * m.o.stderr_floor_m;
+  e.systematic_stderr_m = systematic.diagonal().cwiseSqrt();
   e.valid = true;
   e.position_frd_m = p;
   e.covariance = cov;
@@ -987,6 +1102,25 @@ const Track3dChange& Track3d::last_change() const {
 }
 int Track3d::num_changes() const { return impl_->pipe->changes; }
 double Track3d::change_threshold() const { return impl_->pipe->threshold; }
+double Track3d::change_threshold(int dof) const {
+  return impl_->pipe->thresholds[std::clamp(dof, 1, 3)];
+}
+
+Eigen::Matrix3d Track3d::RecentInformation(double seconds) const {
+  const Pipeline& m = *impl_->pipe;
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  const int blocks = std::min(
+      m.ring_size, static_cast<int>(std::lround(seconds / m.o.block_s)));
+  if (blocks < 1 || !(m.main_rows > kM + 1)) return info;
+  Factor f = Factor::Zero();
+  for (int i = 1; i <= blocks; ++i) FoldFactor(&f, m.RingAt(m.ring_size - i).r);
+  const double sigma2 = m.main(kM, kM) * m.main(kM, kM) / (m.main_rows - kM);
+  if (!(sigma2 > 0.0)) return info;
+  const Eigen::Matrix<double, kC, 3> a = f.leftCols<3>();
+  const Eigen::Vector3d k = m.inflation.cwiseSqrt().cwiseInverse();
+  info = k.asDiagonal() * (a.transpose() * a) * k.asDiagonal() / sigma2;
+  return info;
+}
 const Track3dCalibration& Track3d::calibration() const {
   return impl_->calibration;
 }
