@@ -2,11 +2,15 @@
 
 #include <array>
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <string>
 
 #include "gtest/gtest.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
+#include "nlohmann/json.hpp"
+#include "tests/test_util.h"
 
 namespace imusysid {
 namespace {
@@ -157,6 +161,57 @@ TEST(Displacement, StandardErrorsMatchMonteCarlo) {
   EXPECT_NEAR(d.dx_stderr_m / sd[0], 1.0, 0.015);
   EXPECT_NEAR(d.dz_stderr_m / sd[1], 1.0, 0.015);
   EXPECT_NEAR(d.l_stderr_m / sd[2], 1.0, 0.015);
+}
+
+// The paper's experiment as one log (simulate --scenario=paper_battery_move:
+// test 1's flight, the battery moved beneath, test 2's flight), each half
+// fitted alone at the maneuver the simulator reports, then `displacement` of
+// the two fits: the CoM's move within 4σ̂ (the propagated standard errors)
+// and 0.2 mm of the truth sidecar's, which is the paper's Δx = +1.90 cm,
+// Δz = −3.66 cm. The joined log holds both flights, the second after the
+// first without a gap.
+TEST(Displacement, TheBatteryMovedWithinOneLog) {
+  using testing::RunCli;
+  const std::string dir = testing::MakeTempDir();
+  const auto sim =
+      RunCli("simulate --scenario=paper_battery_move --out=" + dir +
+             "/M.csv --format=json");
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const nlohmann::json run = nlohmann::json::parse(sim.out);
+  std::ifstream truth_file(dir + "/M.truth.json");
+  const nlohmann::json truth = nlohmann::json::parse(truth_file);
+  ASSERT_EQ(truth["halves"].size(), 2u);
+  EXPECT_EQ(truth["halves"][0]["r_m"], kPaperTest1Fit.r_m);
+  EXPECT_EQ(truth["halves"][1]["r_m"], kPaperTest2Fit.r_m);
+  EXPECT_NEAR(truth["com_shift_flu_m"]["x"].get<double>(), 0.0190, 0.5e-4);
+  EXPECT_NEAR(truth["com_shift_flu_m"]["z"].get<double>(), -0.0366, 0.5e-4);
+  const double start = truth["second_half_start_t_s"].get<double>();
+  EXPECT_EQ(run["second_half_start_t_s"].get<double>(), start);
+  // One rate throughout: the second half starts one interval after the
+  // first ends (the first half is 69.5 s at 250 Hz).
+  EXPECT_NEAR(start, 69.5, 1e-9);
+  EXPECT_EQ(run["samples"].get<std::size_t>(), 2u * 17375u);
+  for (int half = 0; half < 2; ++half) {
+    const nlohmann::json& m = run["maneuvers_s"][half];
+    const auto fit =
+        RunCli("fit --log=" + dir +
+               "/M.csv --t_start=" + std::to_string(m[0].get<double>() - 1.0) +
+               " --t_end=" + std::to_string(m[1].get<double>()) +
+               " --format=json --out=" + dir + "/half" + std::to_string(half) +
+               ".json");
+    ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  }
+  const auto d = RunCli("displacement " + dir + "/half0.json " + dir +
+                        "/half1.json --format=json");
+  ASSERT_EQ(d.exit_code, 0) << d.err;
+  const nlohmann::json j = nlohmann::json::parse(d.out);
+  for (const char* axis : {"x", "z"}) {
+    const std::string key = std::string("d") + axis + "_m";
+    EXPECT_NEAR(j[key].get<double>(),
+                truth["com_shift_flu_m"][axis].get<double>(),
+                4 * j["stderr"][key].get<double>() + 0.2e-3)
+        << axis;
+  }
 }
 
 }  // namespace

@@ -192,6 +192,32 @@ struct SimulatedFlight {
 // FailedPrecondition when the vehicle does not take off.
 StatusOr<SimulatedFlight> Simulate(const SimulatorOptions& options);
 
+// The paper's experiment as one log: the flight of `before` (the paper's
+// test 1 vehicle), then, landed and with the battery moved beneath, the
+// flight of `after` (test 2's vehicle, IMU position and drag), recorded
+// without a break: the second flight's samples follow the first's at its
+// own rate. A fit of the whole log blends the two positions; each half
+// fitted alone (fit --t_start/--t_end at second_start_t_s) and `imusysid
+// displacement` of the two give the CoM's move (the paper's equation 11).
+struct BatteryMoveFlight {
+  SimulatedFlight before;  // its own times
+  SimulatedFlight after;   // its own times, from 0
+  FlightLog log;           // both, the second's times + second_start_t_s
+  double second_start_t_s = 0.0;
+};
+// InvalidArgument or FailedPrecondition as Simulate, naming the half; also
+// InvalidArgument when the two halves' sample rates differ.
+StatusOr<BatteryMoveFlight> SimulateBatteryMove(const SimulatorOptions& before,
+                                                const SimulatorOptions& after);
+
+// The truth sidecar of a battery-move log: each half's TruthJson (its
+// instants on the log's time base) under "halves", the instant the second
+// half starts, and the CoM's move d = p_before − p_after (FLU x, z, m; its
+// length l and direction delta, deg, as `imusysid displacement` gives).
+std::string BatteryMoveTruthJson(const SimulatorOptions& before,
+                                 const SimulatorOptions& after,
+                                 const BatteryMoveFlight& flight);
+
 // The truth sidecar as pretty-printed JSON (2-space indent, fixed key order,
 // byte-identical for the same options): the four parameters, the IMU position
 // in FLU and FRD metres, the effective α when a sensor-x accelerometer bias is

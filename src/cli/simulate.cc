@@ -20,8 +20,9 @@
 
 DEFINE_string(scenario,
               "paper_test1",
-              "Scenario: paper_test1, paper_test2, model_exact, hover_only "
-              "(planar); figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d, "
+              "Scenario: paper_test1, paper_test2, model_exact, hover_only, "
+              "paper_battery_move (planar); figure8_3d, hover_3d, "
+              "pitch_laps_3d, roll_laps_3d, "
               "yaw_sweeps_3d (6-DOF, FRD, one CSV per IMU).");
 DEFINE_double(r_m,
               std::numeric_limits<double>::quiet_NaN(),
@@ -524,12 +525,107 @@ int Run3d() {
   return kExitOk;
 }
 
+// The scenario that joins the paper's two tests into one log.
+constexpr char kBatteryMoveScenario[] = "paper_battery_move";
+
+// --scenario=paper_battery_move: test 1's flight, the battery moved
+// beneath, test 2's flight, one log (SimulateBatteryMove).
+int RunBatteryMove() {
+  const std::string cmd = "simulate";
+  for (const char* flag : {"r_m",
+                           "beta_deg",
+                           "alpha_deg",
+                           "mu",
+                           "list_settings",
+                           "sensor_profile",
+                           "log_format",
+                           "high_rate_raw_imu",
+                           "payload_change",
+                           "flexible_mount",
+                           "periodic_force",
+                           "estimator_glitch"}) {
+    if (FlagWasSet(flag)) {
+      return UsageError(cmd,
+                        std::string("--") + flag + " does not apply to " +
+                            kBatteryMoveScenario +
+                            ", which flies paper_test1 then paper_test2 "
+                            "(each settable on its own scenario)");
+    }
+  }
+  StatusOr<SimulatorOptions> before = ScenarioOptions("paper_test1");
+  StatusOr<SimulatorOptions> after = ScenarioOptions("paper_test2");
+  if (!before.ok()) return ReportError(cmd, before.status());
+  if (!after.ok()) return ReportError(cmd, after.status());
+  Status s = ApplyOverrides(&*before);
+  if (s.ok()) s = ApplyOverrides(&*after);
+  if (!s.ok()) return ReportError(cmd, s);
+  // The second flight's noise is its own.
+  after->seed = before->seed + 1;
+  if (FLAGS_out.empty()) {
+    return UsageError(cmd, "--out=FILE.csv is required");
+  }
+  if (FLAGS_out == "-") {
+    return UsageError(cmd,
+                      "--out must name a file: simulate writes the log and "
+                      "its truth sidecar beside it");
+  }
+  Frame frame = Frame::kFlu;
+  if (!FLAGS_frame.empty()) {
+    StatusOr<Frame> f = FrameFromString(FLAGS_frame);
+    if (!f.ok()) return ReportError(cmd, f.status().WithPrefix("--frame"));
+    frame = *f;
+  }
+  std::cerr << "simulating " << kBatteryMoveScenario
+            << " (paper_test1, then paper_test2)...\n";
+  StatusOr<BatteryMoveFlight> flight = SimulateBatteryMove(*before, *after);
+  if (!flight.ok()) return ReportError(cmd, flight.status());
+  const std::string truth_path = TruthPath(FLAGS_out);
+  CsvWriteOptions write_options;
+  write_options.frame = frame;
+  StatusOr<std::string> log_text = FormatCsvLog(flight->log, write_options);
+  if (!log_text.ok()) return ReportError(cmd, log_text.status());
+  s = WriteFilesTogether(
+      {{truth_path, BatteryMoveTruthJson(*before, *after, *flight)},
+       {FLAGS_out, *log_text}});
+  if (!s.ok()) return ReportError(cmd, s);
+  const BatteryMoveFlight& f = *flight;
+  const double t2 = f.second_start_t_s;
+  if (JsonOutput()) {
+    nlohmann::ordered_json j;
+    j["scenario"] = kBatteryMoveScenario;
+    j["log"] = FLAGS_out;
+    j["truth"] = truth_path;
+    j["samples"] = f.log.size();
+    j["second_half_start_t_s"] = t2;
+    j["maneuvers_s"] = {
+        {f.before.maneuver_start_t_s, f.before.maneuver_end_t_s},
+        {f.after.maneuver_start_t_s + t2, f.after.maneuver_end_t_s + t2}};
+    std::cout << DumpJson(j) << "\n";
+  } else {
+    std::cout << "wrote " << FLAGS_out << " (" << f.log.size()
+              << " samples) and " << truth_path << "\n"
+              << "first half: paper_test1 (r = " << before->r_m
+              << " m, beta = " << before->beta_deg << " deg), maneuver "
+              << FormatNumber(f.before.maneuver_start_t_s, 5) << "-"
+              << FormatNumber(f.before.maneuver_end_t_s, 5) << " s\n"
+              << "second half from " << FormatNumber(t2, 5)
+              << " s: paper_test2 (r = " << after->r_m
+              << " m, beta = " << after->beta_deg << " deg), maneuver "
+              << FormatNumber(f.after.maneuver_start_t_s + t2, 5) << "-"
+              << FormatNumber(f.after.maneuver_end_t_s + t2, 5) << " s\n"
+              << "fit each half alone (fit --t_start/--t_end) and compare "
+                 "them with imusysid displacement\n";
+  }
+  return kExitOk;
+}
+
 int RunSimulate(const std::vector<std::string>& positional) {
   const std::string cmd = "simulate";
   if (!positional.empty()) {
     return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
   }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
+  if (FLAGS_scenario == kBatteryMoveScenario) return RunBatteryMove();
   for (const char* flag : {"sensor_profile",
                            "log_format",
                            "high_rate_raw_imu",
@@ -649,7 +745,10 @@ const Command& SimulateCommand() {
           FormatNumber(kPaperTest2Fit.mu) +
           "), model_exact (f_x from equation 9\n"
           "plus white noise: for estimator tests), hover_only (nothing to "
-          "identify).\n"
+          "identify),\npaper_battery_move (paper_test1's flight, the battery "
+          "moved beneath, paper_test2's flight:\none log; the truth gives "
+          "both halves and the CoM's move; --seed and --rate_hz apply to "
+          "both).\n"
           "3-D scenarios (6-DOF simulator, docs/simulator-3d.md): figure8_3d "
           "(figure-eight with roll,\npitch and yaw, then rate doublets on "
           "each axis), hover_3d (hover only), pitch_laps_3d\n(laps along "
