@@ -360,15 +360,24 @@ bool QuadraticWindModel::Residuals(const double* x,
   return true;
 }
 
-StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
-                                    const Preprocess3dOptions& options) {
-  Calibration3d out;
-  // The searches run on a copy thinned to about kSearchRateHz3d after
-  // filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
-  // 400 Hz log then costs what a 50 Hz one does.
+// The searches run on a copy thinned to about kSearchRateHz3d after
+// filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
+// 400 Hz log then costs what a 50 Hz one does.
+Conditioned3d SearchCopy(const Conditioned3d& conditioned) {
   const auto thin_step = static_cast<std::size_t>(
       std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
-  const Conditioned3d thin = Thinned(conditioned, thin_step);
+  return Thinned(conditioned, thin_step);
+}
+
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Preprocess3dOptions& options) {
+  return Calibrate3d(conditioned, SearchCopy(conditioned), options);
+}
+
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Conditioned3d& thin,
+                                    const Preprocess3dOptions& options) {
+  Calibration3d out;
   const bool wind_given = !std::isnan(options.quadratic_wind_n) &&
                           !std::isnan(options.quadratic_wind_e);
   out.wind_n = wind_given ? options.quadratic_wind_n : 0.0;

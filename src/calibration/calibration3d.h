@@ -129,6 +129,16 @@ struct Calibration3d {
 StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
                                     const Preprocess3dOptions& options);
 
+// The copy of `conditioned` the searches (and the sensitivity) run on:
+// every window thinned to about kSearchRateHz3d.
+Conditioned3d SearchCopy(const Conditioned3d& conditioned);
+
+// The same on `thin`, SearchCopy(conditioned) made by the caller (one copy
+// shared with the sensitivity).
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Conditioned3d& thin,
+                                    const Preprocess3dOptions& options);
+
 }  // namespace internal
 }  // namespace imusysid
 

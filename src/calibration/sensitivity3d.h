@@ -28,9 +28,11 @@ void PlausibleDelays(const Calibration3d& calibration,
 // Fills out->sensitivity, systematic_stderr_m and (the delay at the limit)
 // delay_edge_shift_m, and the plausible delays where `calibration` searched
 // them, for the data at `calibration`'s delay and wind. Every fit is
-// rigid3d's linear one on a copy thinned to about 50 Hz; the preprocessing
-// choices refilter every window of the log at full rate first.
+// rigid3d's linear one on `thin`, SearchCopy(conditioned) (the calibration's
+// copy, thinned to about 50 Hz), or on variants with its sample times; the
+// higher cutoff refilters every window of the log at full rate first.
 Status FillSensitivity3d(const Conditioned3d& conditioned,
+                         const Conditioned3d& thin,
                          const Calibration3d& calibration,
                          Preprocess3dResult* out);
 
