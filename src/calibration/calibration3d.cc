@@ -13,6 +13,7 @@
 #include "Eigen/Core"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
+#include "imusysid/parameters.h"
 #include "imusysid/rigid3d.h"
 
 namespace imusysid {
@@ -277,6 +278,9 @@ StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
   fit.rmse = result->rmse;
   const Eigen::VectorXd& x = result->parameters;
   fit.position_m = x.head<3>();
+  fit.misalignment_deg = {
+      std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg,
+      -std::asin(std::clamp(x[kThrustToX], -1.0, 1.0)) * kRadToDeg};
   if (correlation_samples != nullptr) {
     Eigen::VectorXd residuals(model->num_residuals());
     if (!model->Residuals(x.data(), residuals.data(), nullptr)) {

@@ -114,14 +114,26 @@ class VariantData {
   std::vector<ProblemData> kept_;
 };
 
-// rigid3d's linear position on `data`.
-StatusOr<Eigen::Vector3d> PositionOf(const StatusOr<ProblemData>& data,
-                                     double* correlation_samples = nullptr) {
+// rigid3d's linear fit on `data`: its position and misalignment.
+StatusOr<LinearFit3d> FitOf(const StatusOr<ProblemData>& data,
+                            double* correlation_samples = nullptr) {
   if (!data.ok()) return data.status();
-  StatusOr<LinearFit3d> fit =
-      FitRigid3dLinear(*data, /*find_wind=*/false, correlation_samples);
-  if (!fit.ok()) return fit.status();
-  return fit->position_m;
+  return FitRigid3dLinear(*data, /*find_wind=*/false, correlation_samples);
+}
+
+// The shifts of `at_low` and `at_high` from their bases, position and
+// misalignment.
+void SetShifts(const LinearFit3d& at_low,
+               const LinearFit3d& low_base,
+               const LinearFit3d& at_high,
+               const LinearFit3d& high_base,
+               ChoiceSensitivity3d* c) {
+  c->shift_low_m = at_low.position_m - low_base.position_m;
+  c->shift_high_m = at_high.position_m - high_base.position_m;
+  c->misalignment_shift_low_deg =
+      at_low.misalignment_deg - low_base.misalignment_deg;
+  c->misalignment_shift_high_deg =
+      at_high.misalignment_deg - high_base.misalignment_deg;
 }
 
 // The windows of `mid` (filtered, at mid_rate_hz) low-passed further at
@@ -200,12 +212,12 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
       std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
   const double delay = calibration.estimator_delay_s;
   VariantData data(thin, delay, calibration.wind_n, calibration.wind_e);
-  auto position_at = [&](double delay_s) {
-    return PositionOf(data.At(thin.windows, thin.options, delay_s));
+  auto fit_at = [&](double delay_s) {
+    return FitOf(data.At(thin.windows, thin.options, delay_s));
   };
   double correlation = 1.0;
-  StatusOr<Eigen::Vector3d> p0 =
-      PositionOf(data.At(thin.windows, thin.options, delay), &correlation);
+  StatusOr<LinearFit3d> p0 =
+      FitOf(data.At(thin.windows, thin.options, delay), &correlation);
   if (!p0.ok()) return p0.status();
 
   if (!calibration.searched_delays_s.empty()) {
@@ -236,7 +248,7 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     mid.push_back(ThinnedWindow(w, mid_step));
   }
   auto from_mid = [&](const Preprocess3dOptions& variant,
-                      double extra_cutoff_hz) -> StatusOr<Eigen::Vector3d> {
+                      double extra_cutoff_hz) -> StatusOr<LinearFit3d> {
     StatusOr<std::vector<WindowImu>> windows =
         MidVariant(mid,
                    variant,
@@ -245,13 +257,17 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
                    mid_rate_hz,
                    mid_to_search);
     if (!windows.ok()) return windows.status();
-    return PositionOf(data.At(*windows, variant, delay));
+    return FitOf(data.At(*windows, variant, delay));
   };
-  StatusOr<Eigen::Vector3d> mid_base = from_mid(o, 0.0);
+  StatusOr<LinearFit3d> mid_base = from_mid(o, 0.0);
   if (!mid_base.ok()) return mid_base.status();
   auto share_of_range = [](ChoiceSensitivity3d* c) {
     c->stderr_m =
         c->shift_low_m.cwiseAbs().cwiseMax(c->shift_high_m.cwiseAbs()) /
+        std::sqrt(3.0);
+    c->misalignment_stderr_deg =
+        c->misalignment_shift_low_deg.cwiseAbs().cwiseMax(
+            c->misalignment_shift_high_deg.cwiseAbs()) /
         std::sqrt(3.0);
   };
   // The cutoff: lower by a further low-pass on the filtered signals, higher
@@ -264,10 +280,9 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     c.high = o.cutoff_hz * o.systematic_high_factor;
     Preprocess3dOptions low = o;
     low.cutoff_hz = c.low;
-    StatusOr<Eigen::Vector3d> p_low =
+    StatusOr<LinearFit3d> p_low =
         c.low < o.cutoff_hz ? from_mid(low, c.low) : mid_base;
     if (!p_low.ok()) return p_low.status();
-    c.shift_low_m = *p_low - *mid_base;
     Preprocess3dOptions high = o;
     high.cutoff_hz = c.high;
     // Every window refiltered at the log's rate, kept every `step`.
@@ -283,10 +298,9 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
       if (!imu.ok()) return imu.status();
       windows.push_back(std::move(*imu));
     }
-    StatusOr<Eigen::Vector3d> p_high =
-        PositionOf(data.At(windows, high, delay));
+    StatusOr<LinearFit3d> p_high = FitOf(data.At(windows, high, delay));
     if (!p_high.ok()) return p_high.status();
-    c.shift_high_m = *p_high - *p0;
+    SetShifts(*p_low, *mid_base, *p_high, *p0, &c);
     share_of_range(&c);
     choices.push_back(std::move(c));
   }
@@ -297,13 +311,14 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     c.used = o.derivative_half_width_s;
     c.low = c.used * o.systematic_low_factor;
     c.high = c.used * o.systematic_high_factor;
-    for (const bool at_high : {false, true}) {
-      Preprocess3dOptions variant = o;
-      variant.derivative_half_width_s = at_high ? c.high : c.low;
-      StatusOr<Eigen::Vector3d> p = from_mid(variant, 0.0);
-      if (!p.ok()) return p.status();
-      (at_high ? c.shift_high_m : c.shift_low_m) = *p - *mid_base;
-    }
+    Preprocess3dOptions variant = o;
+    variant.derivative_half_width_s = c.low;
+    StatusOr<LinearFit3d> p_low = from_mid(variant, 0.0);
+    if (!p_low.ok()) return p_low.status();
+    variant.derivative_half_width_s = c.high;
+    StatusOr<LinearFit3d> p_high = from_mid(variant, 0.0);
+    if (!p_high.ok()) return p_high.status();
+    SetShifts(*p_low, *mid_base, *p_high, *mid_base, &c);
     share_of_range(&c);
     choices.push_back(std::move(c));
   }
@@ -318,13 +333,14 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     c.used = delay;
     c.low = low;
     c.high = high;
-    StatusOr<Eigen::Vector3d> at_low = position_at(low);
+    StatusOr<LinearFit3d> at_low = fit_at(low);
     if (!at_low.ok()) return at_low.status();
-    StatusOr<Eigen::Vector3d> at_high = position_at(high);
+    StatusOr<LinearFit3d> at_high = fit_at(high);
     if (!at_high.ok()) return at_high.status();
-    c.shift_low_m = *at_low - *p0;
-    c.shift_high_m = *at_high - *p0;
-    c.stderr_m = (*at_high - *at_low).cwiseAbs() / 4.0;
+    SetShifts(*at_low, *p0, *at_high, *p0, &c);
+    c.stderr_m = (at_high->position_m - at_low->position_m).cwiseAbs() / 4.0;
+    c.misalignment_stderr_deg =
+        (at_high->misalignment_deg - at_low->misalignment_deg).cwiseAbs() / 4.0;
     choices.push_back(std::move(c));
   }
   // Where the plausible delays reach the longest searched (for another IMU
@@ -334,19 +350,21 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
                           ? calibration.longest_delay_searched_s
                           : o.max_estimator_delay_s;
   if (edge > 0 && high >= edge - 1e-9) {
-    StatusOr<Eigen::Vector3d> at_edge = position_at(edge);
+    StatusOr<LinearFit3d> at_edge = fit_at(edge);
     if (!at_edge.ok()) return at_edge.status();
-    StatusOr<Eigen::Vector3d> before =
-        position_at(std::max(0.0, edge - kEdgeS));
+    StatusOr<LinearFit3d> before = fit_at(std::max(0.0, edge - kEdgeS));
     if (!before.ok()) return before.status();
-    out->delay_edge_shift_m = *at_edge - *before;
+    out->delay_edge_shift_m = at_edge->position_m - before->position_m;
   }
 
   Eigen::Vector3d variance = Eigen::Vector3d::Zero();
+  Eigen::Vector2d tilt_variance = Eigen::Vector2d::Zero();
   for (const ChoiceSensitivity3d& c : choices) {
     variance += c.stderr_m.array().square().matrix();
+    tilt_variance += c.misalignment_stderr_deg.array().square().matrix();
   }
   out->systematic_stderr_m = variance.cwiseSqrt();
+  out->misalignment_systematic_stderr_deg = tilt_variance.cwiseSqrt();
   out->sensitivity = std::move(choices);
   return Status::Ok();
 }
