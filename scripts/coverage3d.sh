@@ -6,7 +6,10 @@
 # ±2σ̂ of the fitted value (every axis, given or withheld), σ̂ against the
 # seed-to-seed spread of the error, the mean error, how often the axis was
 # given, and the confident wrong axes (given, outside 3σ̂ and more than 5 mm
-# from the truth), with the decisions' reasons. The table is Markdown on
+# from the truth), with the decisions' reasons; then the same for the
+# thrust-axis misalignment (roll, pitch) against the truth sidecar's, with
+# its σ̂ (the total where the fit gives one, else the statistical) and how
+# often the statistical part alone covers. The tables are Markdown on
 # standard output.
 # Usage: scripts/coverage3d.sh [--seeds=30] [--scenarios=figure8_3d,...]
 #          [--formats=ulg,bin,csv] [--imusysid=build/imusysid] [--jobs=N]
@@ -38,7 +41,7 @@ for arg in "$@"; do
     --sim_args=*) sim_args=${arg#*=} ;;
     --fit_args=*) fit_args=${arg#*=} ;;
     --truth=before|--truth=after) truth_side=${arg#*=} ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) echo "coverage3d.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
@@ -87,6 +90,7 @@ print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 judged_after = 0
 failed = 0
 not_fitted = 0
+tilts = {}  # (scenario, format, instance, angle) -> [(error, σ̂, statistical σ̂)]
 for s in scenarios:
     for f in formats:
         rows = {}
@@ -110,6 +114,16 @@ for s in scenarios:
                     not_fitted += 1
                     continue
                 inst = fit["instance"]
+                truth_tilt = {i["instance"] - 1: i.get("misalignment_deg", {}) for i in truth["imus"]}
+                stat = fit.get("misalignment_stderr_statistical_deg", {})
+                total = fit.get("misalignment_stderr_deg", stat)
+                for angle in ("roll", "pitch"):
+                    value = fit.get("misalignment_deg", {}).get(angle)
+                    true = truth_tilt.get(inst, {}).get(angle)
+                    if value is None or true is None or total.get(angle) is None:
+                        continue
+                    tilts.setdefault((s, f, inst, angle), []).append(
+                        (value - true, total[angle], stat.get(angle) or float("nan")))
                 for a in range(3):
                     p = fit["fitted_position_frd_m"][a]
                     se = fit["imu_position_frd_stderr_m"][a]
@@ -136,6 +150,20 @@ for s in scenarios:
             print(f"| {s} | {f} | {inst} | {'xyz'[a]} | {n} | {covered}/{n} ({100 * covered / n:.0f} %) | "
                   f"{mse * 1e3:.2f} | {spread * 1e3:.2f} | {mse / spread if spread > 0 else float('nan'):.2f} | "
                   f"{mean * 1e3:+.2f} | {given} | {wrong} | {band_max:.2f} | {reason_text} |")
+if tilts:
+    print("\n| scenario | format | IMU | misalignment | fits | covered ±2σ̂ | statistical σ̂ alone covers | mean σ̂ ° | mean statistical σ̂ ° | spread ° | σ̂/spread | mean error ° |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for (s, f, inst, angle), r in sorted(tilts.items()):
+        n = len(r)
+        mean = sum(e for e, _, _ in r) / n
+        spread = math.sqrt(sum((e - mean) ** 2 for e, _, _ in r) / max(1, n - 1))
+        mse = sum(se for _, se, _ in r) / n
+        mstat = sum(st for _, _, st in r) / n
+        covered = sum(abs(e) <= 2 * se for e, se, _ in r)
+        covered_stat = sum(abs(e) <= 2 * st for e, _, st in r)
+        print(f"| {s} | {f} | {inst} | {angle} | {n} | {covered}/{n} ({100 * covered / n:.0f} %) | "
+              f"{covered_stat}/{n} ({100 * covered_stat / n:.0f} %) | {mse:.3f} | {mstat:.3f} | {spread:.3f} | "
+              f"{mse / spread if spread > 0 else float('nan'):.2f} | {mean:+.3f} |")
 if truth_side == "after":
     print(f"\njudged against the IMU positions after the payload change ({judged_after} flights with one)")
 if failed:

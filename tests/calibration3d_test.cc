@@ -141,6 +141,45 @@ TEST(Calibration3d, GivenDelayAndWindPassThrough) {
   EXPECT_NE(zero->data.motion.velocity, pre->data.motion.velocity);
 }
 
+// A window's IMU conditioned with a step is the full-rate one thinned, bit
+// for bit (its derivative solved at the kept samples alone), at the
+// sensitivity's higher cutoff; and Thinned copies what ThinWindow keeps.
+TEST(Calibration3d, ImuOfWindowWithAStepIsTheFullRateOneThinned) {
+  const FlightLog log = FigureEight(0.02, 0.0, 0.0);
+  Preprocess3dResult windows;
+  Preprocess3dOptions options;
+  StatusOr<Conditioned3d> conditioned = ConditionFlight(log, options, &windows);
+  ASSERT_TRUE(conditioned.ok());
+  ASSERT_FALSE(windows.windows.empty());
+  options.cutoff_hz = 8.0;
+  for (std::size_t step : {3u, 8u}) {
+    for (const Stretch3d& w : windows.windows) {
+      StatusOr<WindowImu> full = ImuOfWindow(
+          log, w, windows.gyro_bias_frd, options, windows.sample_rate_hz);
+      StatusOr<WindowImu> thin = ImuOfWindow(
+          log, w, windows.gyro_bias_frd, options, windows.sample_rate_hz, step);
+      ASSERT_TRUE(full.ok() && thin.ok());
+      ThinWindow(step, &*full);
+      EXPECT_EQ(thin->t, full->t);
+      for (std::size_t a = 0; a < 3; ++a) {
+        EXPECT_EQ(thin->f[a], full->f[a]);
+        EXPECT_EQ(thin->omega[a], full->omega[a]);
+        EXPECT_EQ(thin->omega_dot[a], full->omega_dot[a]) << step;
+      }
+      EXPECT_EQ(thin->omega_products, full->omega_products);
+    }
+    const Conditioned3d thinned = Thinned(*conditioned, step);
+    ASSERT_EQ(thinned.windows.size(), conditioned->windows.size());
+    for (std::size_t i = 0; i < thinned.windows.size(); ++i) {
+      WindowImu expected = conditioned->windows[i];
+      ThinWindow(step, &expected);
+      EXPECT_EQ(thinned.windows[i].omega_dot, expected.omega_dot);
+      EXPECT_EQ(thinned.windows[i].omega_products, expected.omega_products);
+      EXPECT_EQ(thinned.windows[i].t, expected.t);
+    }
+  }
+}
+
 // The wind problem's cost is the profile of rigid3d's linear fit: its cost
 // at a wind is the `linear` fit's cost on the data with that wind, and the
 // simulated wind costs less than none.

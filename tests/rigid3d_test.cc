@@ -424,10 +424,26 @@ TEST(Rigid3d, MisalignmentHasItsSigmaAndTheThrustFramePosition) {
   const ImuPosition3d r = Rigid3dReport(fit, FigureEightData(), 0);
   EXPECT_NEAR(r.misalignment_pitch_deg, 2.0, 1e-12);
   EXPECT_NEAR(r.misalignment_roll_deg, 1.0, 1e-12);
-  EXPECT_NEAR(
-      r.misalignment_stderr_deg[1], 2e-3 / std::cos(pitch) * kRadToDeg, 1e-12);
-  EXPECT_NEAR(
-      r.misalignment_stderr_deg[0], 1e-3 / std::cos(roll) * kRadToDeg, 1e-12);
+  EXPECT_NEAR(r.misalignment_stderr_statistical_deg[1],
+              2e-3 / std::cos(pitch) * kRadToDeg,
+              1e-12);
+  EXPECT_NEAR(r.misalignment_stderr_statistical_deg[0],
+              1e-3 / std::cos(roll) * kRadToDeg,
+              1e-12);
+  // The systematic part: the data's sensitivity with the floor, in
+  // quadrature, added to the statistical part in quadrature.
+  const double floor = Rigid3dReportOptions().misalignment_floor_deg;
+  const Eigen::Vector2d sensitivity =
+      FigureEightData().misalignment_systematic_stderr_deg;
+  ASSERT_TRUE(sensitivity.allFinite());
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_EQ(r.misalignment_stderr_systematic_deg[a],
+              std::hypot(sensitivity[a], floor));
+    EXPECT_NEAR(r.misalignment_stderr_deg[a],
+                std::hypot(r.misalignment_stderr_statistical_deg[a],
+                           r.misalignment_stderr_systematic_deg[a]),
+                1e-15);
+  }
   // R_y(pitch) R_x(roll) (0.08, 0, 0): x along the pitched axis.
   EXPECT_NEAR(
       r.fitted_position_thrust_frame_m[0], 0.08 * std::cos(pitch), 1e-12);
@@ -437,6 +453,12 @@ TEST(Rigid3d, MisalignmentHasItsSigmaAndTheThrustFramePosition) {
   EXPECT_NEAR(r.fitted_position_thrust_frame_m[2], -2.79e-3, 0.01e-3);
   const auto j = Rigid3dToJson(r);
   EXPECT_NEAR(j["misalignment_stderr_statistical_deg"]["pitch"].get<double>(),
+              r.misalignment_stderr_statistical_deg[1],
+              1e-15);
+  EXPECT_NEAR(j["misalignment_stderr_systematic_deg"]["roll"].get<double>(),
+              r.misalignment_stderr_systematic_deg[0],
+              1e-15);
+  EXPECT_NEAR(j["misalignment_stderr_deg"]["pitch"].get<double>(),
               r.misalignment_stderr_deg[1],
               1e-15);
   EXPECT_NEAR(j["fitted_position_thrust_frd_m"][2].get<double>(),

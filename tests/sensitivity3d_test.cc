@@ -5,6 +5,7 @@
 
 #include "src/calibration/sensitivity3d.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -17,6 +18,7 @@
 #include "imusysid/extend/registry.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d.h"
+#include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 
 namespace imusysid {
@@ -169,6 +171,104 @@ TEST(Sensitivity3d, CutoffShiftMatchesTheFullRateFits) {
   EXPECT_GE(pre->estimator_delay_high_s, delay);
 }
 
+// rigid3d's linear fit on data the public Condition3d makes at full rate
+// with `cutoff_hz`, at the given delay and wind, and the report of it.
+ImuPosition3d FullRateReport(const FlightLog& log,
+                             double cutoff_hz,
+                             double delay_s,
+                             double wind_n,
+                             double wind_e) {
+  Preprocess3dOptions o;
+  o.cutoff_hz = cutoff_hz;
+  o.estimator_delay_s = delay_s;
+  o.quadratic_wind_n = wind_n;
+  o.quadratic_wind_e = wind_e;
+  StatusOr<Preprocess3dResult> pre = Condition3d(log, o);
+  EXPECT_TRUE(pre.ok()) << pre.status().ToString();
+  if (!pre.ok()) return ImuPosition3d();
+  auto data = std::make_shared<const ProblemData>(pre->data);
+  Problem problem(std::shared_ptr<const Model>(
+      CreateModel(kRigid3dModelName, data).value()));
+  EstimatorOptions eo;
+  eo.linear.enforce_nonnegative_mu = false;
+  StatusOr<EstimateResult> fit =
+      BuiltinEstimators().Create("linear").value()->Estimate(problem, eo);
+  EXPECT_TRUE(fit.ok());
+  return fit.ok() ? Rigid3dReport(*fit, *pre, 0) : ImuPosition3d();
+}
+
+// The misalignment's systematic part is its variants' shifts combined as
+// the position's are: on the realistic figure-eight each choice's share is
+// max(|shift_low|, |shift_high|)/√3 (the delay's |shift_high − shift_low|/4),
+// the total their root sum of squares, not zero (0.058° roll, 0.25° pitch:
+// dropping it fails here); the cutoff's shift to 8 Hz is that of the
+// misalignment the full-rate fits give (0.065° roll, 0.40° pitch) within
+// 0.001° (the 50 Hz copy moved it by 5e-5° at most); and the report adds
+// it to the statistical part with the floor, in quadrature.
+TEST(Sensitivity3d, MisalignmentSystematicPartIsItsShiftsCombined) {
+  StatusOr<Simulator3dOptions> so = Scenario3dOptions("figure8_3d");
+  ASSERT_TRUE(so.ok());
+  so->imus.resize(1);
+  so->sensor_profile = "realistic";
+  StatusOr<Simulated3dFlight> flight = Simulate3d(*so);
+  ASSERT_TRUE(flight.ok()) << flight.status().ToString();
+  const FlightLog& log = flight->logs[0];
+  StatusOr<Preprocess3dResult> pre = Preprocess3d(log, Preprocess3dOptions());
+  ASSERT_TRUE(pre.ok()) << pre.status().ToString();
+  ASSERT_EQ(pre->sensitivity.size(), 3u);
+  Eigen::Vector2d variance = Eigen::Vector2d::Zero();
+  for (const ChoiceSensitivity3d& c : pre->sensitivity) {
+    for (int a = 0; a < 2; ++a) {
+      const double low = c.misalignment_shift_low_deg[a];
+      const double high = c.misalignment_shift_high_deg[a];
+      const double expected =
+          c.choice == "estimator_delay_s"
+              ? std::abs(high - low) / 4
+              : std::max(std::abs(low), std::abs(high)) / std::sqrt(3.0);
+      EXPECT_NEAR(c.misalignment_stderr_deg[a], expected, 1e-15) << c.choice;
+      variance[a] += expected * expected;
+    }
+  }
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_NEAR(pre->misalignment_systematic_stderr_deg[a],
+                std::sqrt(variance[a]),
+                1e-15);
+    EXPECT_GT(pre->misalignment_systematic_stderr_deg[a], 0.01) << a;
+  }
+  const double wn = pre->data.motion.quadratic_wind_n;
+  const double we = pre->data.motion.quadratic_wind_e;
+  const double delay = pre->estimator_delay_s;
+  const ImuPosition3d at8 = FullRateReport(log, 8.0, delay, wn, we);
+  const ImuPosition3d at5 = FullRateReport(log, 5.0, delay, wn, we);
+  const ChoiceSensitivity3d& cutoff = pre->sensitivity[0];
+  ASSERT_EQ(cutoff.choice, "cutoff_hz");
+  EXPECT_NEAR(cutoff.misalignment_shift_high_deg[0],
+              at8.misalignment_roll_deg - at5.misalignment_roll_deg,
+              1e-3);
+  EXPECT_NEAR(cutoff.misalignment_shift_high_deg[1],
+              at8.misalignment_pitch_deg - at5.misalignment_pitch_deg,
+              1e-3);
+  // The report of the fit on the data the sensitivity belongs to.
+  auto data = std::make_shared<const ProblemData>(pre->data);
+  Problem problem(std::shared_ptr<const Model>(
+      CreateModel(kRigid3dModelName, data).value()));
+  StatusOr<EstimateResult> fit =
+      BuiltinEstimators().Create("linear").value()->Estimate(
+          problem, EstimatorOptions());
+  ASSERT_TRUE(fit.ok());
+  const ImuPosition3d r = Rigid3dReport(*fit, *pre, 0);
+  const double floor = Rigid3dReportOptions().misalignment_floor_deg;
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_NEAR(r.misalignment_stderr_systematic_deg[a],
+                std::hypot(pre->misalignment_systematic_stderr_deg[a], floor),
+                1e-15);
+    EXPECT_NEAR(r.misalignment_stderr_deg[a],
+                std::hypot(r.misalignment_stderr_statistical_deg[a],
+                           r.misalignment_stderr_systematic_deg[a]),
+                1e-15);
+  }
+}
+
 // Off, nothing is computed and σ̂ keeps its floor alone.
 TEST(Sensitivity3d, OffComputesNothing) {
   StatusOr<Simulator3dOptions> so = Scenario3dOptions("figure8_3d");
@@ -182,6 +282,7 @@ TEST(Sensitivity3d, OffComputesNothing) {
   ASSERT_TRUE(pre.ok());
   EXPECT_TRUE(pre->sensitivity.empty());
   EXPECT_TRUE(pre->systematic_stderr_m.array().isNaN().all());
+  EXPECT_TRUE(pre->misalignment_systematic_stderr_deg.array().isNaN().all());
 }
 
 }  // namespace

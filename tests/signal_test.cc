@@ -688,6 +688,49 @@ TEST(SavitzkyGolayDerivativeEach, EqualsTheSingleSeriesResultBitForBit) {
       StatusCode::kInvalidArgument);
 }
 
+// At every `step`th sample from `first` the strided form is the full
+// result thinned, bit for bit: on jittered times (the general solve) and on
+// a uniform grid (the FIR inside, the solve at the edges), strides that do
+// and do not divide the FIR's reach.
+TEST(SavitzkyGolayDerivativeEachEvery, IsTheFullResultThinnedBitForBit) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  std::vector<double> jittered(700);
+  for (std::size_t k = 0; k < jittered.size(); ++k) {
+    jittered[k] = (static_cast<double>(k) + jitter(rng)) / 250.0;
+  }
+  const std::vector<double> uniform = Grid(0.0, 1000.0, 700);
+  for (const std::vector<double>* t :
+       std::vector<const std::vector<double>*>{&jittered, &uniform}) {
+    const std::vector<double> a = Sine(*t, 1.0, 3.0);
+    const std::vector<double> b = Sine(*t, -0.4, 11.0);
+    for (int degree : {2, 3}) {
+      for (int half_width : {3, 20}) {
+        StatusOr<std::vector<std::vector<double>>> all =
+            SavitzkyGolayDerivativeEach(*t, {&a, &b}, half_width, degree);
+        ASSERT_TRUE(all.ok());
+        for (std::size_t step : {1u, 2u, 5u, 7u}) {
+          for (std::size_t first : {0u, 3u, 30u}) {
+            StatusOr<std::vector<std::vector<double>>> some =
+                SavitzkyGolayDerivativeEachEvery(
+                    *t, {&a, &b}, half_width, degree, step, first);
+            ASSERT_TRUE(some.ok());
+            for (std::size_t i = 0; i < 2; ++i) {
+              std::vector<double> thinned;
+              for (std::size_t k = first; k < t->size(); k += step) {
+                thinned.push_back((*all)[i][k]);
+              }
+              EXPECT_EQ((*some)[i], thinned)
+                  << "degree " << degree << " half width " << half_width
+                  << " step " << step << " first " << first;
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(SavitzkyGolayDerivative, RejectsBadArguments) {
   const std::vector<double> t = Grid(0.0, 100.0, 10);
   const std::vector<double> x(10, 1.0);

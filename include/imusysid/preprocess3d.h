@@ -114,6 +114,11 @@ struct ChoiceSensitivity3d {
   // uniform spread over ±that); the delay's range is a ±2σ interval from
   // the fit, so |high − low shift|/4.
   Eigen::Vector3d stderr_m = Eigen::Vector3d::Zero();
+  // The same for the thrust-axis misalignment the same fits give (roll,
+  // pitch), deg.
+  Eigen::Vector2d misalignment_shift_low_deg = Eigen::Vector2d::Zero();
+  Eigen::Vector2d misalignment_shift_high_deg = Eigen::Vector2d::Zero();
+  Eigen::Vector2d misalignment_stderr_deg = Eigen::Vector2d::Zero();
 };
 
 struct Preprocess3dResult {
@@ -153,6 +158,9 @@ struct Preprocess3dResult {
   std::vector<ChoiceSensitivity3d> sensitivity;
   Eigen::Vector3d systematic_stderr_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // The same for the misalignment (roll, pitch), deg.
+  Eigen::Vector2d misalignment_systematic_stderr_deg =
+      Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector3d gyro_bias_frd = Eigen::Vector3d::Zero();  // rad/s
   bool gyro_bias_from_still = false;
   double sample_rate_hz = 0.0;

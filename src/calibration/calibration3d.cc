@@ -13,6 +13,7 @@
 #include "Eigen/Core"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
+#include "imusysid/parameters.h"
 #include "imusysid/rigid3d.h"
 
 namespace imusysid {
@@ -277,6 +278,9 @@ StatusOr<LinearFit3d> FitRigid3dLinear(const ProblemData& data,
   fit.rmse = result->rmse;
   const Eigen::VectorXd& x = result->parameters;
   fit.position_m = x.head<3>();
+  fit.misalignment_deg = {
+      std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg,
+      -std::asin(std::clamp(x[kThrustToX], -1.0, 1.0)) * kRadToDeg};
   if (correlation_samples != nullptr) {
     Eigen::VectorXd residuals(model->num_residuals());
     if (!model->Residuals(x.data(), residuals.data(), nullptr)) {
@@ -360,15 +364,24 @@ bool QuadraticWindModel::Residuals(const double* x,
   return true;
 }
 
-StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
-                                    const Preprocess3dOptions& options) {
-  Calibration3d out;
-  // The searches run on a copy thinned to about kSearchRateHz3d after
-  // filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
-  // 400 Hz log then costs what a 50 Hz one does.
+// The searches run on a copy thinned to about kSearchRateHz3d after
+// filtering: the motion they fit lies below the 5 Hz cutoff, and a 10-min
+// 400 Hz log then costs what a 50 Hz one does.
+Conditioned3d SearchCopy(const Conditioned3d& conditioned) {
   const auto thin_step = static_cast<std::size_t>(
       std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
-  const Conditioned3d thin = Thinned(conditioned, thin_step);
+  return Thinned(conditioned, thin_step);
+}
+
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Preprocess3dOptions& options) {
+  return Calibrate3d(conditioned, SearchCopy(conditioned), options);
+}
+
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Conditioned3d& thin,
+                                    const Preprocess3dOptions& options) {
+  Calibration3d out;
   const bool wind_given = !std::isnan(options.quadratic_wind_n) &&
                           !std::isnan(options.quadratic_wind_e);
   out.wind_n = wind_given ? options.quadratic_wind_n : 0.0;

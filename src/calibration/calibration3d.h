@@ -32,12 +32,16 @@ namespace internal {
 inline constexpr double kSearchRateHz3d = 50.0;
 
 // A linear least-squares fit of rigid3d (`linear`, white covariance): its
-// RMS residual, m/s², its position (FRD, m), and its wind where the flight
+// RMS residual, m/s², its position (FRD, m), its misalignment, and its wind
+// where the flight
 // determines it (1σ under 0.3 m/s on both axes, with a rotor drag above
 // 1e-3 /s), else NaN.
 struct LinearFit3d {
   double rmse = 0.0;
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  // The thrust-axis misalignment (roll, pitch), deg, as the report gives
+  // it: asin(e_y) and −asin(e_x).
+  Eigen::Vector2d misalignment_deg = Eigen::Vector2d::Zero();
   double wind_n = std::numeric_limits<double>::quiet_NaN();
   double wind_e = std::numeric_limits<double>::quiet_NaN();
 };
@@ -127,6 +131,16 @@ struct Calibration3d {
 // QuadraticWindModel from there. Everything is searched on a copy thinned to
 // about 50 Hz (the motion lies below the filter's cutoff).
 StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Preprocess3dOptions& options);
+
+// The copy of `conditioned` the searches (and the sensitivity) run on:
+// every window thinned to about kSearchRateHz3d.
+Conditioned3d SearchCopy(const Conditioned3d& conditioned);
+
+// The same on `thin`, SearchCopy(conditioned) made by the caller (one copy
+// shared with the sensitivity).
+StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
+                                    const Conditioned3d& thin,
                                     const Preprocess3dOptions& options);
 
 }  // namespace internal

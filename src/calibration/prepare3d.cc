@@ -16,8 +16,10 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   StatusOr<internal::Conditioned3d> conditioned =
       internal::ConditionFlight(log, options, &out);
   if (!conditioned.ok()) return conditioned.status();
+  // One thinned copy for the calibration's searches and the sensitivity.
+  const internal::Conditioned3d thin = internal::SearchCopy(*conditioned);
   StatusOr<internal::Calibration3d> calibration =
-      internal::Calibrate3d(*conditioned, options);
+      internal::Calibrate3d(*conditioned, thin, options);
   if (!calibration.ok()) return calibration.status();
   out.delay_estimated = calibration->delay_estimated;
   out.delay_at_limit = calibration->delay_at_limit;
@@ -36,7 +38,7 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
     // for the narrower cutoff) leaves σ̂ without it, said so; the fit
     // itself stands.
     Status sensitivity =
-        internal::FillSensitivity3d(*conditioned, *calibration, &out);
+        internal::FillSensitivity3d(*conditioned, thin, *calibration, &out);
     if (!sensitivity.ok()) {
       out.notes.push_back(
           "the systematic part of sigma (the position's sensitivity to the "

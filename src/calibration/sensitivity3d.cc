@@ -25,95 +25,158 @@ constexpr double kEdgeS = 0.02;
 // ten-minute fit's time. Only the higher cutoff needs the log itself.
 constexpr double kMidRateHz = 100.0;
 
-// rigid3d's linear position on `thin` at the delay and wind.
-StatusOr<Eigen::Vector3d> PositionAt(const Conditioned3d& thin,
-                                     double delay_s,
-                                     double wind_n,
-                                     double wind_e,
-                                     double* correlation_samples = nullptr) {
-  StatusOr<ProblemData> data = DataAt(thin, delay_s, wind_n, wind_e);
-  if (!data.ok()) return data.status();
-  StatusOr<LinearFit3d> fit =
-      FitRigid3dLinear(*data, /*find_wind=*/false, correlation_samples);
-  if (!fit.ok()) return fit.status();
-  return fit->position_m;
-}
+// The data the variants are fitted on. The estimator's channels (the
+// track at the delay, low-passed at the cutoff) depend only on the sample
+// times, the delay and the cutoff: for the variants that share them with
+// the fitted choices they are assembled once, and each variant's IMU
+// channels are put in their place (DataAt's values, bit for bit).
+class VariantData {
+ public:
+  VariantData(const Conditioned3d& thin,
+              double delay_s,
+              double wind_n,
+              double wind_e)
+      : thin_(thin), delay_s_(delay_s), wind_n_(wind_n), wind_e_(wind_e) {}
 
-// The position with `windows` and `options` in place of the thin copy's
-// for one fit (DataAt filters the estimator's channels at the options'
-// cutoff).
-StatusOr<Eigen::Vector3d> PositionWithWindows(
-    std::vector<WindowImu> windows,
-    const Preprocess3dOptions& options,
-    double delay_s,
-    double wind_n,
-    double wind_e,
-    Conditioned3d* thin) {
-  std::swap(thin->windows, windows);
-  const Preprocess3dOptions used = thin->options;
-  thin->options = options;
-  StatusOr<Eigen::Vector3d> p = PositionAt(*thin, delay_s, wind_n, wind_e);
-  thin->options = used;
-  std::swap(thin->windows, windows);
-  return p;
-}
-
-// The position with the IMU filtered and differentiated as `options` says
-// (the track and windows of `thin` otherwise): every window refiltered at
-// the log's rate, then thinned as `thin` was.
-StatusOr<Eigen::Vector3d> PositionWithOptions(
-    const Preprocess3dOptions& options,
-    std::size_t step,
-    double delay_s,
-    double wind_n,
-    double wind_e,
-    const Preprocess3dResult& out,
-    Conditioned3d* thin) {
-  std::vector<WindowImu> windows;
-  windows.reserve(out.windows.size());
-  for (const Stretch3d& w : out.windows) {
-    StatusOr<WindowImu> imu = ImuOfWindow(
-        *thin->log, w, out.gyro_bias_frd, options, out.sample_rate_hz);
-    if (!imu.ok()) return imu.status();
-    ThinWindow(step, &*imu);
-    windows.push_back(std::move(*imu));
+  // The data of `windows` at `delay_s` with the estimator's channels
+  // filtered as `options` says. Kept for reuse when the delay and the
+  // cutoff are the fitted ones.
+  StatusOr<ProblemData> At(const std::vector<WindowImu>& windows,
+                           const Preprocess3dOptions& options,
+                           double delay_s) {
+    const bool shared = delay_s == delay_s_ &&
+                        options.cutoff_hz == thin_.options.cutoff_hz &&
+                        options.filter_order == thin_.options.filter_order;
+    if (shared) {
+      for (const ProblemData& data : kept_) {
+        if (!SameTimes(windows, data.t_s)) continue;
+        ProblemData d = data;
+        SetImu(windows, &d);
+        return d;
+      }
+    }
+    StatusOr<ProblemData> d =
+        DataAt(thin_, windows, options, delay_s, wind_n_, wind_e_);
+    if (d.ok() && shared) kept_.push_back(*d);
+    return d;
   }
-  return PositionWithWindows(
-      std::move(windows), options, delay_s, wind_n, wind_e, thin);
+
+ private:
+  static bool SameTimes(const std::vector<WindowImu>& windows,
+                        const std::vector<double>& t) {
+    std::size_t k = 0;
+    for (const WindowImu& w : windows) {
+      if (k + w.t.size() > t.size() ||
+          !std::equal(w.t.begin(),
+                      w.t.end(),
+                      t.begin() + static_cast<std::ptrdiff_t>(k))) {
+        return false;
+      }
+      k += w.t.size();
+    }
+    return k == t.size();
+  }
+
+  // The IMU channels of `windows`, joined as DataAt joins them.
+  static void SetImu(const std::vector<WindowImu>& windows, ProblemData* d) {
+    Motion3d& m = d->motion;
+    auto join = [&windows](std::vector<double>* to, auto channel) {
+      to->clear();
+      for (const WindowImu& w : windows) {
+        const std::vector<double>& x = channel(w);
+        to->insert(to->end(), x.begin(), x.end());
+      }
+    };
+    for (std::size_t a = 0; a < 3; ++a) {
+      join(
+          &m.f[a], [a](const WindowImu& w) -> const auto& { return w.f[a]; });
+      join(
+          &m.omega[a], [a](const WindowImu& w) -> const auto& {
+            return w.omega[a];
+          });
+      join(
+          &m.omega_dot[a], [a](const WindowImu& w) -> const auto& {
+            return w.omega_dot[a];
+          });
+    }
+    for (std::size_t j = 0; j < 6; ++j) {
+      join(
+          &m.omega_products[j], [j](const WindowImu& w) -> const auto& {
+            return w.omega_products[j];
+          });
+    }
+  }
+
+  const Conditioned3d& thin_;
+  const double delay_s_;
+  const double wind_n_;
+  const double wind_e_;
+  std::vector<ProblemData> kept_;
+};
+
+// rigid3d's linear fit on `data`: its position and misalignment.
+StatusOr<LinearFit3d> FitOf(const StatusOr<ProblemData>& data,
+                            double* correlation_samples = nullptr) {
+  if (!data.ok()) return data.status();
+  return FitRigid3dLinear(*data, /*find_wind=*/false, correlation_samples);
+}
+
+// The shifts of `at_low` and `at_high` from their bases, position and
+// misalignment.
+void SetShifts(const LinearFit3d& at_low,
+               const LinearFit3d& low_base,
+               const LinearFit3d& at_high,
+               const LinearFit3d& high_base,
+               ChoiceSensitivity3d* c) {
+  c->shift_low_m = at_low.position_m - low_base.position_m;
+  c->shift_high_m = at_high.position_m - high_base.position_m;
+  c->misalignment_shift_low_deg =
+      at_low.misalignment_deg - low_base.misalignment_deg;
+  c->misalignment_shift_high_deg =
+      at_high.misalignment_deg - high_base.misalignment_deg;
 }
 
 // The windows of `mid` (filtered, at mid_rate_hz) low-passed further at
 // extra_cutoff_hz (0: not), ω̇ re-derived with a half-width of
-// half_width_s, then thinned by `step`.
+// half_width_s, then thinned by `step` (the derivative formed at the
+// samples kept alone).
 StatusOr<std::vector<WindowImu>> MidVariant(const std::vector<WindowImu>& mid,
                                             const Preprocess3dOptions& o,
                                             double extra_cutoff_hz,
                                             double half_width_s,
                                             double mid_rate_hz,
                                             std::size_t step) {
-  std::vector<WindowImu> out = mid;
+  std::vector<WindowImu> out;
+  out.reserve(mid.size());
   const int half =
       std::max(o.derivative_degree,
                static_cast<int>(std::lround(half_width_s * mid_rate_hz)));
-  for (WindowImu& w : out) {
+  for (const WindowImu& m : mid) {
+    const WindowImu* source = &m;
+    WindowImu filtered;
     if (extra_cutoff_hz > 0) {
+      filtered = m;
       std::vector<std::vector<double>*> series;
       for (std::size_t a = 0; a < 3; ++a) {
-        series.push_back(&w.f[a]);
-        series.push_back(&w.omega[a]);
+        series.push_back(&filtered.f[a]);
+        series.push_back(&filtered.omega[a]);
       }
-      for (auto& product : w.omega_products) series.push_back(&product);
+      for (auto& product : filtered.omega_products) series.push_back(&product);
       IMUSYSID_RETURN_IF_ERROR(ZeroPhaseLowPassEachOnTimes(
-          w.t, series, extra_cutoff_hz, o.filter_order));
+          filtered.t, series, extra_cutoff_hz, o.filter_order));
+      source = &filtered;
     }
     StatusOr<std::vector<std::vector<double>>> d =
-        SavitzkyGolayDerivativeEach(w.t,
-                                    {&w.omega[0], &w.omega[1], &w.omega[2]},
-                                    half,
-                                    o.derivative_degree);
+        SavitzkyGolayDerivativeEachEvery(
+            source->t,
+            {&source->omega[0], &source->omega[1], &source->omega[2]},
+            half,
+            o.derivative_degree,
+            step);
     if (!d.ok()) return d.status();
+    WindowImu w = ThinnedWindow(*source, step);
     for (std::size_t a = 0; a < 3; ++a) w.omega_dot[a] = std::move((*d)[a]);
-    ThinWindow(step, &w);
+    out.push_back(std::move(w));
   }
   return out;
 }
@@ -141,18 +204,20 @@ void PlausibleDelays(const Calibration3d& calibration,
 }
 
 Status FillSensitivity3d(const Conditioned3d& conditioned,
+                         const Conditioned3d& thin,
                          const Calibration3d& calibration,
                          Preprocess3dResult* out) {
   const Preprocess3dOptions& o = conditioned.options;
   const auto step = static_cast<std::size_t>(
       std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
-  Conditioned3d thin = Thinned(conditioned, step);
   const double delay = calibration.estimator_delay_s;
-  const double wind_n = calibration.wind_n;
-  const double wind_e = calibration.wind_e;
+  VariantData data(thin, delay, calibration.wind_n, calibration.wind_e);
+  auto fit_at = [&](double delay_s) {
+    return FitOf(data.At(thin.windows, thin.options, delay_s));
+  };
   double correlation = 1.0;
-  StatusOr<Eigen::Vector3d> p0 =
-      PositionAt(thin, delay, wind_n, wind_e, &correlation);
+  StatusOr<LinearFit3d> p0 =
+      FitOf(data.At(thin.windows, thin.options, delay), &correlation);
   if (!p0.ok()) return p0.status();
 
   if (!calibration.searched_delays_s.empty()) {
@@ -180,11 +245,10 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   std::vector<WindowImu> mid;
   mid.reserve(conditioned.windows.size());
   for (const WindowImu& w : conditioned.windows) {
-    mid.push_back(w);
-    ThinWindow(mid_step, &mid.back());
+    mid.push_back(ThinnedWindow(w, mid_step));
   }
   auto from_mid = [&](const Preprocess3dOptions& variant,
-                      double extra_cutoff_hz) -> StatusOr<Eigen::Vector3d> {
+                      double extra_cutoff_hz) -> StatusOr<LinearFit3d> {
     StatusOr<std::vector<WindowImu>> windows =
         MidVariant(mid,
                    variant,
@@ -193,14 +257,17 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
                    mid_rate_hz,
                    mid_to_search);
     if (!windows.ok()) return windows.status();
-    return PositionWithWindows(
-        std::move(windows).value(), variant, delay, wind_n, wind_e, &thin);
+    return FitOf(data.At(*windows, variant, delay));
   };
-  StatusOr<Eigen::Vector3d> mid_base = from_mid(o, 0.0);
+  StatusOr<LinearFit3d> mid_base = from_mid(o, 0.0);
   if (!mid_base.ok()) return mid_base.status();
   auto share_of_range = [](ChoiceSensitivity3d* c) {
     c->stderr_m =
         c->shift_low_m.cwiseAbs().cwiseMax(c->shift_high_m.cwiseAbs()) /
+        std::sqrt(3.0);
+    c->misalignment_stderr_deg =
+        c->misalignment_shift_low_deg.cwiseAbs().cwiseMax(
+            c->misalignment_shift_high_deg.cwiseAbs()) /
         std::sqrt(3.0);
   };
   // The cutoff: lower by a further low-pass on the filtered signals, higher
@@ -213,16 +280,27 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     c.high = o.cutoff_hz * o.systematic_high_factor;
     Preprocess3dOptions low = o;
     low.cutoff_hz = c.low;
-    StatusOr<Eigen::Vector3d> p_low =
+    StatusOr<LinearFit3d> p_low =
         c.low < o.cutoff_hz ? from_mid(low, c.low) : mid_base;
     if (!p_low.ok()) return p_low.status();
-    c.shift_low_m = *p_low - *mid_base;
     Preprocess3dOptions high = o;
     high.cutoff_hz = c.high;
-    StatusOr<Eigen::Vector3d> p_high =
-        PositionWithOptions(high, step, delay, wind_n, wind_e, *out, &thin);
+    // Every window refiltered at the log's rate, kept every `step`.
+    std::vector<WindowImu> windows;
+    windows.reserve(out->windows.size());
+    for (const Stretch3d& w : out->windows) {
+      StatusOr<WindowImu> imu = ImuOfWindow(*conditioned.log,
+                                            w,
+                                            out->gyro_bias_frd,
+                                            high,
+                                            out->sample_rate_hz,
+                                            step);
+      if (!imu.ok()) return imu.status();
+      windows.push_back(std::move(*imu));
+    }
+    StatusOr<LinearFit3d> p_high = FitOf(data.At(windows, high, delay));
     if (!p_high.ok()) return p_high.status();
-    c.shift_high_m = *p_high - *p0;
+    SetShifts(*p_low, *mid_base, *p_high, *p0, &c);
     share_of_range(&c);
     choices.push_back(std::move(c));
   }
@@ -233,13 +311,14 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     c.used = o.derivative_half_width_s;
     c.low = c.used * o.systematic_low_factor;
     c.high = c.used * o.systematic_high_factor;
-    for (const bool at_high : {false, true}) {
-      Preprocess3dOptions variant = o;
-      variant.derivative_half_width_s = at_high ? c.high : c.low;
-      StatusOr<Eigen::Vector3d> p = from_mid(variant, 0.0);
-      if (!p.ok()) return p.status();
-      (at_high ? c.shift_high_m : c.shift_low_m) = *p - *mid_base;
-    }
+    Preprocess3dOptions variant = o;
+    variant.derivative_half_width_s = c.low;
+    StatusOr<LinearFit3d> p_low = from_mid(variant, 0.0);
+    if (!p_low.ok()) return p_low.status();
+    variant.derivative_half_width_s = c.high;
+    StatusOr<LinearFit3d> p_high = from_mid(variant, 0.0);
+    if (!p_high.ok()) return p_high.status();
+    SetShifts(*p_low, *mid_base, *p_high, *mid_base, &c);
     share_of_range(&c);
     choices.push_back(std::move(c));
   }
@@ -254,13 +333,14 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     c.used = delay;
     c.low = low;
     c.high = high;
-    StatusOr<Eigen::Vector3d> at_low = PositionAt(thin, low, wind_n, wind_e);
+    StatusOr<LinearFit3d> at_low = fit_at(low);
     if (!at_low.ok()) return at_low.status();
-    StatusOr<Eigen::Vector3d> at_high = PositionAt(thin, high, wind_n, wind_e);
+    StatusOr<LinearFit3d> at_high = fit_at(high);
     if (!at_high.ok()) return at_high.status();
-    c.shift_low_m = *at_low - *p0;
-    c.shift_high_m = *at_high - *p0;
-    c.stderr_m = (*at_high - *at_low).cwiseAbs() / 4.0;
+    SetShifts(*at_low, *p0, *at_high, *p0, &c);
+    c.stderr_m = (at_high->position_m - at_low->position_m).cwiseAbs() / 4.0;
+    c.misalignment_stderr_deg =
+        (at_high->misalignment_deg - at_low->misalignment_deg).cwiseAbs() / 4.0;
     choices.push_back(std::move(c));
   }
   // Where the plausible delays reach the longest searched (for another IMU
@@ -270,19 +350,21 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
                           ? calibration.longest_delay_searched_s
                           : o.max_estimator_delay_s;
   if (edge > 0 && high >= edge - 1e-9) {
-    StatusOr<Eigen::Vector3d> at_edge = PositionAt(thin, edge, wind_n, wind_e);
+    StatusOr<LinearFit3d> at_edge = fit_at(edge);
     if (!at_edge.ok()) return at_edge.status();
-    StatusOr<Eigen::Vector3d> before =
-        PositionAt(thin, std::max(0.0, edge - kEdgeS), wind_n, wind_e);
+    StatusOr<LinearFit3d> before = fit_at(std::max(0.0, edge - kEdgeS));
     if (!before.ok()) return before.status();
-    out->delay_edge_shift_m = *at_edge - *before;
+    out->delay_edge_shift_m = at_edge->position_m - before->position_m;
   }
 
   Eigen::Vector3d variance = Eigen::Vector3d::Zero();
+  Eigen::Vector2d tilt_variance = Eigen::Vector2d::Zero();
   for (const ChoiceSensitivity3d& c : choices) {
     variance += c.stderr_m.array().square().matrix();
+    tilt_variance += c.misalignment_stderr_deg.array().square().matrix();
   }
   out->systematic_stderr_m = variance.cwiseSqrt();
+  out->misalignment_systematic_stderr_deg = tilt_variance.cwiseSqrt();
   out->sensitivity = std::move(choices);
   return Status::Ok();
 }

@@ -1,7 +1,8 @@
-// The systematic part of the 3-D position's σ̂: how far rigid3d's position
-// moves when the choices a flight cannot settle (the low-pass cutoff, the
-// rate derivative's width, the estimator delay) move across a defensible
-// range. Internal: Preprocess3d fills Preprocess3dResult::sensitivity.
+// The systematic part of the 3-D position's and misalignment's σ̂: how far
+// rigid3d's position and thrust-axis misalignment move when the choices a
+// flight cannot settle (the low-pass cutoff, the rate derivative's width,
+// the estimator delay) move across a defensible range. Internal:
+// Preprocess3d fills Preprocess3dResult::sensitivity.
 
 #ifndef IMUSYSID_SRC_CALIBRATION_SENSITIVITY3D_H_
 #define IMUSYSID_SRC_CALIBRATION_SENSITIVITY3D_H_
@@ -25,12 +26,15 @@ void PlausibleDelays(const Calibration3d& calibration,
                      double n_eff,
                      Preprocess3dResult* out);
 
-// Fills out->sensitivity, systematic_stderr_m and (the delay at the limit)
+// Fills out->sensitivity, systematic_stderr_m,
+// misalignment_systematic_stderr_deg and (the delay at the limit)
 // delay_edge_shift_m, and the plausible delays where `calibration` searched
 // them, for the data at `calibration`'s delay and wind. Every fit is
-// rigid3d's linear one on a copy thinned to about 50 Hz; the preprocessing
-// choices refilter every window of the log at full rate first.
+// rigid3d's linear one on `thin`, SearchCopy(conditioned) (the calibration's
+// copy, thinned to about 50 Hz), or on variants with its sample times; the
+// higher cutoff refilters every window of the log at full rate first.
 Status FillSensitivity3d(const Conditioned3d& conditioned,
+                         const Conditioned3d& thin,
                          const Calibration3d& calibration,
                          Preprocess3dResult* out);
 

@@ -105,12 +105,14 @@ struct WindowImu {
 // The window's IMU channels: gyro bias removed, the zero-phase low-pass of
 // options.cutoff_hz, the Savitzky–Golay derivative of the rates; both run
 // over the window and the gap-free log around it, so that neither has an
-// edge transient inside the window.
+// edge transient inside the window. With `step` > 1, ThinWindow(step) of
+// that, bit for bit, the derivative formed at the samples kept alone.
 StatusOr<WindowImu> ImuOfWindow(const FlightLog& log,
                                 const Stretch3d& window,
                                 const Eigen::Vector3d& bias,
                                 const Preprocess3dOptions& options,
-                                double rate_hz);
+                                double rate_hz,
+                                std::size_t step = 1);
 
 // A flight conditioned for the estimator path: the track and the filtered
 // IMU of every window, from which the data at any delay and wind are built.
@@ -137,11 +139,24 @@ Conditioned3d Thinned(const Conditioned3d& conditioned, std::size_t step);
 // One window's samples taken every `step` (≥ 1), in place.
 void ThinWindow(std::size_t step, WindowImu* window);
 
+// The same as a copy of only the samples kept.
+WindowImu ThinnedWindow(const WindowImu& window, std::size_t step);
+
 // The data at estimator delay `delay_s` (the estimator's state read at
 // t + delay) and quadratic-drag wind (wind_n, wind_e): the IMU channels of
 // every window joined into t_s and the 3-D motion (no planar column).
 // FailedPrecondition where the track is missing inside a window.
 StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
+                             double delay_s,
+                             double wind_n,
+                             double wind_e);
+
+// The same with `windows` (on the conditioned log) in place of
+// conditioned.windows and the estimator's channels filtered as `options`
+// says.
+StatusOr<ProblemData> DataAt(const Conditioned3d& conditioned,
+                             const std::vector<WindowImu>& windows,
+                             const Preprocess3dOptions& options,
                              double delay_s,
                              double wind_n,
                              double wind_e);

@@ -604,7 +604,8 @@ void SavitzkyGolaySlopesAt(const std::vector<double>& t,
                            std::size_t lo,
                            std::size_t hi,
                            std::vector<double>* taus,
-                           std::vector<double>* const* dxs) {
+                           std::vector<double>* const* dxs,
+                           std::size_t at) {
   constexpr int kPowers = 2 * kCoeffs - 1;
   // Local abscissa scaled to about [−1, 1] keeps the normal equations
   // well conditioned whatever the sample rate.
@@ -662,7 +663,7 @@ void SavitzkyGolaySlopesAt(const std::vector<double>& t,
       for (int i = 0; i < kCoeffs; ++i) rhs(i) = sums[c][i];
       slope = ldlt.solve(rhs)(1);
     }
-    (*dxs[c])[k] = slope / scale;
+    (*dxs[c])[at] = slope / scale;
   }
 }
 
@@ -797,7 +798,9 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
     const std::vector<const std::vector<double>*>& xs,
     int half_width,
     int degree,
-    bool allow_fir) {
+    bool allow_fir,
+    std::size_t step = 1,
+    std::size_t first_sample = 0) {
   for (const std::vector<double>* x : xs) {
     if (t.size() != x->size()) {
       std::ostringstream msg;
@@ -828,7 +831,11 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
   const std::size_t width =
       std::min(n, 2 * static_cast<std::size_t>(half_width) + 1);
   const std::size_t half = static_cast<std::size_t>(half_width);
-  std::vector<std::vector<double>> dxs(xs.size(), std::vector<double>(n));
+  // Samples first, first + step, ... only; each is its own window's fit,
+  // so these are the every-sample results thinned.
+  const std::size_t kept =
+      first_sample < n ? (n - first_sample + step - 1) / step : 0;
+  std::vector<std::vector<double>> dxs(xs.size(), std::vector<double>(kept));
   // On a uniform grid every full centred window sees the same abscissae, so
   // the fit's slope is one fixed-weight FIR over the interior; the edge
   // windows (shifted inward) keep the general solve.
@@ -839,8 +846,19 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
       n > 2 * half && UniformGrid(t, &dt)) {
     const std::vector<double> w =
         internal::SavitzkyGolayCentredWeights(half_width, degree);
-    for (std::size_t c = 0; c < xs.size(); ++c) {
-      SavitzkyGolayFir(*xs[c], w, dt, half, n - half, &dxs[c]);
+    if (step == 1 && first_sample == 0) {
+      for (std::size_t c = 0; c < xs.size(); ++c) {
+        SavitzkyGolayFir(*xs[c], w, dt, half, n - half, &dxs[c]);
+      }
+    } else {
+      std::vector<double> scratch(n);
+      for (std::size_t c = 0; c < xs.size(); ++c) {
+        for (std::size_t k = first_sample; k < n - half; k += step) {
+          if (k < half) continue;
+          SavitzkyGolayFir(*xs[c], w, dt, k, k + 1, &scratch);
+          dxs[c][(k - first_sample) / step] = scratch[k];
+        }
+      }
     }
     general_lo = half;
     general_hi = n - half;
@@ -856,18 +874,22 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeImpl(
       std::vector<double>* out[kGroup];
       for (std::size_t c = 0; c < count; ++c) out[c] = &dxs[first + c];
       const std::vector<double>* const* in = xs.data() + first;
-      for (std::size_t k = 0; k < n; ++k) {
-        if (k == general_lo) k = general_hi;
-        if (k >= n) break;
+      for (std::size_t k = first_sample; k < n; k += step) {
+        if (k >= general_lo && k < general_hi) {
+          // To the first kept sample at or after general_hi.
+          k += (general_hi - k + step - 1) / step * step;
+          if (k >= n) break;
+        }
         std::size_t lo = k > half ? k - half : 0;
         if (lo + width > n) lo = n - width;
         const std::size_t hi = lo + width;
+        const std::size_t at = (k - first_sample) / step;
         if (count == 3) {
-          SavitzkyGolaySlopesAt<kCoeffs, 3>(t, in, k, lo, hi, &taus, out);
+          SavitzkyGolaySlopesAt<kCoeffs, 3>(t, in, k, lo, hi, &taus, out, at);
         } else if (count == 2) {
-          SavitzkyGolaySlopesAt<kCoeffs, 2>(t, in, k, lo, hi, &taus, out);
+          SavitzkyGolaySlopesAt<kCoeffs, 2>(t, in, k, lo, hi, &taus, out, at);
         } else {
-          SavitzkyGolaySlopesAt<kCoeffs, 1>(t, in, k, lo, hi, &taus, out);
+          SavitzkyGolaySlopesAt<kCoeffs, 1>(t, in, k, lo, hi, &taus, out, at);
         }
       }
     }
@@ -917,6 +939,17 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEach(
     int half_width,
     int degree) {
   return SavitzkyGolayDerivativeImpl(t, xs, half_width, degree, true);
+}
+
+StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEachEvery(
+    const std::vector<double>& t,
+    const std::vector<const std::vector<double>*>& xs,
+    int half_width,
+    int degree,
+    std::size_t step,
+    std::size_t first) {
+  return SavitzkyGolayDerivativeImpl(
+      t, xs, half_width, degree, true, std::max<std::size_t>(1, step), first);
 }
 
 namespace internal {

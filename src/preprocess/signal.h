@@ -166,6 +166,17 @@ StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEach(
     int half_width,
     int degree);
 
+// SavitzkyGolayDerivativeEach at samples first, first + step, ... only
+// (step ≥ 1; 0 is taken as 1): its result from `first` on thinned by
+// `step`, bit for bit, the window fits made for the samples kept alone.
+StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEachEvery(
+    const std::vector<double>& t,
+    const std::vector<const std::vector<double>*>& xs,
+    int half_width,
+    int degree,
+    std::size_t step,
+    std::size_t first = 0);
+
 namespace internal {
 // The FIR weights of SavitzkyGolayDerivative's centred window on a uniform
 // grid of step dt: the slope at sample k is Σ_{j=1..h} w[j] (x[k+j] − x[k−j])

@@ -712,6 +712,20 @@ Status DrawEstimates(const std::string& gnuplot,
   return Status::Ok();
 }
 
+// The misalignment with its 1σ̂ (statistical and systematic together) per
+// angle: "roll ± σ̂ / pitch ± σ̂".
+std::string TiltCell(const ImuPosition3d& imu) {
+  auto one = [](double value, double stderr_deg) {
+    if (!std::isfinite(value)) return std::string("not determined");
+    return std::isfinite(stderr_deg)
+               ? FormatNumber(value, 3) + " ± " + FormatNumber(stderr_deg, 2)
+               : FormatNumber(value, 3);
+  };
+  return one(imu.misalignment_roll_deg, imu.misalignment_stderr_deg[0]) +
+         " / " +
+         one(imu.misalignment_pitch_deg, imu.misalignment_stderr_deg[1]);
+}
+
 std::string DecisionWords(const ImuPosition3d& imu, int axis) {
   const auto i = static_cast<std::size_t>(axis);
   if (imu.determined[i]) {
@@ -770,7 +784,7 @@ void AddTables(const std::vector<Rigid3dPageFlight>& flights,
                   "estimator delay (ms)",
                   "rotor drag (1/s)",
                   "μ (1/m)",
-                  "misalignment roll / pitch (°)",
+                  "misalignment roll / pitch (°, ± 1σ̂)",
                   "wind N / E (m/s)"};
   for (const auto& fl : flights) {
     for (const ImuPosition3d& imu : fl.summary->imus) {
@@ -809,20 +823,19 @@ void AddTables(const std::vector<Rigid3dPageFlight>& flights,
                    ? FormatNumber(a, 3) + " / " + FormatNumber(b, 3)
                    : std::string("not determined");
       };
-      imus->rows.push_back(
-          {fl.label,
-           instance,
-           imu.model,
-           imu.estimator,
-           std::to_string(imu.samples),
-           std::to_string(imu.windows.size()),
-           NumberCell(imu.rmse, 3),
-           NumberCell(imu.signal_rms, 3),
-           NumberCell(imu.estimator_delay_s * 1e3, 3),
-           NumberCell(imu.rotor_drag_per_s, 3),
-           NumberCell(imu.mu_per_m, 3),
-           pair(imu.misalignment_roll_deg, imu.misalignment_pitch_deg),
-           pair(imu.wind_ne_m_s[0], imu.wind_ne_m_s[1])});
+      imus->rows.push_back({fl.label,
+                            instance,
+                            imu.model,
+                            imu.estimator,
+                            std::to_string(imu.samples),
+                            std::to_string(imu.windows.size()),
+                            NumberCell(imu.rmse, 3),
+                            NumberCell(imu.signal_rms, 3),
+                            NumberCell(imu.estimator_delay_s * 1e3, 3),
+                            NumberCell(imu.rotor_drag_per_s, 3),
+                            NumberCell(imu.mu_per_m, 3),
+                            TiltCell(imu),
+                            pair(imu.wind_ne_m_s[0], imu.wind_ne_m_s[1])});
     }
   }
 }

@@ -125,14 +125,27 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
       -std::asin(std::clamp(x[kThrustToX], -1.0, 1.0)) * kRadToDeg;
   out.misalignment_roll_deg =
       std::asin(std::clamp(x[kThrustToY], -1.0, 1.0)) * kRadToDeg;
-  // Their 1σ through d(asin e)/de = 1/√(1 − e²).
+  // Their statistical 1σ through d(asin e)/de = 1/√(1 − e²), and the
+  // systematic part as the position's: the sensitivity with the floor.
   if (result.standard_errors.size() == x.size()) {
     const double ex = std::clamp(x[kThrustToX], -1.0, 1.0);
     const double ey = std::clamp(x[kThrustToY], -1.0, 1.0);
-    out.misalignment_stderr_deg = {result.standard_errors[kThrustToY] /
-                                       std::sqrt(1.0 - ey * ey) * kRadToDeg,
-                                   result.standard_errors[kThrustToX] /
-                                       std::sqrt(1.0 - ex * ex) * kRadToDeg};
+    out.misalignment_stderr_statistical_deg = {
+        result.standard_errors[kThrustToY] / std::sqrt(1.0 - ey * ey) *
+            kRadToDeg,
+        result.standard_errors[kThrustToX] / std::sqrt(1.0 - ex * ex) *
+            kRadToDeg};
+    for (int a = 0; a < 2; ++a) {
+      const double sensitivity =
+          std::isfinite(pre.misalignment_systematic_stderr_deg[a])
+              ? pre.misalignment_systematic_stderr_deg[a]
+              : 0.0;
+      out.misalignment_stderr_systematic_deg[a] =
+          std::hypot(sensitivity, options.misalignment_floor_deg);
+      out.misalignment_stderr_deg[a] =
+          std::hypot(out.misalignment_stderr_statistical_deg[a],
+                     out.misalignment_stderr_systematic_deg[a]);
+    }
   }
   // The covariance of (p, e_x, e_y) a pool of flights weights this one by:
   // the fit's, each position axis widened as its σ̂ was above, so that the
@@ -548,9 +561,14 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["accel_bias_xy_m_s2"] = {Num(r.bias_m_s2[0]), Num(r.bias_m_s2[1])};
   j["misalignment_deg"] = {{"roll", Num(r.misalignment_roll_deg)},
                            {"pitch", Num(r.misalignment_pitch_deg)}};
+  j["misalignment_stderr_deg"] = {{"roll", Num(r.misalignment_stderr_deg[0])},
+                                  {"pitch", Num(r.misalignment_stderr_deg[1])}};
   j["misalignment_stderr_statistical_deg"] = {
-      {"roll", Num(r.misalignment_stderr_deg[0])},
-      {"pitch", Num(r.misalignment_stderr_deg[1])}};
+      {"roll", Num(r.misalignment_stderr_statistical_deg[0])},
+      {"pitch", Num(r.misalignment_stderr_statistical_deg[1])}};
+  j["misalignment_stderr_systematic_deg"] = {
+      {"roll", Num(r.misalignment_stderr_systematic_deg[0])},
+      {"pitch", Num(r.misalignment_stderr_systematic_deg[1])}};
   // Which axes the positions above are in, and the fit in the thrust frame.
   j["position_axes"] =
       "imu: the IMU's own axes as the autopilot applies them (after its "
@@ -621,6 +639,15 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
     one["shift_at_low_frd_m"] = vector(c.shift_low_m);
     one["shift_at_high_frd_m"] = vector(c.shift_high_m);
     one["stderr_frd_m"] = vector(c.stderr_m);
+    one["misalignment_shift_at_low_deg"] = {
+        {"roll", Num(c.misalignment_shift_low_deg[0])},
+        {"pitch", Num(c.misalignment_shift_low_deg[1])}};
+    one["misalignment_shift_at_high_deg"] = {
+        {"roll", Num(c.misalignment_shift_high_deg[0])},
+        {"pitch", Num(c.misalignment_shift_high_deg[1])}};
+    one["misalignment_stderr_deg"] = {
+        {"roll", Num(c.misalignment_stderr_deg[0])},
+        {"pitch", Num(c.misalignment_stderr_deg[1])}};
     systematic.push_back(std::move(one));
   }
   j["systematic_sensitivity"] = systematic;
@@ -679,7 +706,12 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
       << FormatNumber(r.misalignment_pitch_deg, 3) << " +/- "
       << FormatNumber(r.misalignment_stderr_deg[0], 2) << "/"
       << FormatNumber(r.misalignment_stderr_deg[1], 2)
-      << " deg (statistical 1-sigma only)\n";
+      << " deg (1-sigma; statistical "
+      << FormatNumber(r.misalignment_stderr_statistical_deg[0], 2) << "/"
+      << FormatNumber(r.misalignment_stderr_statistical_deg[1], 2)
+      << ", systematic "
+      << FormatNumber(r.misalignment_stderr_systematic_deg[0], 2) << "/"
+      << FormatNumber(r.misalignment_stderr_systematic_deg[1], 2) << ")\n";
   }
   for (const ImuPosition3d::Baseline& b : r.baselines) {
     if (!b.difference_m.array().isFinite().any()) continue;
