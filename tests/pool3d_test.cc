@@ -180,10 +180,11 @@ TEST(PoolFlights, TheSystematicFloorIsNotAveragedAway) {
 
 // A: 1 mm statistical, 0.25 mm systematic; B: 1 mm and 12 mm (a delay
 // its flight cannot settle). The weights are the whole σ̂'s: w_A = 1/1.0625,
-// w_B = 1/145, so the mean rests 99.27 % on A, and the pooled systematic
-// part is each flight's share times its own, 0.99273·0.25 + 0.00727·12 =
-// 0.3355 mm, where the largest of the flights' (12 mm) would have made the
-// pool worse than A alone.
+// w_B = 1/145, so the mean rests 99.27 % on A. The pooled systematic part is
+// the larger of a common error's (no wider than A's bound, 0.25 mm) and
+// independent errors' through each flight's share,
+// sqrt((0.99273·0.25)² + (0.00727·12)²) = 0.2631 mm; the largest of the
+// flights' (12 mm) would have made the pool worse than A alone.
 TEST(PoolFlights, AFlightThePoolHardlyRestsOnAddsLittleOfItsSystematicPart) {
   const double a = std::hypot(1.0, 0.25);
   const double b = std::hypot(1.0, 12.0);
@@ -197,9 +198,9 @@ TEST(PoolFlights, AFlightThePoolHardlyRestsOnAddsLittleOfItsSystematicPart) {
   EXPECT_NEAR(
       x.position_m, (10 * lambda_a + 11 * (1 - lambda_a)) * 1e-3, 1e-15);
   EXPECT_NEAR(x.stderr_systematic_m,
-              (lambda_a * 0.25 + (1 - lambda_a) * 12) * 1e-3,
+              std::hypot(lambda_a * 0.25, (1 - lambda_a) * 12) * 1e-3,
               1e-15);
-  EXPECT_NEAR(x.stderr_systematic_m, 0.3355e-3, 0.0001e-3);
+  EXPECT_NEAR(x.stderr_systematic_m, 0.2631e-3, 0.0001e-3);
   // The statistical part: Σ λ_f² σ_stat,f² = λ_A² + λ_B² (mm²).
   EXPECT_NEAR(
       x.stderr_statistical_m, std::hypot(lambda_a, 1 - lambda_a) * 1e-3, 1e-15);

@@ -64,6 +64,17 @@ SharedFlight SharedOf(const ImuPosition3d& r,
   if (r.parameters.size() == kNumRigid3dParameters) {
     f.theta[3] = r.parameters[kThrustToX];
     f.theta[4] = r.parameters[kThrustToY];
+    // The tilt's systematic part in e's units: e_x = −sin(pitch), e_y =
+    // sin(roll), so σ_e = cos(angle) σ_angle.
+    const double to_e[2] = {
+        std::cos(r.misalignment_pitch_deg / kPoolRadToDeg) / kPoolRadToDeg,
+        std::cos(r.misalignment_roll_deg / kPoolRadToDeg) / kPoolRadToDeg};
+    const double deg[2] = {r.misalignment_stderr_systematic_deg[1],
+                           r.misalignment_stderr_systematic_deg[0]};
+    for (int k = 0; k < 2; ++k) {
+      f.systematic[3 + k] =
+          std::isfinite(deg[k]) && deg[k] > 0 ? to_e[k] * deg[k] : 0.0;
+    }
   }
   if (r.shared_covariance.allFinite()) {
     f.statistical = r.shared_covariance;
@@ -178,13 +189,17 @@ JointFit SolveJoint(const std::vector<SharedFlight>& flights) {
     return out;
   }
   const Eigen::MatrixXd statistical = covariance * meat * covariance;
-  // θ̂ = Σ K_f θ_f with K_f = H⁻¹ W_f. The systematic parts are not
-  // averaged away: a model error may push every flight the same way, so
-  // each flight's share of the solution carries its whole systematic part,
-  // Σ_f Σ_j |K_f(k, j)| s_f,j. Equal parts s stay s (the gain K sums to the
-  // identity); a flight the solution hardly rests on adds hardly any of its
-  // own.
-  Eigen::VectorXd systematic = Eigen::VectorXd::Zero(n);
+  // θ̂ = Σ K_f θ_f with K_f = H⁻¹ W_f, so a systematic error δ_f of each
+  // flight moves the pool by Σ K_f δ_f. Where the error is common to the
+  // flights (the model's own, the same vehicle), Σ K_f = I passes it on
+  // whole: it is not averaged away, and no flight's bound on it is wider
+  // than the narrowest, min_f s_f,k. Where each flight's is its own, the
+  // pool moves by sqrt(Σ_f Σ_j K_f(k, j)² s_f,j²). The pooled part is the
+  // larger: equal parts s stay s, and a flight the solution hardly rests on
+  // adds hardly any of its own.
+  Eigen::VectorXd common =
+      Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  Eigen::VectorXd independent = Eigen::VectorXd::Zero(n);
   for (std::size_t f = 0; f < flights.size(); ++f) {
     if (weights[f].size() == 0) continue;
     const auto m = static_cast<Eigen::Index>(entered[f].size());
@@ -195,11 +210,14 @@ JointFit SolveJoint(const std::vector<SharedFlight>& flights) {
     }
     const Eigen::MatrixXd gain = spread * weights[f];
     for (Eigen::Index j = 0; j < m; ++j) {
-      const double s =
-          flights[f].systematic[entered[f][static_cast<std::size_t>(j)]];
-      systematic += gain.col(j).cwiseAbs() * s;
+      const int k = entered[f][static_cast<std::size_t>(j)];
+      const double s = flights[f].systematic[k];
+      independent += (gain.col(j) * s).cwiseAbs2();
+      const int c = column[static_cast<std::size_t>(k)];
+      common[c] = std::min(common[c], s);
     }
   }
+  const Eigen::VectorXd systematic = independent.cwiseSqrt().cwiseMax(common);
   for (Eigen::Index i = 0; i < n; ++i) {
     const int k = solved[static_cast<std::size_t>(i)];
     out.value[k] = value[i];
