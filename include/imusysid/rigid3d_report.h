@@ -200,6 +200,42 @@ inline constexpr int kNumSharedParameters = 5;
 inline constexpr const char* kSharedParameterNames[kNumSharedParameters] = {
     "x", "y", "z", "e_x", "e_y"};
 
+// Whether the position moved during one flight (a payload attached or
+// shifted): the fitted samples cut into 20 blocks, each split from 20 % to
+// 80 % tried, each side fitted alone with its own block jackknife σ̂, and the
+// split whose sides differ most significantly on the axes both pin down to
+// 5 mm kept (docs/model-3d.md, "A position that moves"). Found when that
+// split's p-value times the splits tried is below 0.001 and some judged axis
+// differs by more than 5 mm; only where the model is linear outright and the
+// fit has 1000 samples or more (else tested is false).
+struct PositionChange3d {
+  // At least one split could be judged.
+  bool tested = false;
+  bool found = false;
+  int splits = 0;  // splits judged
+  // The best split: the log time of its first sample after, and each
+  // side's position and σ̂ (FRD, m).
+  double t_s = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d before_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d before_stderr_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d after_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d after_stderr_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // Per axis: judged at the best split (both sides' σ̂ within 5 mm).
+  std::array<bool, 3> judged = {false, false, false};
+  // Σ over the judged axes of (before − after)² / (σ_before² + σ_after²),
+  // its dof (the judged axes), its p-value and that times the splits.
+  double chi_square = std::numeric_limits<double>::quiet_NaN();
+  int dof = 0;
+  double p_value = std::numeric_limits<double>::quiet_NaN();
+  double p_value_adjusted = std::numeric_limits<double>::quiet_NaN();
+  // The largest |before − after| over the judged axes, m.
+  double largest_difference_m = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct ImuPosition3d {
   int instance = 0;  // the log's IMU instance (0-based)
   std::string source;
@@ -289,35 +325,9 @@ struct ImuPosition3d {
     Eigen::Vector3d stderr_m;
   };
   std::vector<WindowEstimate> window_estimates;
-  // Whether the position moved during the flight (a payload attached or
-  // shifted): the fitted samples cut into 20 blocks, each split from 20 %
-  // to 80 % tried, each side fitted alone with its own block jackknife σ̂,
-  // and the split whose sides differ most significantly on the axes both
-  // pin down to 5 mm kept (docs/model-3d.md, "A position that moves").
-  // Found when that split's p-value times the splits tried is below 0.001
-  // and some judged axis differs by more than 5 mm; only where the model
-  // is linear outright and the fit has 1000 samples or more (else tested
-  // is false).
-  struct PositionChange {
-    bool tested = false;
-    bool found = false;
-    int splits = 0;
-    double t_s = std::numeric_limits<double>::quiet_NaN();
-    Eigen::Vector3d before_m =
-        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-    Eigen::Vector3d before_stderr_m =
-        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-    Eigen::Vector3d after_m =
-        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-    Eigen::Vector3d after_stderr_m =
-        Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-    std::array<bool, 3> judged = {false, false, false};
-    double chi_square = std::numeric_limits<double>::quiet_NaN();
-    int dof = 0;
-    double p_value_adjusted = std::numeric_limits<double>::quiet_NaN();
-    double largest_difference_m = std::numeric_limits<double>::quiet_NaN();
-  };
-  PositionChange position_change;
+  // Whether the position moved during the flight (PositionChange3d).
+  using PositionChange = PositionChange3d;
+  PositionChange3d position_change;
   std::vector<std::string> warnings;  // prose, one sentence each
   // From CompareInstances: this IMU's position minus another instance's,
   // on the axes both determine (NaN elsewhere), with its 1σ.

@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include "imusysid/paper_reference.h"
 #include "imusysid/simulate3d.h"
@@ -528,22 +530,57 @@ int Run3d() {
 // The scenario that joins the paper's two tests into one log.
 constexpr char kBatteryMoveScenario[] = "paper_battery_move";
 
+// Flags of the 3-D simulator, which a planar scenario refuses.
+constexpr const char* kThreeDOnlyFlags[] = {"sensor_profile",
+                                            "log_format",
+                                            "high_rate_raw_imu",
+                                            "payload_change",
+                                            "flexible_mount",
+                                            "periodic_force",
+                                            "estimator_glitch"};
+
+// A planar log's --out and --frame: kExitOk with `frame` set, else the exit
+// code of the usage or input error (reported).
+int PlanarOutAndFrame(const std::string& cmd, Frame* frame) {
+  if (FLAGS_out.empty()) {
+    return UsageError(cmd, "--out=FILE.csv is required");
+  }
+  if (FLAGS_out == "-") {
+    return UsageError(cmd,
+                      "--out must name a file: simulate writes the log and "
+                      "its truth sidecar beside it");
+  }
+  *frame = Frame::kFlu;
+  if (!FLAGS_frame.empty()) {
+    StatusOr<Frame> f = FrameFromString(FLAGS_frame);
+    if (!f.ok()) return ReportError(cmd, f.status().WithPrefix("--frame"));
+    *frame = *f;
+  }
+  return kExitOk;
+}
+
+// The planar log as CSV in `frame` and its truth, written together: both or
+// neither, and never the log of one run beside the truth of another.
+Status WritePlanarLog(const FlightLog& log,
+                      Frame frame,
+                      const std::string& truth_json) {
+  CsvWriteOptions write_options;
+  write_options.frame = frame;
+  StatusOr<std::string> log_text = FormatCsvLog(log, write_options);
+  if (!log_text.ok()) return log_text.status();
+  return WriteFilesTogether(
+      {{TruthPath(FLAGS_out), truth_json}, {FLAGS_out, *log_text}});
+}
+
 // --scenario=paper_battery_move: test 1's flight, the battery moved
 // beneath, test 2's flight, one log (SimulateBatteryMove).
 int RunBatteryMove() {
   const std::string cmd = "simulate";
-  for (const char* flag : {"r_m",
-                           "beta_deg",
-                           "alpha_deg",
-                           "mu",
-                           "list_settings",
-                           "sensor_profile",
-                           "log_format",
-                           "high_rate_raw_imu",
-                           "payload_change",
-                           "flexible_mount",
-                           "periodic_force",
-                           "estimator_glitch"}) {
+  std::vector<const char*> refused = {
+      "r_m", "beta_deg", "alpha_deg", "mu", "list_settings"};
+  refused.insert(
+      refused.end(), std::begin(kThreeDOnlyFlags), std::end(kThreeDOnlyFlags));
+  for (const char* flag : refused) {
     if (FlagWasSet(flag)) {
       return UsageError(cmd,
                         std::string("--") + flag + " does not apply to " +
@@ -561,32 +598,17 @@ int RunBatteryMove() {
   if (!s.ok()) return ReportError(cmd, s);
   // The second flight's noise is its own.
   after->seed = before->seed + 1;
-  if (FLAGS_out.empty()) {
-    return UsageError(cmd, "--out=FILE.csv is required");
-  }
-  if (FLAGS_out == "-") {
-    return UsageError(cmd,
-                      "--out must name a file: simulate writes the log and "
-                      "its truth sidecar beside it");
-  }
   Frame frame = Frame::kFlu;
-  if (!FLAGS_frame.empty()) {
-    StatusOr<Frame> f = FrameFromString(FLAGS_frame);
-    if (!f.ok()) return ReportError(cmd, f.status().WithPrefix("--frame"));
-    frame = *f;
+  if (const int code = PlanarOutAndFrame(cmd, &frame); code != kExitOk) {
+    return code;
   }
   std::cerr << "simulating " << kBatteryMoveScenario
             << " (paper_test1, then paper_test2)...\n";
   StatusOr<BatteryMoveFlight> flight = SimulateBatteryMove(*before, *after);
   if (!flight.ok()) return ReportError(cmd, flight.status());
   const std::string truth_path = TruthPath(FLAGS_out);
-  CsvWriteOptions write_options;
-  write_options.frame = frame;
-  StatusOr<std::string> log_text = FormatCsvLog(flight->log, write_options);
-  if (!log_text.ok()) return ReportError(cmd, log_text.status());
-  s = WriteFilesTogether(
-      {{truth_path, BatteryMoveTruthJson(*before, *after, *flight)},
-       {FLAGS_out, *log_text}});
+  s = WritePlanarLog(
+      flight->log, frame, BatteryMoveTruthJson(*before, *after, *flight));
   if (!s.ok()) return ReportError(cmd, s);
   const BatteryMoveFlight& f = *flight;
   const double t2 = f.second_start_t_s;
@@ -626,13 +648,7 @@ int RunSimulate(const std::vector<std::string>& positional) {
   }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
   if (FLAGS_scenario == kBatteryMoveScenario) return RunBatteryMove();
-  for (const char* flag : {"sensor_profile",
-                           "log_format",
-                           "high_rate_raw_imu",
-                           "payload_change",
-                           "flexible_mount",
-                           "periodic_force",
-                           "estimator_glitch"}) {
+  for (const char* flag : kThreeDOnlyFlags) {
     if (FlagWasSet(flag)) {
       return UsageError(cmd,
                         std::string("--") + flag +
@@ -652,19 +668,9 @@ int RunSimulate(const std::vector<std::string>& positional) {
     std::cout << FormatTable({"setting", "value", "unit", "meaning"}, rows);
     return kExitOk;
   }
-  if (FLAGS_out.empty()) {
-    return UsageError(cmd, "--out=FILE.csv is required");
-  }
-  if (FLAGS_out == "-") {
-    return UsageError(cmd,
-                      "--out must name a file: simulate writes the log and "
-                      "its truth sidecar beside it");
-  }
   Frame frame = Frame::kFlu;
-  if (!FLAGS_frame.empty()) {
-    StatusOr<Frame> f = FrameFromString(FLAGS_frame);
-    if (!f.ok()) return ReportError(cmd, f.status().WithPrefix("--frame"));
-    frame = *f;
+  if (const int code = PlanarOutAndFrame(cmd, &frame); code != kExitOk) {
+    return code;
   }
   std::cerr << "simulating " << FLAGS_scenario << " ("
             << options->motors_off_start_s + options->idle_s +
@@ -675,14 +681,7 @@ int RunSimulate(const std::vector<std::string>& positional) {
   if (!flight.ok()) return ReportError(cmd, flight.status());
 
   const std::string truth_path = TruthPath(FLAGS_out);
-  CsvWriteOptions write_options;
-  write_options.frame = frame;
-  // The log and its truth are one result: both or neither, and never the
-  // log of one run beside the truth of another.
-  StatusOr<std::string> log_text = FormatCsvLog(flight->log, write_options);
-  if (!log_text.ok()) return ReportError(cmd, log_text.status());
-  s = WriteFilesTogether(
-      {{truth_path, TruthJson(*options, *flight)}, {FLAGS_out, *log_text}});
+  s = WritePlanarLog(flight->log, frame, TruthJson(*options, *flight));
   if (!s.ok()) return ReportError(cmd, s);
 
   const SimulatedFlight& f = *flight;

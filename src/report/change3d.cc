@@ -108,7 +108,9 @@ ChangeScan ScanForChange(std::string_view model_name,
   out.before_stderr_m = best.before.stderr_m;
   out.after_m = best.after.position_m;
   out.after_stderr_m = best.after.stderr_m;
-  for (int a = 0; a < 3; ++a) out.judged[a] = best.judged[a];
+  for (int a = 0; a < 3; ++a) {
+    out.judged[static_cast<std::size_t>(a)] = best.judged[a];
+  }
   out.chi_square = best.chi_square;
   out.dof = best.dof;
   out.p_value = best.p_value;

@@ -7,12 +7,12 @@
 #ifndef IMUSYSID_SRC_REPORT_CHANGE3D_H_
 #define IMUSYSID_SRC_REPORT_CHANGE3D_H_
 
-#include <limits>
 #include <string_view>
 
 #include "Eigen/Core"
 #include "imusysid/extend/model.h"
 #include "imusysid/problem_data.h"
+#include "imusysid/rigid3d_report.h"
 
 namespace imusysid {
 namespace internal {
@@ -33,37 +33,8 @@ inline constexpr double kChangeMaxSideStderrM = 0.005;
 inline constexpr double kChangeAlpha = 1e-3;
 inline constexpr double kChangeMinDifferenceM = 0.005;
 
-struct ChangeScan {
-  // At least one split could be judged (enough fitted samples, an axis both
-  // sides pin down).
-  bool tested = false;
-  // The best split's p-value times the splits tried is below kChangeAlpha
-  // and some judged axis differs by more than kChangeMinDifferenceM.
-  bool found = false;
-  int splits = 0;  // splits judged
-  // The best split (smallest p-value): the log time of its first sample
-  // after, and each side's position and σ̂ (FRD, m).
-  double t_s = std::numeric_limits<double>::quiet_NaN();
-  Eigen::Vector3d before_m =
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  Eigen::Vector3d before_stderr_m =
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  Eigen::Vector3d after_m =
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  Eigen::Vector3d after_stderr_m =
-      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
-  // Per axis: judged at the best split (both sides within
-  // kChangeMaxSideStderrM).
-  bool judged[3] = {false, false, false};
-  // Σ over the judged axes of (before − after)² / (σ_before² + σ_after²),
-  // its dof (the judged axes), its p-value and that times the splits.
-  double chi_square = std::numeric_limits<double>::quiet_NaN();
-  int dof = 0;
-  double p_value = std::numeric_limits<double>::quiet_NaN();
-  double p_value_adjusted = std::numeric_limits<double>::quiet_NaN();
-  // The largest |before − after| over the judged axes, m.
-  double largest_difference_m = std::numeric_limits<double>::quiet_NaN();
-};
+// The scan's result is the report's (rigid3d_report.h).
+using ChangeScan = PositionChange3d;
 
 // The decision: the best split's p-value times the splits tried below
 // kChangeAlpha, and some judged axis further apart than

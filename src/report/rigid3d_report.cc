@@ -401,30 +401,15 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
           "halves_agreement");
   }
   if (out.usable) {
-    const internal::ChangeScan scan =
+    out.position_change =
         internal::ScanForChange(result.model, pre.data, options.fitted_model);
-    ImuPosition3d::PositionChange& c = out.position_change;
-    c.tested = scan.tested;
-    c.found = scan.found;
-    c.splits = scan.splits;
-    c.t_s = scan.t_s;
-    c.before_m = scan.before_m;
-    c.before_stderr_m = scan.before_stderr_m;
-    c.after_m = scan.after_m;
-    c.after_stderr_m = scan.after_stderr_m;
-    for (int a = 0; a < 3; ++a) {
-      c.judged[static_cast<std::size_t>(a)] = scan.judged[a];
-    }
-    c.chi_square = scan.chi_square;
-    c.dof = scan.dof;
-    c.p_value_adjusted = scan.p_value_adjusted;
-    c.largest_difference_m = scan.largest_difference_m;
+    const PositionChange3d& scan = out.position_change;
     // A position that moved makes the whole flight's a blend of two: every
     // axis is withheld but those both sides pin down and that moved by no
     // more than a lever-arm correction can use.
     std::string sides;
     for (int a = 0; a < 3; ++a) {
-      if (!scan.judged[a]) continue;
+      if (!scan.judged[static_cast<std::size_t>(a)]) continue;
       sides += std::string(sides.empty() ? "" : ", ") + kAxisNames[a] + " " +
                Mm(scan.before_m[a]) + " +/- " + Mm(scan.before_stderr_m[a]) +
                " -> " + Mm(scan.after_m[a]) + " +/- " +
@@ -440,19 +425,19 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
         " splits tried); the whole flight's position is a blend of the two "
         "(did a payload or the mounting change? imusysid track follows the "
         "position through it)";
-    for (int a = 0; c.tested && a < 3; ++a) {
+    for (int a = 0; scan.tested && a < 3; ++a) {
       const auto i = static_cast<std::size_t>(a);
       Rigid3dGate g;
       g.gate = "position_change";
       g.statistic = scan.p_value_adjusted;
       g.threshold = internal::kChangeAlpha;
-      g.difference_m = scan.judged[a]
+      g.difference_m = scan.judged[i]
                            ? std::abs(scan.before_m[a] - scan.after_m[a])
                            : std::numeric_limits<double>::quiet_NaN();
       g.min_difference_m = internal::kChangeMinDifferenceM;
       g.window_t0_s = scan.t_s;
       g.passed = !scan.found ||
-                 (scan.judged[a] && g.difference_m <= g.min_difference_m);
+                 (scan.judged[i] && g.difference_m <= g.min_difference_m);
       out.decisions[i].evidence.push_back(g);
       if (out.determined[i] && !g.passed) {
         out.determined[i] = false;
@@ -652,7 +637,7 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   }
   j["systematic_sensitivity"] = systematic;
   // The change scan's best split, found or not.
-  const ImuPosition3d::PositionChange& c = r.position_change;
+  const PositionChange3d& c = r.position_change;
   j["position_change"] = {
       {"tested", c.tested},
       {"found", c.found},
