@@ -5,6 +5,7 @@
 #ifndef IMUSYSID_LOG_H_
 #define IMUSYSID_LOG_H_
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -72,6 +73,11 @@ struct FlightLog {
   std::size_t file_bytes = 0;
 
   std::size_t size() const { return t_s.size(); }
+  // The seven columns every log has, t, ax, ay, az, gx, gy, gz, each with
+  // its name, for code that treats them alike (checks, copies, appends).
+  std::array<std::pair<const char*, std::vector<double>*>, 7> Columns();
+  std::array<std::pair<const char*, const std::vector<double>*>, 7> Columns()
+      const;
   // Returns the extra channel with this name, or nullptr.
   const Channel* FindChannel(std::string_view name) const;
   // Returns the metadata value for `key`, or nullptr.

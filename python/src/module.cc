@@ -365,15 +365,7 @@ py::bytes FormatLog(
   FlightLog log;
   log.source = source;
   log.metadata = metadata;
-  const std::pair<const char*, std::vector<double>*> required[] = {
-      {"t", &log.t_s},
-      {"ax", &log.ax},
-      {"ay", &log.ay},
-      {"az", &log.az},
-      {"gx", &log.gx},
-      {"gy", &log.gy},
-      {"gz", &log.gz}};
-  for (const auto& [name, values] : required) {
+  for (const auto& [name, values] : log.Columns()) {
     const auto it = columns.find(name);
     if (it == columns.end()) {
       ThrowIfError(InvalidArgumentError(source + ": the log has no '" +

@@ -40,6 +40,28 @@ StatusOr<Frame> FrameFromString(std::string_view text) {
                               "; expected 'flu' or 'frd'");
 }
 
+std::array<std::pair<const char*, std::vector<double>*>, 7>
+FlightLog::Columns() {
+  return {{{"t", &t_s},
+           {"ax", &ax},
+           {"ay", &ay},
+           {"az", &az},
+           {"gx", &gx},
+           {"gy", &gy},
+           {"gz", &gz}}};
+}
+
+std::array<std::pair<const char*, const std::vector<double>*>, 7>
+FlightLog::Columns() const {
+  return {{{"t", &t_s},
+           {"ax", &ax},
+           {"ay", &ay},
+           {"az", &az},
+           {"gx", &gx},
+           {"gy", &gy},
+           {"gz", &gz}}};
+}
+
 const Channel* FlightLog::FindChannel(std::string_view name) const {
   for (const Channel& channel : extra) {
     if (channel.name == name) return &channel;

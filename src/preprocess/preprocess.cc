@@ -179,15 +179,7 @@ Status CheckLog(const FlightLog& log) {
                                    std::to_string(n) +
                                    " samples; preprocessing needs at least 2");
   }
-  const std::pair<const char*, const std::vector<double>*> columns[] = {
-      {"t", &log.t_s},
-      {"ax", &log.ax},
-      {"ay", &log.ay},
-      {"az", &log.az},
-      {"gx", &log.gx},
-      {"gy", &log.gy},
-      {"gz", &log.gz}};
-  for (const auto& [name, column] : columns) {
+  for (const auto& [name, column] : log.Columns()) {
     if (column->size() != n) {
       std::ostringstream msg;
       msg << log.source << ": column '" << name << "' has " << column->size()

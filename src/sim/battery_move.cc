@@ -22,18 +22,19 @@ Status AppendLog(const FlightLog& tail, double offset, FlightLog* head) {
                                   "' the first lacks");
     }
   }
-  for (std::size_t i = 0; i < tail.size(); ++i) {
-    head->t_s.push_back(tail.t_s[i] + offset);
-  }
-  auto append = [](const std::vector<double>& from, std::vector<double>* to) {
-    to->insert(to->end(), from.begin(), from.end());
+  auto append = [](const std::vector<double>& values,
+                   std::vector<double>* onto) {
+    onto->insert(onto->end(), values.begin(), values.end());
   };
-  append(tail.ax, &head->ax);
-  append(tail.ay, &head->ay);
-  append(tail.az, &head->az);
-  append(tail.gx, &head->gx);
-  append(tail.gy, &head->gy);
-  append(tail.gz, &head->gz);
+  const auto tail_columns = tail.Columns();
+  const auto head_columns = head->Columns();
+  const std::size_t first = head->size();
+  for (std::size_t k = 0; k < tail_columns.size(); ++k) {
+    append(*tail_columns[k].second, head_columns[k].second);
+  }
+  for (std::size_t i = first; i < head->t_s.size(); ++i) {
+    head->t_s[i] += offset;
+  }
   for (Channel& c : head->extra) {
     const Channel* from = tail.FindChannel(c.name);
     if (from == nullptr) {
