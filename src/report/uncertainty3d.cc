@@ -16,6 +16,7 @@
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/rigid3d_report.h"
+#include "src/tools/student_t.h"
 
 namespace imusysid {
 namespace {
@@ -167,27 +168,7 @@ Eigen::Vector3d JackknifeFromEstimates(
   for (const auto& e : estimates) sum += (e - mean).cwiseAbs2();
   // A jackknife σ̂ from K blocks has K − 1 degrees of freedom: scaled by
   // t(0.975, K−1) / 1.96 so that ±2σ̂ keeps its 95 % meaning (1.15 at K = 10).
-  const double t975[] = {12.71,
-                         4.303,
-                         3.182,
-                         2.776,
-                         2.571,
-                         2.447,
-                         2.365,
-                         2.306,
-                         2.262,
-                         2.228,
-                         2.201,
-                         2.179,
-                         2.160,
-                         2.145,
-                         2.131,
-                         2.120,
-                         2.110,
-                         2.101,
-                         2.093};
-  const int dof = blocks - 1;
-  const double t = dof <= 19 ? t975[dof - 1] : 1.96 + 2.5 / dof;
+  const double t = StudentT975(blocks - 1);
   return (sum * (blocks - 1.0) / blocks).cwiseSqrt() * (t / 1.96);
 }
 

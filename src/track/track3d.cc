@@ -23,6 +23,7 @@
 #include "imusysid/rigid3d.h"
 #include "src/models/rigid3d_model.h"
 #include "src/preprocess/signal.h"
+#include "src/tools/student_t.h"
 
 namespace imusysid {
 namespace {
@@ -147,31 +148,6 @@ double ChiSquareQuantile(int dof, double upper_tail) {
     }
   }
   return 0.5 * (lo + hi);
-}
-
-// The Student t distribution's 97.5 % quantile for `dof` degrees of freedom
-// (≥ 1): the table to 15, then its large-dof expansion.
-double StudentT975(int dof) {
-  static constexpr double kTable[] = {12.706,
-                                      4.303,
-                                      3.182,
-                                      2.776,
-                                      2.571,
-                                      2.447,
-                                      2.365,
-                                      2.306,
-                                      2.262,
-                                      2.228,
-                                      2.201,
-                                      2.179,
-                                      2.160,
-                                      2.145,
-                                      2.131};
-  if (dof < 1) return kTable[0];
-  if (dof <= 15) return kTable[dof - 1];
-  const double z = 1.959964, n = dof;
-  return z + (z * z * z + z) / (4.0 * n) +
-         (5.0 * std::pow(z, 5) + 16.0 * z * z * z + 3.0 * z) / (96.0 * n * n);
 }
 
 struct Block {
