@@ -70,14 +70,8 @@ std::vector<PieceEstimate> EstimatePieces(std::string_view model,
       factors.push_back(std::move(r));
     }
     if (factors.empty()) continue;
-    const Eigen::Index cols = factors.front().cols();
-    const Eigen::Index m = cols - 1;
-    Eigen::MatrixXd stack(static_cast<Eigen::Index>(factors.size()) * cols,
-                          cols);
-    for (std::size_t b = 0; b < factors.size(); ++b) {
-      stack.middleRows(static_cast<Eigen::Index>(b) * cols, cols) = factors[b];
-    }
-    const Eigen::MatrixXd a = stack.leftCols(m);
+    const Eigen::MatrixXd stack = StackFactors(factors);
+    const Eigen::MatrixXd a = stack.leftCols(stack.cols() - 1);
     const Eigen::MatrixXd information = a.transpose() * a;
     whole =
         whole.size() == 0 ? information : Eigen::MatrixXd(whole + information);
@@ -87,11 +81,7 @@ std::vector<PieceEstimate> EstimatePieces(std::string_view model,
     e.t0 = piece.t0;
     e.t1 = piece.t1;
     e.samples = n;
-    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(stack.col(m));
-    e.position_m = coef.allFinite()
-                       ? Eigen::Vector3d(coef.head<3>())
-                       : Eigen::Vector3d::Constant(
-                             std::numeric_limits<double>::quiet_NaN());
+    e.position_m = PositionOfStack(stack);
     out.push_back(e);
   }
   if (out.empty()) return out;

@@ -24,19 +24,8 @@ struct Side {
 Side FitSide(const std::vector<Eigen::MatrixXd>& factors, int b0, int b1) {
   const std::vector<Eigen::MatrixXd> own(factors.begin() + b0,
                                          factors.begin() + b1);
-  const Eigen::Index cols = own.front().cols();
-  Eigen::MatrixXd stack(static_cast<Eigen::Index>(own.size()) * cols, cols);
-  for (std::size_t b = 0; b < own.size(); ++b) {
-    stack.middleRows(static_cast<Eigen::Index>(b) * cols, cols) = own[b];
-  }
-  const Eigen::Index m = cols - 1;
-  const Eigen::VectorXd coef =
-      stack.leftCols(m).colPivHouseholderQr().solve(stack.col(m));
   Side side;
-  side.position_m =
-      coef.allFinite()
-          ? Eigen::Vector3d(coef.head<3>())
-          : Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  side.position_m = PositionOfStack(StackFactors(own));
   side.stderr_m = JackknifeOfBlockFactors(own);
   return side;
 }

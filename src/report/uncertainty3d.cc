@@ -82,26 +82,38 @@ Eigen::Vector3d RefitJackknife(const Problem& problem,
 
 namespace internal {
 
+Eigen::MatrixXd StackFactors(const std::vector<Eigen::MatrixXd>& factors,
+                             std::size_t skip) {
+  if (factors.empty()) return Eigen::MatrixXd();
+  const Eigen::Index cols = factors.front().cols();
+  const auto kept = static_cast<Eigen::Index>(factors.size() -
+                                              (skip < factors.size() ? 1 : 0));
+  Eigen::MatrixXd stack(kept * cols, cols);
+  Eigen::Index row = 0;
+  for (std::size_t b = 0; b < factors.size(); ++b) {
+    if (b == skip) continue;
+    stack.middleRows(row, cols) = factors[b];
+    row += cols;
+  }
+  return stack;
+}
+
+Eigen::Vector3d PositionOfStack(const Eigen::MatrixXd& stack) {
+  const Eigen::Index m = stack.cols() - 1;
+  const Eigen::VectorXd coef =
+      stack.leftCols(m).colPivHouseholderQr().solve(stack.col(m));
+  if (!coef.allFinite()) return kNoStderr;
+  return coef.head<3>();
+}
+
 Eigen::Vector3d JackknifeOfBlockFactors(
     const std::vector<Eigen::MatrixXd>& factors) {
-  const auto blocks = static_cast<int>(factors.size());
-  if (blocks < 1) return kNoStderr;
-  const Eigen::Index cols = factors.front().cols();
-  const Eigen::Index m = cols - 1;
+  if (factors.empty()) return kNoStderr;
   std::vector<Eigen::Vector3d> estimates;
-  for (int left = 0; left < blocks; ++left) {
-    Eigen::MatrixXd stack((blocks - 1) * cols, cols);
-    Eigen::Index row = 0;
-    for (int b = 0; b < blocks; ++b) {
-      if (b == left) continue;
-      stack.middleRows(row, cols) = factors[static_cast<std::size_t>(b)];
-      row += cols;
-    }
-    const Eigen::MatrixXd a = stack.leftCols(m);
-    const Eigen::VectorXd y = stack.col(m);
-    const Eigen::VectorXd coef = a.colPivHouseholderQr().solve(y);
-    if (!coef.allFinite()) return kNoStderr;
-    estimates.push_back(coef.head<3>());
+  for (std::size_t left = 0; left < factors.size(); ++left) {
+    const Eigen::Vector3d p = PositionOfStack(StackFactors(factors, left));
+    if (!p.allFinite()) return kNoStderr;
+    estimates.push_back(p);
   }
   return JackknifeFromEstimates(estimates);
 }

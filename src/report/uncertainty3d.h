@@ -28,6 +28,16 @@ bool SliceFactor(std::string_view model_name,
                  Eigen::MatrixXd* r,
                  const Model* whole = nullptr);
 
+// Triangular factors of blocks of samples stacked one under another, the
+// one at `skip` left out (none by default): the factor of their samples
+// together, up to a rotation.
+Eigen::MatrixXd StackFactors(const std::vector<Eigen::MatrixXd>& factors,
+                             std::size_t skip = static_cast<std::size_t>(-1));
+
+// The position a stack of factors of [A target] gives (column-pivoted QR
+// of its rows; NaN when the solve is not finite).
+Eigen::Vector3d PositionOfStack(const Eigen::MatrixXd& stack);
+
 // The delete-one-block jackknife σ̂ of the position (JackknifeFromEstimates)
 // from the triangular factors of contiguous blocks: each leave-one-out fit
 // solved from the stacked factors of the others. NaN when a fit is not
