@@ -21,6 +21,7 @@ import json
 import logging
 import os
 import socket
+import stat
 import sys
 import time
 
@@ -43,8 +44,81 @@ PRESET_SCENARIOS = {
 _CSV_SKIP = ("details", "trace", "message")
 
 
+# Text quoted from the command line is cut to this many characters, as
+# the tool cuts the fields it quotes.
+_MAX_QUOTED = 40
+
+
 class UsageError(Exception):
     """Bad command-line input: exit code 2."""
+
+
+def _cut(text):
+    text = str(text).encode("unicode_escape").decode("ascii")
+    return text if len(text) <= _MAX_QUOTED else text[:_MAX_QUOTED] + "..."
+
+
+def _file_kind(mode):
+    """What a file that is not a regular one is, in the tool's words."""
+    for test, kind in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a FIFO"),
+                       (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return kind
+    return "not a regular file"
+
+
+def read_input(path):
+    """The bytes of the log at `path`, refused as the tool refuses an
+    input: anything but a regular file (a device such as /dev/zero would
+    never end, a FIFO could wait forever) and anything over the library's
+    limit (kMaxInputFileBytes, 1 GiB), before it is read."""
+    limit = imusysid._imusysid.MAX_INPUT_FILE_BYTES
+    try:
+        st = os.stat(path)
+    except OSError as e:
+        raise UsageError(f"cannot read '{path}': {e.strerror}") from e
+    if not stat.S_ISREG(st.st_mode):
+        raise UsageError(f"cannot read '{path}': it is "
+                         f"{_file_kind(st.st_mode)}, not a regular file")
+    if st.st_size > limit:
+        raise UsageError(f"'{path}' is {st.st_size} bytes; inputs may hold "
+                         f"at most {limit} bytes (docs/failure-modes.md)")
+    try:
+        with open(path, "rb") as f:
+            content = f.read(limit + 1)
+    except OSError as e:
+        raise UsageError(f"cannot read '{path}': {e.strerror}") from e
+    if len(content) > limit:  # it grew after the stat
+        raise UsageError(f"'{path}' holds more than {limit} bytes; inputs "
+                         "may hold at most that (docs/failure-modes.md)")
+    return content
+
+
+def check_output(path, what="this output is a pair of files"):
+    """Refuses, before any work, an output the run could not write: it is
+    written to a temporary file and renamed over the target, so the target
+    must be a regular file (through symbolic links) or a new name in an
+    existing folder that can be written. A device such as /dev/full would
+    otherwise be read as earlier results, or replaced."""
+    target = os.path.realpath(path)
+    try:
+        st = os.stat(target)
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise UsageError(f"cannot write '{path}': {e.strerror}") from e
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        raise UsageError(f"cannot write '{path}': it is "
+                         f"{_file_kind(st.st_mode)}, not a regular file "
+                         f"({what})")
+    folder = os.path.dirname(target) or "."
+    if not os.path.isdir(folder):
+        raise UsageError(f"cannot write '{path}': No such file or directory")
+    if not os.access(folder, os.W_OK | os.X_OK) or (
+            st is not None and not os.access(target, os.W_OK)):
+        raise UsageError(f"cannot write '{path}': Permission denied")
 
 
 def _import_dask():
@@ -327,14 +401,12 @@ def command_fit(args):
     tasks = []
     options = _fit_options(args)
     outputs = {os.path.abspath(p) for p in (args.out, jsonl_path(args.out))}
+    for path in (args.out, jsonl_path(args.out)):
+        check_output(path)
     for path in args.logs:
         if os.path.abspath(path) in outputs:
             raise UsageError(f"{path} is both a log and the output")
-        try:
-            with open(path, "rb") as f:
-                content = f.read()
-        except OSError as e:
-            raise UsageError(f"{path}: {e.strerror}") from e
+        content = read_input(path)
         key = task_key(content, options)
         tasks.append((key, fit_task, (os.path.abspath(path), options),
                       {"log": path}))
@@ -384,7 +456,7 @@ def summarize_bench(frame):
 
 def command_bench(args):
     if args.preset not in PRESET_SCENARIOS:
-        raise UsageError(f"--preset={args.preset}; valid: "
+        raise UsageError(f"--preset={_cut(args.preset)}; valid: "
                          f"{', '.join(PRESET_SCENARIOS)}")
     if args.seeds < 1:
         raise UsageError(f"--seeds={args.seeds}; required >= 1")
@@ -393,7 +465,8 @@ def command_bench(args):
     valid = imusysid.scenario_names()
     for s in scenarios:
         if s not in valid:
-            raise UsageError(f"--scenarios: unknown scenario '{s}'; valid: "
+            raise UsageError(f"--scenarios: unknown scenario '{_cut(s)}'; "
+                             "valid: "
                              f"{', '.join(valid)}")
     options = _fit_options(args)  # each task fits with its noise seed
     tasks = []
@@ -403,8 +476,23 @@ def command_bench(args):
             tasks.append((task_key(content, options), bench_task,
                           (scenario, seed, options),
                           {"scenario": scenario, "seed": seed}))
-    os.makedirs(args.out, exist_ok=True)
+    # Every output checked before any work: the folder, then its files.
+    if os.path.exists(args.out) and not os.path.isdir(args.out):
+        mode = os.stat(args.out).st_mode
+        kind = "a regular file" if stat.S_ISREG(mode) else _file_kind(mode)
+        raise UsageError(f"--out='{args.out}' is {kind}, not a folder "
+                         "(bench writes monte_carlo.csv, "
+                         "monte_carlo.jsonl, summary.csv and timing.json "
+                         "into it)")
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"--out='{args.out}': cannot make the folder: "
+                         f"{e.strerror}") from e
     csv_path = os.path.join(args.out, "monte_carlo.csv")
+    for name in ("monte_carlo.csv", "monte_carlo.jsonl", "summary.csv",
+                 "timing.json"):
+        check_output(os.path.join(args.out, name), "bench replaces it")
     frame, timing = run_tasks(tasks, csv_path, args.scheduler, args.workers,
                               not args.no_progress, args.retry_errors)
     summary = summarize_bench(frame)
@@ -432,7 +520,9 @@ def _add_common(parser):
     parser.add_argument("--threads", type=int, default=1,
                         help="threads per fit (GA population; default 1: "
                              "the workers are the parallelism)")
-    parser.add_argument("--imu", type=int, help="IMU instance of the logs")
+    parser.add_argument("--imu", type=int, choices=(-1, 0, 1, 2),
+                        help="IMU instance of the logs: 0, 1 or 2; -1: every "
+                             "instance (3-D models, as imusysid.identify)")
     parser.add_argument("--retry-errors", action="store_true",
                         help="run again the tasks recorded as errors")
     parser.add_argument("--no-progress", action="store_true",
@@ -491,12 +581,23 @@ def main(argv=None):
         print(f"fleet: --workers={args.workers}; required >= 1",
               file=sys.stderr)
         return EXIT_BAD_INPUT
+    if args.threads < 1:
+        print(f"fleet: --threads={args.threads}; required >= 1",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
     try:
         _import_dask()
         return args.run(args)
     except UsageError as e:
         print(f"fleet: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except OSError as e:
+        # A write that failed after the checks (a full disk): one line, and
+        # what finished is in the JSON lines.
+        where = f"'{e.filename}': " if e.filename else ""
+        print(f"fleet: cannot write {where}{e.strerror or e}",
+              file=sys.stderr)
+        return EXIT_FAILED
     except KeyboardInterrupt:
         print("fleet: interrupted; finished tasks are in the output, run "
               "the same command to resume", file=sys.stderr)

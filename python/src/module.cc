@@ -13,11 +13,15 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -56,6 +60,24 @@ template <typename T>
 T ValueOrThrow(StatusOr<T> value) {
   ThrowIfError(value.status());
   return std::move(*value);
+}
+
+// Text from the caller quoted in a message, cut as the tool cuts the
+// fields it quotes (40 characters).
+std::string ShortPyText(const std::string& text) {
+  constexpr std::size_t kMaxPyQuoted = 40;
+  return text.size() > kMaxPyQuoted ? text.substr(0, kMaxPyQuoted) + "..."
+                                    : text;
+}
+
+// The shortest text that reads back to `value` ("nan", "inf" as such).
+std::string ShortestPyNumber(double value) {
+  char buffer[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(buffer, sizeof(buffer), "%.*g", digits, value);
+    if (!std::isfinite(value) || std::strtod(buffer, nullptr) == value) break;
+  }
+  return buffer;
 }
 
 // A 1-D NumPy view of `values`; `owner` keeps the memory alive.
@@ -98,6 +120,12 @@ py::dict LogToDict(std::shared_ptr<const FlightLog> log) {
 }
 
 py::dict ReadLog(const std::string& path, int imu, const std::string& frame) {
+  if (imu < 0 || imu > 2) {
+    ThrowIfError(InvalidArgumentError(
+        "imu=" + std::to_string(imu) +
+        "; read_log reads one instance: 0, 1 or 2 (-1, every instance, is "
+        "for identify with a 3-D model)"));
+  }
   LogReadOptions options;
   options.imu_instance = imu;
   if (!frame.empty()) {
@@ -148,8 +176,15 @@ IdentifyOptions ToIdentifyOptions(const CallOptions& c) {
   io.all_estimators = c.all_estimators;
   EstimatorOptions& eo = io.estimator;
   eo.seed = c.seed;
+  if (!std::isfinite(c.max_time_s)) {
+    ThrowIfError(
+        InvalidArgumentError("max_time_s=" + ShortestPyNumber(c.max_time_s) +
+                             ": the value must be a finite number"));
+  }
   if (!(c.max_time_s >= 0.0)) {
-    ThrowIfError(InvalidArgumentError("max_time_s must be >= 0 (0: no limit)"));
+    ThrowIfError(
+        InvalidArgumentError("max_time_s=" + ShortestPyNumber(c.max_time_s) +
+                             "; required >= 0 (0: no limit)"));
   }
   if (c.max_time_s > 0.0) eo.max_wall_time_s = c.max_time_s;
   eo.record_trace = c.trace;
@@ -166,6 +201,23 @@ IdentifyOptions ToIdentifyOptions(const CallOptions& c) {
   if (!io.velocity_auto) {
     io.preprocess.velocity_source =
         ValueOrThrow(VelocitySourceFromString(c.velocity));
+  }
+  // As the tool's number flags: given, a value must be finite (None is
+  // the unset flag); a cutoff also >= 0.
+  const std::pair<const char*, const std::optional<double>*> numbers[] = {
+      {"cutoff_hz", &c.cutoff_hz},
+      {"t_start", &c.t_start},
+      {"t_end", &c.t_end}};
+  for (const auto& [name, value] : numbers) {
+    if (*value && !std::isfinite(**value)) {
+      ThrowIfError(InvalidArgumentError(std::string(name) + "=" +
+                                        ShortestPyNumber(**value) +
+                                        ": the value must be a finite number"));
+    }
+  }
+  if (c.cutoff_hz && !(*c.cutoff_hz >= 0.0)) {
+    ThrowIfError(InvalidArgumentError(
+        "cutoff_hz=" + ShortestPyNumber(*c.cutoff_hz) + "; required >= 0"));
   }
   if (c.cutoff_hz) {
     io.preprocess.cutoff_hz = *c.cutoff_hz;
@@ -216,7 +268,7 @@ std::vector<double> ToVector(const std::optional<Doubles>& a,
   if (!a) return {};
   if (a->ndim() != 1) {
     ThrowIfError(
-        InvalidArgumentError(std::string(name) + ": a 1-D array is required"));
+        InvalidArgumentError(ShortPyText(name) + ": a 1-D array is required"));
   }
   return std::vector<double>(a->data(), a->data() + a->size());
 }
@@ -234,6 +286,14 @@ py::tuple FitArrays(const Doubles& t,
                     const std::string& source,
                     double gravity,
                     const CallOptions& options) {
+  // A problem file's '# gravity:' range (problem_io.cc): a typo such as
+  // 9806.65 (mm/s^2), a sign or NaN would otherwise be fitted as a gravity.
+  if (!(gravity >= 0.1 && gravity <= 100.0)) {
+    ThrowIfError(InvalidArgumentError(
+        "gravity=" + ShortestPyNumber(gravity) +
+        " is outside [0.1, 100] m/s^2; expected the gravity in m/s^2, e.g. "
+        "9.80665"));
+  }
   auto data = std::make_shared<ProblemData>();
   data->source = source;
   data->gravity = gravity;
@@ -283,10 +343,22 @@ py::tuple RunSimulate(const std::string& scenario,
   for (const std::string& name : Scenario3dNames()) {
     if (name == scenario) three_d = true;
   }
+  const std::vector<std::string> planar = ScenarioNames();
+  if (!three_d &&
+      std::find(planar.begin(), planar.end(), scenario) == planar.end()) {
+    // ScenarioOptions would list the planar scenarios alone: this takes
+    // both kinds, so the message lists both, from the library's lists.
+    std::string valid;
+    for (const std::string& name : planar) valid += " " + name;
+    for (const std::string& name : Scenario3dNames()) valid += " " + name;
+    ThrowIfError(NotFoundError("unknown scenario '" + ShortPyText(scenario) +
+                               "'; valid names:" + valid));
+  }
   if (!three_d) {
     if (!format.empty() && format != "csv") {
-      ThrowIfError(InvalidArgumentError(
-          "format='" + format + "': the planar scenarios write csv only"));
+      ThrowIfError(InvalidArgumentError("format='" + ShortPyText(format) +
+                                        "': the planar scenarios write csv "
+                                        "only"));
     }
     SimulatorOptions o = ValueOrThrow(ScenarioOptions(scenario));
     for (const auto& [name, value] : settings) {
@@ -306,7 +378,7 @@ py::tuple RunSimulate(const std::string& scenario,
     Simulator3dOptions o = ValueOrThrow(Scenario3dOptions(scenario));
     const std::string kind = format.empty() ? "csv" : format;
     if (kind != "csv" && kind != "ulog" && kind != "dataflash") {
-      ThrowIfError(InvalidArgumentError("format='" + format +
+      ThrowIfError(InvalidArgumentError("format='" + ShortPyText(format) +
                                         "'; valid: csv, ulog, dataflash"));
     }
     // As `imusysid simulate`: realistic sensors, and the binary logs
@@ -317,10 +389,18 @@ py::tuple RunSimulate(const std::string& scenario,
       if (name == "sensor_profile") {
         o.sensor_profile = value;
       } else if (name == "rate_hz") {
-        o.rate_hz = std::stod(value);
+        // The whole text, a finite number (std::stod would take "100abc"
+        // and throw on "abc").
+        char* end = nullptr;
+        o.rate_hz = std::strtod(value.c_str(), &end);
+        if (value.empty() || *end != '\0' || !std::isfinite(o.rate_hz)) {
+          ThrowIfError(InvalidArgumentError("setting rate_hz='" +
+                                            ShortPyText(value) +
+                                            "'; required a finite number, Hz"));
+        }
       } else {
         ThrowIfError(InvalidArgumentError(
-            "setting '" + name +
+            "setting '" + ShortPyText(name) +
             "': a 3-D scenario takes rate_hz and sensor_profile"));
       }
     }
@@ -355,33 +435,110 @@ py::tuple RunSimulate(const std::string& scenario,
   return py::make_tuple(log_dicts, truth, file_bytes, three_d);
 }
 
+// InvalidArgument naming the array and the sample when `values` holds one
+// that a CSV log cannot carry: NaN or infinity, except NaN in the rows
+// before an estimator channel's first value (the cells the reader takes
+// empty). Checked here, on the arrays, so that the message points at
+// them and not into the CSV text written from them.
+Status CheckLogArray(const std::string& source,
+                     const std::string& kind,
+                     const std::string& name,
+                     const std::vector<double>& values) {
+  bool leading_nan_allowed = false;
+  for (const char* channel : kEstimatorChannels) {
+    if (name == channel) leading_nan_allowed = kind == "channel";
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (std::isnan(values[i]) && leading_nan_allowed) continue;
+    leading_nan_allowed = false;
+    if (!std::isfinite(values[i])) {
+      return InvalidArgumentError(
+          source + ": " + kind + " '" + ShortPyText(name) + "' sample " +
+          std::to_string(i) + " is " + ShortestPyNumber(values[i]) +
+          "; a log's samples must be finite (an estimator channel, " +
+          "qw ... vd, may be NaN before its first value)");
+    }
+  }
+  return Status::Ok();
+}
+
+// `text` (CSV rows from FormatCsvLog) with every "nan" or "-nan" cell of
+// the data rows left empty, as the reader reads an estimator channel's
+// cells before its first value (FormatSimulated3dCsv writes them so too).
+std::string BlankNanCells(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  bool header_seen = false;
+  std::size_t line_start = 0;
+  while (line_start < text.size()) {
+    std::size_t line_end = text.find('\n', line_start);
+    if (line_end == std::string::npos) line_end = text.size();
+    const std::string_view line(text.data() + line_start,
+                                line_end - line_start);
+    if (!header_seen || line.empty() || line[0] == '#') {
+      header_seen = header_seen || (!line.empty() && line[0] != '#');
+      out.append(line);
+    } else {
+      std::size_t cell = 0;
+      while (cell <= line.size()) {
+        std::size_t comma = line.find(',', cell);
+        if (comma == std::string_view::npos) comma = line.size();
+        const std::string_view value = line.substr(cell, comma - cell);
+        if (value != "nan" && value != "-nan") out.append(value);
+        if (comma < line.size()) out += ',';
+        cell = comma + 1;
+      }
+    }
+    if (line_end < text.size()) out += '\n';
+    line_start = line_end + 1;
+  }
+  return out;
+}
+
 // A log given as arrays (what read_log and simulate return) as the CSV
-// text Identify reads, every value written so that it reads back exactly.
+// text Identify reads, in the frame the log came in (`frame`), every value
+// written so that it reads back exactly.
 py::bytes FormatLog(
     const std::string& source,
     const std::map<std::string, Doubles>& columns,
     const std::map<std::string, Doubles>& channels,
-    const std::vector<std::pair<std::string, std::string>>& metadata) {
+    const std::vector<std::pair<std::string, std::string>>& metadata,
+    const std::string& frame) {
   FlightLog log;
   log.source = source;
   log.metadata = metadata;
   for (const auto& [name, values] : log.Columns()) {
     const auto it = columns.find(name);
     if (it == columns.end()) {
-      ThrowIfError(InvalidArgumentError(source + ": the log has no '" +
-                                        std::string(name) + "' array"));
+      ThrowIfError(InvalidArgumentError(
+          source + ": the log has no '" + std::string(name) +
+          "' array; a log as arrays is a dict as read_log returns (t, ax, "
+          "ay, az, gx, gy, gz) or a simulate result"));
     }
     *values = ToVector(it->second, name);
+    ThrowIfError(CheckLogArray(source, "array", name, *values));
+  }
+  for (std::size_t i = 1; i < log.t_s.size(); ++i) {
+    if (!(log.t_s[i] > log.t_s[i - 1])) {
+      ThrowIfError(InvalidArgumentError(
+          source + ": array 't' sample " + std::to_string(i) + " (" +
+          ShortestPyNumber(log.t_s[i]) + ") is not after sample " +
+          std::to_string(i - 1) + " (" + ShortestPyNumber(log.t_s[i - 1]) +
+          "); time must increase strictly"));
+    }
   }
   for (const auto& [name, values] : channels) {
     log.extra.push_back({name, ToVector(values, name.c_str())});
+    ThrowIfError(
+        CheckLogArray(source, "channel", name, log.extra.back().values));
   }
   CsvWriteOptions write;
   write.precision = 0;  // the shortest text that reads back exactly
+  write.frame = ValueOrThrow(FrameFromString(frame));
   std::string text;
   {
     py::gil_scoped_release unlocked;
-    text = ValueOrThrow(FormatCsvLog(log, write));
+    text = BlankNanCells(ValueOrThrow(FormatCsvLog(log, write)));
   }
   return py::bytes(text);
 }
@@ -469,11 +626,16 @@ PYBIND11_MODULE(_imusysid, m) {
         py::arg("source"),
         py::arg("columns"),
         py::arg("channels"),
-        py::arg("metadata"));
+        py::arg("metadata"),
+        py::arg("frame"));
   m.def("write_file",
         &imusysid::python::WriteFile,
         py::arg("path"),
         py::arg("contents"));
+  // The largest input any reader takes (imusysid::kMaxInputFileBytes):
+  // imusysid.fleet refuses larger logs before reading them, as the tool.
+  m.attr("MAX_INPUT_FILE_BYTES") =
+      static_cast<std::uint64_t>(imusysid::kMaxInputFileBytes);
   m.def("scenario_names", [] {
     std::vector<std::string> names = imusysid::ScenarioNames();
     for (const std::string& n : imusysid::Scenario3dNames()) names.push_back(n);

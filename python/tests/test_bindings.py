@@ -208,3 +208,181 @@ def test_identify_releases_the_gil(data_dir):
         pytest.skip(f"{free_cpus:.1f} CPUs free: overlap shown, speed-up "
                     "not measurable")
     assert both < 1.6 * single
+
+
+# --- A log as arrays round trips for every reader and every scenario.
+
+def position(result):
+    """The fitted position of a 3-D fit (its first IMU) and its standard
+    errors."""
+    first = result[0] if isinstance(result, list) else result
+    return first["fitted_position_frd_m"], first["imu_position_frd_stderr_m"]
+
+
+@pytest.fixture(scope="module")
+def logs_3d(tmp_path_factory):
+    """One 3-D flight written as the tool writes it: CSV (one file per
+    IMU), ULog and DataFlash."""
+    folder = tmp_path_factory.mktemp("logs3d")
+    paths = {}
+    for kind, name in (("csv", "f.csv"), ("ulog", "f.ulg"),
+                       ("dataflash", "f.bin")):
+        sim = imusysid.simulate("pitch_laps_3d", seed=3, format=kind,
+                                out=folder / name)
+        paths[kind] = sim["files"][1]
+    return paths
+
+
+@pytest.mark.parametrize("kind", ["csv", "ulog", "dataflash"])
+def test_3d_log_as_arrays_fits_as_the_file(logs_3d, kind):
+    """read_log's arrays of a 3-D log (a CSV with empty estimator cells, a
+    ULog, a DataFlash log) fit as the file's instance 0 does, exactly: the
+    arrays go back as text that reads to the same numbers."""
+    path = logs_3d[kind]
+    from_arrays = imusysid.identify(imusysid.read_log(path), model="rigid3d")
+    from_file = imusysid.identify(path, model="rigid3d", imu=0)
+    got, se = position(from_arrays)
+    assert len(got) == 3 and all(isinstance(v, float) for v in got + se)
+    assert (got, se) == position(from_file)
+    # Every other key too, but the source's name.
+    first = (from_file[0] if isinstance(from_file, list) else from_file)
+    assert first["log"] == path
+    mine = {k: v for k, v in from_arrays.items() if k != "log"}
+    theirs = {k: v for k, v in first.items() if k != "log"}
+    assert without_timing(mine) == without_timing(theirs)
+
+
+@pytest.mark.parametrize("scenario,model", [("paper_test2", None),
+                                            ("pitch_laps_3d", "rigid3d")])
+def test_simulate_result_fits_as_its_file(scenario, model):
+    """identify(simulate(...)): the flight's arrays (the first IMU of a 3-D
+    flight) fit as the file simulate writes of them, which holds 9
+    significant digits: the same fit to within that rounding."""
+    sim = imusysid.simulate(scenario, seed=2, return_bytes=True)
+    from_arrays = imusysid.identify(sim, model=model, estimators="lm"
+                                    if model is None else None)
+    from_file = imusysid.identify(sim["bytes"][0], model=model,
+                                  estimators="lm" if model is None else None)
+    if sim["three_d"]:
+        got, want = position(from_arrays)[0], position(from_file)[0]
+        truth = sim["truth"]["imus"][0]["p_frd_m"]
+        for axis in (0, 2):  # pitch laps determine x and z
+            assert got[axis] == pytest.approx(want[axis], abs=1e-5)
+            assert got[axis] == pytest.approx(truth[axis], abs=0.01)
+    else:
+        assert from_arrays["r_m"] == pytest.approx(from_file["r_m"],
+                                                   rel=1e-6)
+        assert from_arrays["r_m"] == pytest.approx(sim["truth"]["r_m"],
+                                                   abs=0.02)
+    # A 3-D flight's other IMUs by imu=; every IMU at once is the binary
+    # log's (a log as arrays holds one).
+    if sim["three_d"]:
+        second = imusysid.identify(sim, model="rigid3d", imu=1)
+        assert position(second)[0] != position(from_arrays)[0]
+        with pytest.raises(imusysid.Error, match="holds one IMU"):
+            imusysid.identify(sim, model="rigid3d", imu=-1)
+
+
+def test_log_arrays_are_checked_where_they_are(data_dir):
+    """Bad samples are named by array and sample, not by a line of the CSV
+    text written from them."""
+    log = imusysid.read_log(data_dir / "paper_test2.csv")
+    log = {k: (np.array(v) if k in ("t", "ax") else v)
+           for k, v in log.items()}
+    log["ax"][5] = np.nan
+    with pytest.raises(imusysid.Error, match="array 'ax' sample 5 is nan"):
+        imusysid.identify(log)
+    log["ax"][5] = 0.0
+    log["t"][7] = log["t"][6]
+    with pytest.raises(imusysid.Error, match="array 't' sample 7"):
+        imusysid.identify(log)
+    with pytest.raises(imusysid.Error, match="no 't' array"):
+        imusysid.identify({"logs_of": []})
+
+
+# --- Arguments are checked as the tool checks its flags.
+
+def test_fit_refuses_gravity_and_arrays_the_tool_would(tmp_path, data_dir):
+    p = read_csv(data_dir / "paper_test2.csv")
+    n = 200
+    args = (p["t"][:n], p["ax"][:n], p["gy"][:n], np.zeros(n))
+    for g, fragment in ((np.nan, "must be a finite number"),
+                        (0.0, "outside [0.1, 100]"),
+                        (-9.8, "outside [0.1, 100]"),
+                        (9806.65, "outside [0.1, 100]")):
+        with pytest.raises(imusysid.Error, match=re_escape(fragment)) as e:
+            imusysid.fit(*args, v=np.zeros(n), gravity=g)
+        assert e.value.code == "INVALID_ARGUMENT"
+    with pytest.raises(TypeError, match="a real number is required"):
+        imusysid.fit(*args, v=np.zeros(n), gravity="9.8")
+    # A complex array would lose its imaginary part in a conversion.
+    with pytest.raises(TypeError, match="f_x: an array of real numbers"):
+        imusysid.fit(args[0], args[1] + 1j, *args[2:], v=np.zeros(n))
+    with pytest.raises(TypeError, match="v: an array of real numbers"):
+        imusysid.fit(*args, v=["1"] * n)
+    bad = args[1].copy()
+    bad[3] = np.inf
+    with pytest.raises(imusysid.Error, match="not finite"):
+        imusysid.fit(args[0], bad, *args[2:], v=np.zeros(n))
+
+
+def test_options_are_checked_as_the_flags(data_dir):
+    log = data_dir / "paper_test2.csv"
+    with pytest.raises(imusysid.Error, match="t_start=nan: the value must "
+                                             "be a finite number"):
+        imusysid.identify(log, t_start=float("nan"))
+    with pytest.raises(ValueError, match="finite"):
+        imusysid.identify(log, cutoff_hz=float("inf"))
+    with pytest.raises(imusysid.Error, match=re_escape("max_time_s=-1; "
+                                                       "required >= 0")):
+        imusysid.identify(log, max_time_s=-1)
+    for name, value in (("t_start", "10"), ("imu", "1"), ("seed", 1.5),
+                        ("threads", True), ("trace", "yes"),
+                        ("cutoff_hz", 2 + 0j)):
+        with pytest.raises(TypeError, match=f"{name}="):
+            imusysid.identify(log, **{name: value})
+    with pytest.raises(TypeError, match="an integer is required"):
+        imusysid.read_log(log, imu="0")
+    with pytest.raises(TypeError, match="give a number as a number"):
+        imusysid.simulate("paper_test2", r_m="0.2")
+    with pytest.raises(imusysid.Error, match="seed=-1; required in"):
+        imusysid.simulate("paper_test2", seed=-1)
+    # Long text from an argument is cut in the message.
+    with pytest.raises(TypeError) as e:
+        imusysid.identify(log, seed="x" * 500)
+    assert "x" * 40 + "..." in str(e.value) and "x" * 41 not in str(e.value)
+
+
+def test_imu_minus_one_means_every_instance(logs_3d, data_dir):
+    """imu=-1 is every instance wherever it appears: identify with a 3-D
+    model fits them all; where one instance is needed it is refused with
+    why, never taken as another instance."""
+    every = imusysid.identify(logs_3d["ulog"], model="rigid3d", imu=-1)
+    default = imusysid.identify(logs_3d["ulog"], model="rigid3d")
+    assert len(every) == len(default) == 3
+    assert position(every) == position(default)
+    with pytest.raises(imusysid.Error, match="every instance"):
+        imusysid.read_log(logs_3d["ulog"], imu=-1)
+    with pytest.raises(imusysid.Error, match="applies to the 3-D models"):
+        imusysid.identify(data_dir / "paper_test2.csv", imu=-1)
+    with pytest.raises(imusysid.Error, match="imu=-2; required 0, 1 or 2"):
+        imusysid.identify(data_dir / "paper_test2.csv", imu=-2)
+    with pytest.raises(imusysid.Error, match="imu=3; required"):
+        imusysid.read_log(logs_3d["ulog"], imu=3)
+
+
+def test_unknown_scenario_lists_every_scenario():
+    with pytest.raises(imusysid.Error) as e:
+        imusysid.simulate("bogus")
+    assert e.value.code == "NOT_FOUND"
+    for name in imusysid.scenario_names():
+        assert name in str(e.value)
+    assert "figure8_3d" in str(e.value) and "paper_test1" in str(e.value)
+    with pytest.raises(imusysid.Error, match=re_escape("'" + "y" * 40 +
+                                                       "...'")):
+        imusysid.simulate("y" * 300)
+
+
+def re_escape(text):
+    import re
+    return re.escape(text)

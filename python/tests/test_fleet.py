@@ -5,6 +5,7 @@ output; and one Monte Carlo seed against the simulator's truth."""
 import json
 import os
 import shutil
+import time
 
 import pandas as pd
 import pytest
@@ -92,7 +93,7 @@ def test_bad_command_line_is_exit_2(tmp_path, capsys):
     assert "both a log and the output" in capsys.readouterr().err
     unwritable = str(tmp_path / "no" / "such" / "r.csv")
     assert fleet.main(["fit", log, f"--out={unwritable}"]) == 2
-    assert "r.jsonl: No such file or directory" in capsys.readouterr().err
+    assert "r.csv': No such file or directory" in capsys.readouterr().err
 
 
 def test_one_bench_seed_is_near_the_truth():
@@ -129,3 +130,55 @@ def test_bench_command_writes_rows_summary_and_timing(tmp_path, scheduler,
     assert abs(summary.loc[0, "bias.r_m"]) < 0.02
     timing = json.loads((out / "timing.json").read_text())
     assert timing["tasks"] == 2 and timing["workers"] == 2
+
+
+def test_inputs_and_outputs_are_refused_as_the_tool_refuses_them(
+        tmp_path, capsys):
+    """Every input and output is checked before any work starts (no
+    cluster is started here: a run that got that far would fail on the
+    scheduler address), each refusal one line and exit 2."""
+    nowhere = "--scheduler=tcp://127.0.0.1:1"
+    log = tmp_path / "log.csv"
+    log.write_text("t,ax,ay,az,gx,gy,gz\n")
+    out = f"--out={tmp_path / 'r.csv'}"
+
+    def refused(argv, fragment):
+        capsys.readouterr()
+        start = time.perf_counter()
+        assert fleet.main(argv + [nowhere, "--no-progress"]) == 2
+        assert time.perf_counter() - start < 5
+        err = capsys.readouterr().err
+        assert fragment in err, err
+        assert err.count("\n") == 1 and "Traceback" not in err
+        return err
+
+    # A device would be read until memory runs out; a log over the
+    # library's 1 GiB limit is refused before it is read (a sparse file).
+    refused(["fit", "/dev/zero", out], "cannot read '/dev/zero': it is a "
+                                       "character device, not a regular file")
+    big = tmp_path / "big.csv"
+    with open(big, "wb") as f:
+        f.truncate((1 << 30) + 1)
+    refused(["fit", str(big), out], "inputs may hold at most 1073741824")
+    # An output the run could not write: a device (read as earlier results
+    # or replaced otherwise), a folder.
+    refused(["fit", str(log), "--out=/dev/full"],
+            "cannot write '/dev/full': it is a character device, not a "
+            "regular file")
+    refused(["fit", str(log), f"--out={tmp_path}"], "it is a folder")
+    assert not os.path.exists("/dev/full.jsonl")
+    # bench's --out is a folder: an existing file is refused in one line.
+    bench = ["bench", "--scenarios=paper_test2", "--seeds=1"]
+    refused(bench + [f"--out={log}"], "is a regular file, not a folder")
+    (tmp_path / "mc").mkdir()
+    os.symlink("/dev/full", tmp_path / "mc" / "summary.csv")
+    refused(bench + [f"--out={tmp_path / 'mc'}"],
+            "summary.csv': it is a character device")
+    # Long fields quoted from the command line are cut.
+    err = refused(["bench", "--scenarios=" + "z" * 300,
+                   f"--out={tmp_path / 'd'}"],
+                  "z" * 40 + "...")
+    assert "z" * 41 not in err
+    with pytest.raises(SystemExit) as e:
+        fleet.main(["fit", str(log), out, "--imu=5"])
+    assert e.value.code == 2
