@@ -188,11 +188,12 @@ TEST(Simulate3dCli, OutOnADeviceOrFifoIsRefusedBeforeAnyWork) {
   }
   EXPECT_THAT(
       RunCli("simulate --scenario=hover_3d --rate_hz=100 --out=/dev/null").err,
-      HasSubstr("'/dev/null': it is a character device"));
+      HasSubstr(
+          "'/dev/null': it is not a regular file but a character device"));
   EXPECT_THAT(RunCli("simulate --scenario=hover_3d --rate_hz=100 --out=" + dir +
                      "/P.csv")
                   .err,
-              HasSubstr("it is a FIFO"));
+              HasSubstr("it is not a regular file but a FIFO"));
   for (std::size_t k = 0; k < siblings.size(); ++k) {
     EXPECT_EQ(Exists(siblings[k]), existed[k]) << siblings[k];
     if (!existed[k]) std::remove(siblings[k].c_str());
@@ -300,7 +301,10 @@ TEST(Simulate3dCli, EffectAndRateFlagsHoldTheirRanges) {
     EXPECT_EQ(r.exit_code, 2) << c.flag_value << "\n" << r.err;
     EXPECT_THAT(r.err, ::testing::Not(HasSubstr("simulating"))) << c.flag_value;
     if (c.field.empty()) {
-      EXPECT_THAT(r.err, HasSubstr("'/dev/null': it is a character device"))
+      EXPECT_THAT(
+          r.err,
+          HasSubstr(
+              "'/dev/null': it is not a regular file but a character device"))
           << c.flag_value;
       EXPECT_THAT(r.err, ::testing::Not(HasSubstr(flag))) << c.flag_value;
     } else {

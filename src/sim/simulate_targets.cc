@@ -45,7 +45,7 @@ const char* SimTargetsKind(mode_t mode) {
   if (S_ISBLK(mode)) return "a block device";
   if (S_ISFIFO(mode)) return "a FIFO";
   if (S_ISSOCK(mode)) return "a socket";
-  return "not a regular file";
+  return "a special file";
 }
 
 // `path` with symbolic links followed to the name they lead to (which may
@@ -64,7 +64,8 @@ StatusOr<std::string> SimTargetsRegularTarget(const std::string& path) {
     if (S_ISREG(st.st_mode)) return target;
     if (!S_ISLNK(st.st_mode)) {
       return InvalidArgumentError(
-          "cannot write '" + path + "': it is " + SimTargetsKind(st.st_mode) +
+          "cannot write '" + path + "': it is not a regular file but " +
+          SimTargetsKind(st.st_mode) +
           (target == path ? "" : " ('" + target + "')") +
           "; simulate writes a set of regular files beside each other (the "
           "log, its truth sidecar, each IMU's log)");
