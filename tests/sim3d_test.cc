@@ -414,5 +414,36 @@ TEST(Simulate3d, CsvTextIsFrdWithEmptyCellsBeforeTheFirstEstimate) {
   EXPECT_NEAR(std::stod(cells[3]), -kGravity, 0.2);
 }
 
+// A negative or NaN amplitude, or a NaN start, reads as "off" to enabled():
+// Validate refuses them rather than fly without the effect asked for.
+TEST(Simulate3d, ValidateRefusesEffectsThatWouldSilentlyBeOff) {
+  const double nan = std::nan("");
+  Simulator3dOptions o;
+  ASSERT_TRUE(o.Validate().ok());
+  o.flexible_mount.amplitude_m = -0.001;
+  EXPECT_THAT(o.Validate().message(),
+              HasSubstr("flexible_mount.amplitude_m = -0.001; required in "
+                        "[0, 0.01]"));
+  o.flexible_mount.amplitude_m = nan;
+  EXPECT_THAT(o.Validate().message(), HasSubstr("flexible_mount.amplitude_m"));
+  o = Simulator3dOptions();
+  o.periodic_force.amplitude_mps2 = -1.0;
+  EXPECT_THAT(o.Validate().message(),
+              HasSubstr("periodic_force.amplitude_mps2 = -1"));
+  o = Simulator3dOptions();
+  o.payload_change.t_s = nan;
+  EXPECT_THAT(o.Validate().message(), HasSubstr("payload_change.t_s"));
+  o = Simulator3dOptions();
+  o.estimator_glitch.t_s = nan;
+  EXPECT_THAT(o.Validate().message(), HasSubstr("estimator_glitch.t_s"));
+  // Off (0 and -1) and the edges of the ranges stay valid.
+  o = Simulator3dOptions();
+  o.flexible_mount.amplitude_m = 0.01;
+  o.flexible_mount.freq_hz = 0.45 * o.rate_hz;
+  o.periodic_force.amplitude_mps2 = 5.0;
+  o.periodic_force.freq_hz = 0.01;
+  EXPECT_TRUE(o.Validate().ok()) << o.Validate().ToString();
+}
+
 }  // namespace
 }  // namespace imusysid

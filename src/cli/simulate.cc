@@ -18,6 +18,8 @@
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/sim/sim3d_effect_flags.h"
+#include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
 
 DEFINE_string(scenario,
@@ -98,17 +100,6 @@ bool EndsWith(const std::string& text, const std::string& ext) {
          text.compare(text.size() - ext.size(), ext.size(), ext) == 0;
 }
 
-// NAME.csv (or NAME.ulg, NAME.bin) → NAME.truth.json; other names get
-// ".truth.json" appended.
-std::string TruthPath(const std::string& out) {
-  for (const std::string ext : {".csv", ".ulg", ".bin"}) {
-    if (EndsWith(out, ext)) {
-      return out.substr(0, out.size() - ext.size()) + ".truth.json";
-    }
-  }
-  return out + ".truth.json";
-}
-
 Status ApplyOverrides(SimulatorOptions* o) {
   auto set_if =
       [&](const char* flag, double value, const char* setting) -> Status {
@@ -131,26 +122,39 @@ Status ApplyOverrides(SimulatorOptions* o) {
     if (item.empty()) continue;
     const auto eq = item.find('=');
     if (eq == std::string::npos) {
-      return InvalidArgumentError("--set: '" + item + "' is not name=value");
+      return InvalidArgumentError("--set: '" +
+                                  sim_targets::CutForMessage(item) +
+                                  "' is not name=value");
     }
     IMUSYSID_RETURN_IF_ERROR(
         SetSimulatorSetting(o, item.substr(0, eq), item.substr(eq + 1))
             .WithPrefix("--set"));
   }
-  return o->Validate();
+  // A range error names the setting; when a flag of the same name set it,
+  // say which flag and value.
+  const Status valid = o->Validate();
+  for (const char* flag : {"r_m", "beta_deg", "alpha_deg", "mu", "rate_hz"}) {
+    const std::string field = std::string("SimulatorOptions::") + flag + " ";
+    if (!valid.ok() && FlagWasSet(flag) &&
+        valid.message().compare(0, field.size(), field) == 0) {
+      return valid.WithPrefix(std::string("--") + flag);
+    }
+  }
+  return FLAGS_set.empty() || valid.ok() ? valid : valid.WithPrefix("--set");
 }
 
-// NAME.csv → NAME.imuK.csv for the K-th IMU (K >= 2); the first IMU's log is
-// NAME.csv itself.
-std::string ImuPath(const std::string& out, std::size_t instance) {
-  if (instance == 1) return out;
-  const std::string ext = ".csv";
-  std::string base = out;
-  if (out.size() > ext.size() &&
-      out.compare(out.size() - ext.size(), ext.size(), ext) == 0) {
-    base = out.substr(0, out.size() - ext.size());
-  }
-  return base + ".imu" + std::to_string(instance) + ".csv";
+// --out's set: every name is written together and the names of --out's set
+// this run does not write (an earlier 3-D run's NAME.imu2.csv beside a
+// planar log) are removed under the same folder lock, so no reader pairs
+// files of two runs.
+Status WriteOutSet(
+    const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> names;
+  for (const auto& file : files) names.push_back(file.first);
+  return sim_targets::WriteSet(
+      files,
+      sim_targets::StalePaths(
+          FLAGS_out, Simulator3dOptions::DefaultImus().size(), names));
 }
 
 bool Is3dScenario(const std::string& name) {
@@ -170,8 +174,9 @@ StatusOr<LogKind> ChosenLogKind() {
   if (FLAGS_log_format == "csv") return LogKind::kCsv;
   if (FLAGS_log_format == "ulog") return LogKind::kUlog;
   if (FLAGS_log_format == "dataflash") return LogKind::kDataFlash;
-  return InvalidArgumentError("--log_format=" + FLAGS_log_format +
-                              ": required csv, ulog or dataflash");
+  return InvalidArgumentError(
+      "--log_format=" + sim_targets::CutForMessage(FLAGS_log_format) +
+      ": required csv, ulog or dataflash");
 }
 
 // The truth's IMU positions after a payload change, when one was flown.
@@ -197,9 +202,9 @@ int Write3dBinary(LogKind kind,
           ? FormatSimulated3dUlog(options, f, log_options)
           : FormatSimulated3dDataFlash(options, f, log_options);
   if (!bytes.ok()) return ReportError(cmd, bytes.status());
-  const std::string truth_path = TruthPath(FLAGS_out);
-  Status s = WriteFilesTogether(
-      {{truth_path, Truth3dJson(options, f)}, {FLAGS_out, *bytes}});
+  const std::string truth_path = sim_targets::TruthPathFor(FLAGS_out);
+  Status s =
+      WriteOutSet({{truth_path, Truth3dJson(options, f)}, {FLAGS_out, *bytes}});
   if (!s.ok()) return ReportError(cmd, s);
   const std::size_t n = static_cast<std::size_t>(std::max(
       1.0, std::round(options.rate_hz / log_options.ulog_imu_rate_hz)));
@@ -258,116 +263,24 @@ int Write3dBinary(LogKind kind,
   return kExitOk;
 }
 
-// --NAME=a,b,...: between min_count and max_count finite numbers.
-StatusOr<std::vector<double>> ParseNumbers(const std::string& flag,
-                                           const std::string& text,
-                                           std::size_t min_count,
-                                           std::size_t max_count,
-                                           const std::string& usage) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string cell;
-  while (std::getline(in, cell, ',')) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(cell, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != cell.size() || !std::isfinite(value)) {
-      return InvalidArgumentError("--" + flag + "=" + text + ": '" + cell +
-                                  "' is not a number (required " + usage + ")");
-    }
-    values.push_back(value);
+// --payload_change, --flexible_mount, --periodic_force and --estimator_glitch
+// into `o`, each held to its range (sim3d_effect_flags.h).
+Status ApplyEffectFlags(Simulator3dOptions* o) {
+  if (FlagWasSet("payload_change")) {
+    IMUSYSID_RETURN_IF_ERROR(
+        sim3d_flags::ApplyPayloadChangeFlag(FLAGS_payload_change, o));
   }
-  if (values.size() < min_count || values.size() > max_count) {
-    return InvalidArgumentError("--" + flag + "=" + text + ": required " +
-                                usage);
-  }
-  return values;
-}
-
-// --payload_change=T,DM,DX,DY,DZ: five finite numbers, T >= 0.
-StatusOr<PayloadChange3d> ParsePayloadChange(const std::string& text) {
-  const StatusOr<std::vector<double>> parsed =
-      ParseNumbers("payload_change",
-                   text,
-                   0,
-                   std::numeric_limits<std::size_t>::max(),
-                   "T,DM,DX,DY,DZ: s, kg, m, m, m");
-  if (!parsed.ok()) return parsed.status();
-  const std::vector<double>& values = *parsed;
-  if (values.size() != 5 || values[0] < 0.0) {
-    return InvalidArgumentError(
-        "--payload_change=" + text +
-        ": required T,DM,DX,DY,DZ (time >= 0 s, mass change kg, the "
-        "payload's offset from the CoM in body FRD m)");
-  }
-  PayloadChange3d change;
-  change.t_s = values[0];
-  change.mass_kg = values[1];
-  change.offset_frd_m = Eigen::Vector3d(values[2], values[3], values[4]);
-  return change;
-}
-
-// An oscillation flag's F_HZ,AMPLITUDE[,DX,DY,DZ] (`name` its flag, `value`
-// its text): the frequency, amplitude and, when given, direction.
-Status ParseOscillation(const char* name,
-                        const std::string& value,
-                        const std::string& usage,
-                        double* freq_hz,
-                        double* amplitude,
-                        Eigen::Vector3d* direction) {
-  const StatusOr<std::vector<double>> parsed =
-      ParseNumbers(name, value, 2, 5, usage);
-  if (!parsed.ok()) return parsed.status();
-  const std::vector<double>& v = *parsed;
-  if (v.size() != 2 && v.size() != 5) {
-    return InvalidArgumentError(std::string("--") + name + "=" + value +
-                                ": required " + usage);
-  }
-  *freq_hz = v[0];
-  *amplitude = v[1];
-  if (v.size() == 5) *direction = Eigen::Vector3d(v[2], v[3], v[4]);
-  return Status::Ok();
-}
-
-// --flexible_mount, --periodic_force and --estimator_glitch into `o`.
-Status ApplyStressFlags(Simulator3dOptions* o) {
   if (FlagWasSet("flexible_mount")) {
     IMUSYSID_RETURN_IF_ERROR(
-        ParseOscillation("flexible_mount",
-                         FLAGS_flexible_mount,
-                         "F_HZ,AMPLITUDE_M[,DX,DY,DZ]",
-                         &o->flexible_mount.freq_hz,
-                         &o->flexible_mount.amplitude_m,
-                         &o->flexible_mount.direction_frd));
+        sim3d_flags::ApplyFlexibleMountFlag(FLAGS_flexible_mount, o));
   }
   if (FlagWasSet("periodic_force")) {
     IMUSYSID_RETURN_IF_ERROR(
-        ParseOscillation("periodic_force",
-                         FLAGS_periodic_force,
-                         "F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ]",
-                         &o->periodic_force.freq_hz,
-                         &o->periodic_force.amplitude_mps2,
-                         &o->periodic_force.direction_frd));
+        sim3d_flags::ApplyPeriodicForceFlag(FLAGS_periodic_force, o));
   }
   if (FlagWasSet("estimator_glitch")) {
-    const std::string usage = "T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S], T_S >= 0";
-    const StatusOr<std::vector<double>> parsed =
-        ParseNumbers("estimator_glitch", FLAGS_estimator_glitch, 3, 4, usage);
-    if (!parsed.ok()) return parsed.status();
-    const std::vector<double>& v = *parsed;
-    if (v[0] < 0.0) {
-      return InvalidArgumentError(
-          "--estimator_glitch=" + FLAGS_estimator_glitch + ": required " +
-          usage);
-    }
-    o->estimator_glitch.t_s = v[0];
-    o->estimator_glitch.yaw_deg = v[1];
-    o->estimator_glitch.velocity_mps = v[2];
-    if (v.size() == 4) o->estimator_glitch.velocity_duration_s = v[3];
+    IMUSYSID_RETURN_IF_ERROR(
+        sim3d_flags::ApplyEstimatorGlitchFlag(FLAGS_estimator_glitch, o));
   }
   return Status::Ok();
 }
@@ -383,13 +296,13 @@ int Run3d() {
       return UsageError(cmd,
                         std::string("--") + flag +
                             " applies to the planar scenarios only, not to " +
-                            FLAGS_scenario);
+                            sim_targets::CutForMessage(FLAGS_scenario));
     }
   }
   if (!FLAGS_frame.empty() && FLAGS_frame != "frd") {
-    return UsageError(
-        cmd,
-        "the 3-D scenarios write FRD logs only (--frame=" + FLAGS_frame + ")");
+    return UsageError(cmd,
+                      "the 3-D scenarios write FRD logs only (--frame=" +
+                          sim_targets::CutForMessage(FLAGS_frame) + ")");
   }
   StatusOr<LogKind> kind = ChosenLogKind();
   if (!kind.ok()) return UsageError(cmd, kind.status().message());
@@ -398,9 +311,10 @@ int Run3d() {
   }
   if (!FLAGS_sensor_profile.empty() && FLAGS_sensor_profile != "gentle" &&
       FLAGS_sensor_profile != "realistic") {
-    return UsageError(cmd,
-                      "--sensor_profile=" + FLAGS_sensor_profile +
-                          ": required gentle or realistic");
+    return UsageError(
+        cmd,
+        "--sensor_profile=" + sim_targets::CutForMessage(FLAGS_sensor_profile) +
+            ": required gentle or realistic");
   }
   StatusOr<Simulator3dOptions> options = Scenario3dOptions(FLAGS_scenario);
   if (!options.ok()) return ReportError(cmd, options.status());
@@ -410,15 +324,14 @@ int Run3d() {
   options->sensor_profile =
       FLAGS_sensor_profile.empty() ? "realistic" : FLAGS_sensor_profile;
   if (*kind != LogKind::kCsv) options->rate_hz = 1000.0;
-  if (FlagWasSet("rate_hz")) options->rate_hz = FLAGS_rate_hz;
-  if (FlagWasSet("seed")) options->seed = FLAGS_seed;
   Status s = Status::Ok();
-  if (FlagWasSet("payload_change")) {
-    StatusOr<PayloadChange3d> change = ParsePayloadChange(FLAGS_payload_change);
-    if (!change.ok()) return UsageError(cmd, change.status().message());
-    options->payload_change = *change;
+  if (FlagWasSet("rate_hz")) {
+    s = sim3d_flags::CheckRateFlag(FLAGS_rate_hz);
+    if (!s.ok()) return UsageError(cmd, s.message());
+    options->rate_hz = FLAGS_rate_hz;
   }
-  s = ApplyStressFlags(&*options);
+  if (FlagWasSet("seed")) options->seed = FLAGS_seed;
+  s = ApplyEffectFlags(&*options);
   if (!s.ok()) return UsageError(cmd, s.message());
   s = options->Validate();
   if (!s.ok()) return ReportError(cmd, s);
@@ -433,15 +346,16 @@ int Run3d() {
     s = log_options.Validate(*options);
     if (!s.ok()) return ReportError(cmd, s);
   }
-  if (FLAGS_out.empty()) {
-    return UsageError(cmd,
-                      "--out=FILE.csv (or FILE.ulg, FILE.bin) is required");
+  // Every name this run writes, refused before simulating when one cannot
+  // be (a device, a FIFO, a folder, "-").
+  std::vector<std::string> names = {FLAGS_out,
+                                    sim_targets::TruthPathFor(FLAGS_out)};
+  for (std::size_t k = 2; *kind == LogKind::kCsv && k <= options->imus.size();
+       ++k) {
+    names.push_back(sim_targets::ImuCsvPathFor(FLAGS_out, k));
   }
-  if (FLAGS_out == "-" && *kind != LogKind::kCsv) {
-    return UsageError(cmd,
-                      "--out must name a file: simulate writes the log and "
-                      "its truth sidecar beside it");
-  }
+  s = sim_targets::CheckTargets(FLAGS_out, names);
+  if (!s.ok()) return UsageError(cmd, s.message());
   std::cerr << "simulating " << FLAGS_scenario << " (" << options->duration_s()
             << " s at " << options->rate_hz << " Hz, " << options->imus.size()
             << " IMUs)...\n";
@@ -452,29 +366,24 @@ int Run3d() {
     return Write3dBinary(*kind, *options, log_options, f);
   }
 
-  // No half-written set of files: on any failure the ones already written
-  // are removed.
-  std::vector<std::string> written;
-  const std::string truth_path = TruthPath(FLAGS_out);
-  s = WriteFileAtomically(truth_path, Truth3dJson(*options, f));
-  if (s.ok()) written.push_back(truth_path);
-  for (std::size_t k = 0; s.ok() && k < f.logs.size(); ++k) {
-    const std::string path = ImuPath(FLAGS_out, k + 1);
+  // The truth and every IMU's log as one set: all or none.
+  const std::string truth_path = sim_targets::TruthPathFor(FLAGS_out);
+  std::vector<std::pair<std::string, std::string>> files = {
+      {truth_path, Truth3dJson(*options, f)}};
+  for (std::size_t k = 0; k < f.logs.size(); ++k) {
     StatusOr<std::string> text = FormatSimulated3dCsv(f.logs[k]);
-    s = text.ok() ? WriteFileAtomically(path, *text) : text.status();
-    if (s.ok()) written.push_back(path);
+    if (!text.ok()) return ReportError(cmd, text.status());
+    files.emplace_back(sim_targets::ImuCsvPathFor(FLAGS_out, k + 1), *text);
   }
-  if (!s.ok()) {
-    for (const std::string& path : written) std::remove(path.c_str());
-    return ReportError(cmd, s);
-  }
+  s = WriteOutSet(files);
+  if (!s.ok()) return ReportError(cmd, s);
 
   if (JsonOutput()) {
     nlohmann::ordered_json j;
     j["scenario"] = FLAGS_scenario;
     j["logs"] = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < f.logs.size(); ++k) {
-      j["logs"].push_back(ImuPath(FLAGS_out, k + 1));
+      j["logs"].push_back(sim_targets::ImuCsvPathFor(FLAGS_out, k + 1));
     }
     j["truth"] = truth_path;
     j["samples"] = f.t_s.size();
@@ -496,7 +405,7 @@ int Run3d() {
   std::cout << "wrote " << FLAGS_out << " (IMU 1";
   for (std::size_t k = 1; k < f.logs.size(); ++k) {
     std::cout << (k + 1 == f.logs.size() ? " and " : ", ") << "IMU " << k + 1
-              << " in " << ImuPath(FLAGS_out, k + 1);
+              << " in " << sim_targets::ImuCsvPathFor(FLAGS_out, k + 1);
   }
   std::cout << "; " << f.t_s.size() << " samples each, "
             << FormatNumber(options->rate_hz, 4) << " Hz, frame frd, columns "
@@ -545,11 +454,9 @@ int PlanarOutAndFrame(const std::string& cmd, Frame* frame) {
   if (FLAGS_out.empty()) {
     return UsageError(cmd, "--out=FILE.csv is required");
   }
-  if (FLAGS_out == "-") {
-    return UsageError(cmd,
-                      "--out must name a file: simulate writes the log and "
-                      "its truth sidecar beside it");
-  }
+  const Status s = sim_targets::CheckTargets(
+      FLAGS_out, {FLAGS_out, sim_targets::TruthPathFor(FLAGS_out)});
+  if (!s.ok()) return UsageError(cmd, s.message());
   *frame = Frame::kFlu;
   if (!FLAGS_frame.empty()) {
     StatusOr<Frame> f = FrameFromString(FLAGS_frame);
@@ -568,8 +475,8 @@ Status WritePlanarLog(const FlightLog& log,
   write_options.frame = frame;
   StatusOr<std::string> log_text = FormatCsvLog(log, write_options);
   if (!log_text.ok()) return log_text.status();
-  return WriteFilesTogether(
-      {{TruthPath(FLAGS_out), truth_json}, {FLAGS_out, *log_text}});
+  return WriteOutSet({{sim_targets::TruthPathFor(FLAGS_out), truth_json},
+                      {FLAGS_out, *log_text}});
 }
 
 // --scenario=paper_battery_move: test 1's flight, the battery moved
@@ -606,7 +513,7 @@ int RunBatteryMove() {
             << " (paper_test1, then paper_test2)...\n";
   StatusOr<BatteryMoveFlight> flight = SimulateBatteryMove(*before, *after);
   if (!flight.ok()) return ReportError(cmd, flight.status());
-  const std::string truth_path = TruthPath(FLAGS_out);
+  const std::string truth_path = sim_targets::TruthPathFor(FLAGS_out);
   s = WritePlanarLog(
       flight->log, frame, BatteryMoveTruthJson(*before, *after, *flight));
   if (!s.ok()) return ReportError(cmd, s);
@@ -644,7 +551,9 @@ int RunBatteryMove() {
 int RunSimulate(const std::vector<std::string>& positional) {
   const std::string cmd = "simulate";
   if (!positional.empty()) {
-    return UsageError(cmd, "unexpected argument '" + positional[0] + "'");
+    return UsageError(cmd,
+                      "unexpected argument '" +
+                          sim_targets::CutForMessage(positional[0]) + "'");
   }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
   if (FLAGS_scenario == kBatteryMoveScenario) return RunBatteryMove();
@@ -653,7 +562,7 @@ int RunSimulate(const std::vector<std::string>& positional) {
       return UsageError(cmd,
                         std::string("--") + flag +
                             " applies to the 3-D scenarios only, not to " +
-                            FLAGS_scenario);
+                            sim_targets::CutForMessage(FLAGS_scenario));
     }
   }
   StatusOr<SimulatorOptions> options = ScenarioOptions(FLAGS_scenario);
@@ -680,7 +589,7 @@ int RunSimulate(const std::vector<std::string>& positional) {
   StatusOr<SimulatedFlight> flight = Simulate(*options);
   if (!flight.ok()) return ReportError(cmd, flight.status());
 
-  const std::string truth_path = TruthPath(FLAGS_out);
+  const std::string truth_path = sim_targets::TruthPathFor(FLAGS_out);
   s = WritePlanarLog(flight->log, frame, TruthJson(*options, *flight));
   if (!s.ok()) return ReportError(cmd, s);
 
@@ -733,7 +642,11 @@ const Command& SimulateCommand() {
           "Writes FILE.csv (docs/log-format.md) and FILE.truth.json (true r, "
           "beta, alpha, mu,\nthe geometry, every simulator setting and the "
           "seed). ") +
-          "Deterministic for a seed.\nScenarios: paper_test1 (r " +
+          "Deterministic for a seed. --out must be a new name or a regular "
+          "file (never a\ndevice, FIFO or folder); a run writes its whole set "
+          "at once and removes the names\nof --out's set it does not write "
+          "(FILE.imu2.csv, FILE.imu3.csv after a 3-D CSV run),\nnothing "
+          "else.\nScenarios: paper_test1 (r " +
           FormatNumber(kPaperTest1Fit.r_m) + " m, beta " +
           FormatNumber(kPaperTest1Fit.beta_deg) + " deg, alpha " +
           FormatNumber(kPaperTest1Fit.alpha_deg) + " deg, mu " +
@@ -777,19 +690,25 @@ const Command& SimulateCommand() {
           "drop (DM < 0) a payload\n    at (DX, DY, DZ) m from the CoM, "
           "body FRD; the CoM moves by DM/(M+DM) of that\n    offset, every "
           "IMU position by minus that; the truth gives p before and after.\n"
+          "    0 <= T < the flight's duration, DM != 0 in [-M/2, M], each "
+          "offset in [-0.5, 0.5] m.\n"
           "  Stress effects outside the fitted models (docs/simulator-3d.md), "
           "each off unless given:\n"
           "  --flexible_mount=F_HZ,AMPLITUDE_M[,DX,DY,DZ]: every IMU on a soft "
           "mount, oscillating\n    at F_HZ with AMPLITUDE_M m peak along "
           "(DX, DY, DZ) FRD (default (1, 1, 1)); the\n    accelerometers read "
-          "the mount's own acceleration too; truth p is the mean.\n"
+          "the mount's own acceleration too; truth p is the mean.\n    0 < "
+          "F_HZ <= 0.45 rate_hz, 0 < AMPLITUDE_M <= 0.01.\n"
           "  --periodic_force=F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ]: a sinusoidal "
           "body force per unit\n    mass along (DX, DY, DZ) FRD (default "
-          "(1, 1, 0)) in flight: the vehicle moves with it.\n"
+          "(1, 1, 0)) in flight: the vehicle moves with it.\n    0.01 <= F_HZ "
+          "<= 0.45 rate_hz, 0 < AMPLITUDE_MPS2 <= 5.\n"
           "  --estimator_glitch=T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S]: the "
           "logged estimator's\n    attitude turned by YAW_DEG about down from "
           "T_S on (a yaw reset), its velocity\n    VEL_MPS off north for "
-          "VEL_DURATION_S s (default 0.5) from T_S.",
+          "VEL_DURATION_S s (default 0.5) from T_S;\n    0 <= T_S < the "
+          "flight's duration, |YAW_DEG| <= 180, |VEL_MPS| <= 20,\n    0 <= "
+          "VEL_DURATION_S <= 10, a yaw or a velocity change.",
       {"scenario",
        "out",
        "seed",

@@ -10,6 +10,8 @@
 #include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
 #include "nlohmann/json.hpp"
+#include "src/sim/sim3d_effect_flags.h"
+#include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -70,12 +72,14 @@ Status Simulator3dOptions::Validate() const {
   bool known = false;
   for (const std::string& name : Scenario3dNames()) known |= name == scenario;
   if (!known) {
-    return InvalidArgumentError("Simulator3dOptions::scenario = '" + scenario +
+    return InvalidArgumentError("Simulator3dOptions::scenario = '" +
+                                sim_targets::CutForMessage(scenario) +
                                 "'; required figure8_3d, hover_3d, "
                                 "pitch_laps_3d, roll_laps_3d or "
                                 "yaw_sweeps_3d");
   }
-  IMUSYSID_RETURN_IF_ERROR(InRange("rate_hz", rate_hz, 100.0, 1000.0));
+  IMUSYSID_RETURN_IF_ERROR(InRange(
+      "rate_hz", rate_hz, sim3d_flags::kMinRateHz, sim3d_flags::kMaxRateHz));
   IMUSYSID_RETURN_IF_ERROR(
       InRange("motors_off_start_s", motors_off_start_s, 0.0, 60.0));
   IMUSYSID_RETURN_IF_ERROR(InRange("idle_s", idle_s, 0.0, 60.0));
@@ -146,7 +150,7 @@ Status Simulator3dOptions::Validate() const {
       "estimator_velocity_noise_mps", estimator_velocity_noise_mps, 0.0, 5.0));
   if (sensor_profile != "gentle" && sensor_profile != "realistic") {
     return InvalidArgumentError("Simulator3dOptions::sensor_profile = '" +
-                                sensor_profile +
+                                sim_targets::CutForMessage(sensor_profile) +
                                 "'; required gentle or realistic");
   }
   IMUSYSID_RETURN_IF_ERROR(
@@ -185,6 +189,17 @@ Status Simulator3dOptions::Validate() const {
       InRange("slow_force_max_hz", slow_force_max_hz, 0.1, 5.0));
   IMUSYSID_RETURN_IF_ERROR(
       InRange("timestamp_jitter_s", timestamp_jitter_s, 0.0, 1e-3));
+  // A NaN start or amplitude would read as "off" (enabled() is false) and
+  // the effect asked for would silently not happen; a negative amplitude
+  // likewise.
+  IMUSYSID_RETURN_IF_ERROR(Require(!std::isnan(payload_change.t_s),
+                                   "payload_change.t_s",
+                                   payload_change.t_s,
+                                   "a number (< 0: no change)"));
+  IMUSYSID_RETURN_IF_ERROR(Require(!std::isnan(estimator_glitch.t_s),
+                                   "estimator_glitch.t_s",
+                                   estimator_glitch.t_s,
+                                   "a number (< 0: no glitch)"));
   if (payload_change.enabled()) {
     IMUSYSID_RETURN_IF_ERROR(Require(payload_change.t_s < duration_s(),
                                      "payload_change.t_s",
@@ -197,17 +212,23 @@ Status Simulator3dOptions::Validate() const {
                                      payload_change.mass_kg,
                                      -0.5 * mass_kg,
                                      mass_kg));
-    IMUSYSID_RETURN_IF_ERROR(VectorInRange(
-        "payload_change.offset_frd_m", payload_change.offset_frd_m, -0.5, 0.5));
+    IMUSYSID_RETURN_IF_ERROR(VectorInRange("payload_change.offset_frd_m",
+                                           payload_change.offset_frd_m,
+                                           -sim3d_flags::kMaxPayloadOffsetM,
+                                           sim3d_flags::kMaxPayloadOffsetM));
   }
   // The stress effects: bounds that keep the flight flyable and the effect
-  // within what a real vehicle shows.
+  // within what a real vehicle shows. The amplitudes are checked even when
+  // the effect is off (0).
+  IMUSYSID_RETURN_IF_ERROR(InRange("flexible_mount.amplitude_m",
+                                   flexible_mount.amplitude_m,
+                                   0.0,
+                                   sim3d_flags::kMaxMountAmplitudeM));
   if (flexible_mount.enabled()) {
-    IMUSYSID_RETURN_IF_ERROR(InRange(
-        "flexible_mount.amplitude_m", flexible_mount.amplitude_m, 0.0, 0.01));
     IMUSYSID_RETURN_IF_ERROR(
         Require(flexible_mount.freq_hz > 0.0 &&
-                    flexible_mount.freq_hz <= 0.45 * rate_hz,
+                    flexible_mount.freq_hz <=
+                        sim3d_flags::kMaxEffectFreqPerRate * rate_hz,
                 "flexible_mount.freq_hz",
                 flexible_mount.freq_hz,
                 "> 0 and <= 0.45 rate_hz"));
@@ -218,15 +239,16 @@ Status Simulator3dOptions::Validate() const {
                 flexible_mount.direction_frd.norm(),
                 "> 0 and finite"));
   }
+  IMUSYSID_RETURN_IF_ERROR(InRange("periodic_force.amplitude_mps2",
+                                   periodic_force.amplitude_mps2,
+                                   0.0,
+                                   sim3d_flags::kMaxForceAmplitudeMps2));
   if (periodic_force.enabled()) {
-    IMUSYSID_RETURN_IF_ERROR(InRange("periodic_force.amplitude_mps2",
-                                     periodic_force.amplitude_mps2,
-                                     0.0,
-                                     5.0));
-    IMUSYSID_RETURN_IF_ERROR(InRange("periodic_force.freq_hz",
-                                     periodic_force.freq_hz,
-                                     0.01,
-                                     0.45 * rate_hz));
+    IMUSYSID_RETURN_IF_ERROR(
+        InRange("periodic_force.freq_hz",
+                periodic_force.freq_hz,
+                sim3d_flags::kMinForceFreqHz,
+                sim3d_flags::kMaxEffectFreqPerRate * rate_hz));
     IMUSYSID_RETURN_IF_ERROR(
         Require(periodic_force.direction_frd.allFinite() &&
                     periodic_force.direction_frd.norm() > 0.0,
@@ -239,16 +261,18 @@ Status Simulator3dOptions::Validate() const {
                                      "estimator_glitch.t_s",
                                      estimator_glitch.t_s,
                                      "< the flight's duration"));
-    IMUSYSID_RETURN_IF_ERROR(InRange(
-        "estimator_glitch.yaw_deg", estimator_glitch.yaw_deg, -180.0, 180.0));
+    IMUSYSID_RETURN_IF_ERROR(InRange("estimator_glitch.yaw_deg",
+                                     estimator_glitch.yaw_deg,
+                                     -sim3d_flags::kMaxGlitchYawDeg,
+                                     sim3d_flags::kMaxGlitchYawDeg));
     IMUSYSID_RETURN_IF_ERROR(InRange("estimator_glitch.velocity_mps",
                                      estimator_glitch.velocity_mps,
-                                     -20.0,
-                                     20.0));
+                                     -sim3d_flags::kMaxGlitchVelocityMps,
+                                     sim3d_flags::kMaxGlitchVelocityMps));
     IMUSYSID_RETURN_IF_ERROR(InRange("estimator_glitch.velocity_duration_s",
                                      estimator_glitch.velocity_duration_s,
                                      0.0,
-                                     10.0));
+                                     sim3d_flags::kMaxGlitchDurationS));
   }
   return Status::Ok();
 }
@@ -271,7 +295,8 @@ StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
       return o;
     }
   }
-  return NotFoundError("unknown 3-D scenario '" + std::string(name) +
+  return NotFoundError("unknown 3-D scenario '" +
+                       sim_targets::CutForMessage(name) +
                        "'; valid: figure8_3d, hover_3d, pitch_laps_3d, "
                        "roll_laps_3d, yaw_sweeps_3d");
 }

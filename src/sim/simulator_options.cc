@@ -11,6 +11,7 @@
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
 #include "imusysid/simulate.h"
+#include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -195,7 +196,8 @@ StatusOr<SimulatorOptions> ScenarioOptions(std::string_view name) {
     return o;
   }
   std::ostringstream msg;
-  msg << "unknown scenario '" << name << "'; valid names:";
+  msg << "unknown scenario '" << sim_targets::CutForMessage(name)
+      << "'; valid names:";
   for (const auto& n : ScenarioNames()) msg << " " << n;
   return NotFoundError(msg.str());
 }

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "src/sim/simulate_targets.h"
 #include "src/sim/simulator_internal.h"
 #include "src/tools/format.h"
 
@@ -170,8 +171,9 @@ Status BadValue(std::string_view name,
                 std::string_view value,
                 const char* expected) {
   std::ostringstream msg;
-  msg << "simulator setting '" << name << "': bad value '" << value
-      << "' (expected " << expected << ")";
+  msg << "simulator setting '" << sim_targets::CutForMessage(name)
+      << "': bad value '" << sim_targets::CutForMessage(value) << "' (expected "
+      << expected << ")";
   return InvalidArgumentError(msg.str());
 }
 
@@ -244,7 +246,8 @@ Status SetSimulatorSetting(SimulatorOptions* options,
     return Status::Ok();
   }
   std::ostringstream msg;
-  msg << "unknown simulator setting '" << name << "'; valid names:";
+  msg << "unknown simulator setting '" << sim_targets::CutForMessage(name)
+      << "'; valid names:";
   for (const SettingDef& def : SettingDefs()) msg << " " << def.name;
   return NotFoundError(msg.str());
 }
