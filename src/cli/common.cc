@@ -1,7 +1,5 @@
 #include "src/cli/common.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -115,116 +113,6 @@ Status CheckOutputIsNotInput(const std::string& out_flag,
     }
   }
   return Status::Ok();
-}
-
-namespace {
-
-// `path` with symbolic links followed to the file they name (which may not
-// exist yet); InvalidArgument when that is not a regular file or a new name.
-StatusOr<std::string> RegularFileTarget(const std::string& path) {
-  std::error_code ec;
-  std::filesystem::path target = path;
-  for (int depth = 0; depth < 40; ++depth) {
-    const auto status = std::filesystem::symlink_status(target, ec);
-    if (ec || status.type() == std::filesystem::file_type::not_found) {
-      return target.string();
-    }
-    if (status.type() == std::filesystem::file_type::regular) {
-      return target.string();
-    }
-    if (status.type() != std::filesystem::file_type::symlink) {
-      return InvalidArgumentError("cannot write '" + path +
-                                  "': it is not a regular file (this output "
-                                  "is a pair of files)");
-    }
-    const std::filesystem::path link =
-        std::filesystem::read_symlink(target, ec);
-    if (ec)
-      return InvalidArgumentError("cannot write '" + path +
-                                  "': " + ec.message());
-    target = link.is_absolute() ? link : target.parent_path() / link;
-  }
-  return InvalidArgumentError("cannot write '" + path +
-                              "': too many levels of symbolic links");
-}
-
-std::string FolderOf(const std::string& path) {
-  const std::string folder = std::filesystem::path(path).parent_path().string();
-  return folder.empty() ? "." : folder;
-}
-
-}  // namespace
-
-Status WriteFilesTogether(
-    const std::vector<std::pair<std::string, std::string>>& path_and_text) {
-  std::vector<std::string> targets, temps;
-  auto cleanup = [&]() {
-    for (const std::string& temp : temps) unlink(temp.c_str());
-  };
-  for (const auto& [path, text] : path_and_text) {
-    StatusOr<std::string> target = RegularFileTarget(path);
-    if (!target.ok()) {
-      cleanup();
-      return target.status();
-    }
-    if (!targets.empty() && FolderOf(*target) != FolderOf(targets.front())) {
-      cleanup();
-      return InvalidArgumentError("cannot write '" + path +
-                                  "' beside the other files of its set");
-    }
-    targets.push_back(*target);
-    // The temporary name is unique, so concurrent runs never write into each
-    // other's files; only the renames below need the lock.
-    std::string temp = *target + ".tmp.XXXXXX";
-    const int fd = mkstemp(temp.data());
-    if (fd < 0) {
-      const int error_number = errno;
-      cleanup();
-      const std::string message =
-          "cannot write '" + path + "': " + std::strerror(error_number);
-      return error_number == ENOSPC || error_number == EIO
-                 ? IoError(message)
-                 : InvalidArgumentError(message);
-    }
-    temps.push_back(temp);
-    bool written = fchmod(fd, 0644) == 0;
-    for (std::size_t done = 0; written && done < text.size();) {
-      const ssize_t n = write(fd, text.data() + done, text.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      written = n > 0;
-      if (written) done += static_cast<std::size_t>(n);
-    }
-    const int error_number = errno;
-    if (close(fd) != 0 || !written) {
-      cleanup();
-      return IoError("cannot write '" + path +
-                     "': " + std::strerror(written ? errno : error_number));
-    }
-  }
-  const std::string folder = FolderOf(targets.front());
-  const int dir_fd = open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir_fd < 0 || flock(dir_fd, LOCK_EX) != 0) {
-    const int error_number = errno;
-    if (dir_fd >= 0) close(dir_fd);
-    cleanup();
-    return IoError("cannot lock '" + folder +
-                   "': " + std::strerror(error_number));
-  }
-  Status result = Status::Ok();
-  for (std::size_t i = 0; i < targets.size(); ++i) {
-    if (std::rename(temps[i].c_str(), targets[i].c_str()) != 0) {
-      const int error_number = errno;
-      // Neither: the files already renamed in this run are removed again.
-      for (std::size_t k = 0; k < i; ++k) unlink(targets[k].c_str());
-      for (std::size_t k = i; k < temps.size(); ++k) unlink(temps[k].c_str());
-      result = IoError("cannot write '" + targets[i] +
-                       "' (rename): " + std::strerror(error_number));
-      break;
-    }
-  }
-  flock(dir_fd, LOCK_UN);
-  close(dir_fd);
-  return result;
 }
 
 std::string EscapeLines(const std::string& text) {

@@ -86,16 +86,6 @@ Status CheckOutputIsNotInput(const std::string& out_flag,
                              const std::string& out,
                              const std::vector<std::string>& inputs);
 
-// Writes several files as one unit (simulate's log and its truth sidecar):
-// each is written to a temporary file beside its target first, then all are
-// renamed into place while an exclusive lock on their folder is held, so
-// that concurrent runs never leave files from two runs side by side, and a
-// failure before the renames leaves none of the new files. Targets must be
-// new names, regular files or symbolic links to them (written through);
-// anything else is refused.
-Status WriteFilesTogether(
-    const std::vector<std::pair<std::string, std::string>>& path_and_text);
-
 // `text` with each line escaped by EscapeForDisplay (control bytes and
 // invalid UTF-8 as \xNN), the line ends kept: for tables that quote strings
 // from files (a ULog's vehicle name, a CSV's column names).
