@@ -688,11 +688,214 @@ TEST(PoolFlightsCli, ARefusedFlightIsNamedAndTheOthersPooled) {
   EXPECT_EQ(text.exit_code, 0);
   EXPECT_THAT(text.out, HasSubstr("flight 1 (" + h + ") not pooled: "));
   EXPECT_THAT(text.out, HasSubstr("IMU 0, 1 flight pooled"));
-  // Every flight refused: the first one's reason, exit 2.
+  // Every flight refused: the first one's reason, exit 2 (two hovers: one
+  // given twice is refused as such, IdentifyFlights below).
+  ASSERT_EQ(RunCli("simulate --scenario=hover_3d --sensor_profile=gentle "
+                   "--seed=2 --out=" +
+                   dir + "/H2.csv")
+                .exit_code,
+            0);
   const auto none =
-      RunCli("fit --log=" + h + " --log=" + h + " --model=rigid3d");
+      RunCli("fit --log=" + h + " --log=" + dir + "/H2.csv --model=rigid3d");
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_THAT(none.err, HasSubstr("flight 1 (" + h + ")"));
+  EXPECT_THAT(none.err, HasSubstr("no flight window survives"));
+}
+
+// --- Several logs and IMU instances: what IdentifyFlights refuses ---
+
+std::string PoolSlurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// One flight given twice under any name (the same path, another spelling
+// of it, a symbolic or hard link, a byte copy, the same bytes in memory) is
+// refused before any fitting, naming both; different bytes are not (the
+// boundary: two damaged logs fail on the first one's own error).
+TEST(IdentifyFlights, OneFlightGivenTwiceIsRefusedUnderAnyName) {
+  const std::string dir = ::imusysid::testing::MakeTempDir();
+  const std::string a = dir + "/A.csv";
+  std::ofstream(a) << "# frame: frd\nt,ax,ay,az,gx,gy,gz\n0,0,0,-9.8,0,0,0\n";
+  const std::string bytes = PoolSlurp(a);
+  std::ofstream(dir + "/copy.csv", std::ios::binary) << bytes;
+  ASSERT_EQ(std::system(("ln -s A.csv " + dir + "/sym.csv && ln " + a + " " +
+                         dir + "/hard.csv")
+                            .c_str()),
+            0);
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  const std::vector<std::pair<IdentifyInput, std::string>> twins = {
+      {IdentifyInput::LogFile(a), a},
+      {IdentifyInput::LogFile(dir + "/./A.csv"), dir + "/./A.csv"},
+      {IdentifyInput::LogFile(dir + "/sym.csv"), dir + "/sym.csv"},
+      {IdentifyInput::LogFile(dir + "/hard.csv"), dir + "/hard.csv"},
+      {IdentifyInput::LogFile(dir + "/copy.csv"), dir + "/copy.csv"},
+      {IdentifyInput::LogBytes(bytes, "in memory"), "in memory"}};
+  for (const auto& [twin, name] : twins) {
+    StatusOr<FlightsSummary> s =
+        IdentifyFlights({IdentifyInput::LogFile(a), twin}, options);
+    ASSERT_FALSE(s.ok()) << name;
+    EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument) << name;
+    EXPECT_THAT(
+        s.status().message(),
+        HasSubstr("flight 2 (" + name + ") is flight 1 (" + a + ") again"));
+    EXPECT_THAT(s.status().message(), HasSubstr("give each flight once"));
+  }
+  // Third of three, after a different one: named by its own place.
+  std::ofstream(dir + "/B.csv") << "# frame: frd\nt,ax,ay,az,gx,gy,gz\n";
+  StatusOr<FlightsSummary> third =
+      IdentifyFlights({IdentifyInput::LogFile(a),
+                       IdentifyInput::LogFile(dir + "/B.csv"),
+                       IdentifyInput::LogFile(dir + "/copy.csv")},
+                      options);
+  ASSERT_FALSE(third.ok());
+  EXPECT_THAT(third.status().message(),
+              HasSubstr("flight 3 (" + dir + "/copy.csv) is flight 1"));
+  // The same preprocessed data twice.
+  auto data = std::make_shared<ProblemData>();
+  StatusOr<FlightsSummary> same_data = IdentifyFlights(
+      {IdentifyInput::Data(data), IdentifyInput::Data(data)}, options);
+  ASSERT_FALSE(same_data.ok());
+  EXPECT_THAT(same_data.status().message(), HasSubstr("the same data"));
+  // Bytes one character apart are two flights: each read on its own.
+  StatusOr<FlightsSummary> two =
+      IdentifyFlights({IdentifyInput::LogBytes("not a log 1", "one"),
+                       IdentifyInput::LogBytes("not a log 2", "two")},
+                      options);
+  ASSERT_FALSE(two.ok());
+  EXPECT_THAT(two.status().message(), HasSubstr("flight 1 (one)"));
+  EXPECT_THAT(two.status().message(), ::testing::Not(HasSubstr("again")));
+}
+
+// A planar CSV (no attitude, no velocity: it cannot give rigid3d's data)
+// beside two 3-D flights: named "not pooled" with why, and the pool is the
+// two 3-D flights' pool to the bit, its parameter file too.
+TEST(IdentifyFlights, ALogThatCannotGiveTheModelsDataIsNotPooled) {
+  const std::string dir = ::imusysid::testing::MakeTempDir();
+  const std::string a = PoolFlightCsv(dir + "/A.csv", 1, 0.0);
+  const std::string b = PoolFlightCsv(dir + "/B.csv", 2, 0.0);
+  const std::string planar =
+      ::imusysid::testing::DataDir() + "/paper_test1.csv";
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  options.emit = EmitFormat::kArduPilot;
+  StatusOr<FlightsSummary> with =
+      IdentifyFlights({IdentifyInput::LogFile(a),
+                       IdentifyInput::LogFile(planar),
+                       IdentifyInput::LogFile(b)},
+                      options);
+  ASSERT_TRUE(with.ok()) << with.status().ToString();
+  ASSERT_EQ(with->refused.size(), 1u);
+  EXPECT_EQ(with->refused[0].input, 1u);
+  EXPECT_EQ(with->refused[0].source, planar);
+  EXPECT_THAT(with->refused[0].reason,
+              HasSubstr("cannot give model rigid3d's data"));
+  EXPECT_THAT(with->refused[0].reason, HasSubstr("rigid3d_imu"));
+  ASSERT_EQ(with->flights.size(), 2u);
+  EXPECT_EQ(with->flight_inputs, (std::vector<std::size_t>{0, 2}));
+
+  // The other two pooled alone: their own fits (each flight's fit is its
+  // own), pooled and written.
+  std::vector<FlightImus> kept;
+  for (const IdentifySummary& f : with->flights) {
+    kept.push_back({f.source, f.imus, f.skipped_imus});
+  }
+  EXPECT_EQ(kept[0].source, a);
+  EXPECT_EQ(kept[1].source, b);
+  const std::vector<PooledImuPosition3d> alone = PoolFlights(kept);
+  ASSERT_EQ(with->imus.size(), alone.size());
+  for (std::size_t k = 0; k < alone.size(); ++k) {
+    for (int x = 0; x < 3; ++x) {
+      const auto i = static_cast<std::size_t>(x);
+      EXPECT_EQ(::imusysid::testing::Bits(with->imus[k].axes[i].position_m),
+                ::imusysid::testing::Bits(alone[k].axes[i].position_m))
+          << x;
+      EXPECT_EQ(::imusysid::testing::Bits(with->imus[k].axes[i].stderr_m),
+                ::imusysid::testing::Bits(alone[k].axes[i].stderr_m))
+          << x;
+      EXPECT_EQ(with->imus[k].axes[i].flights, 2) << x;
+    }
+    // Every number the pool reports (the JSON prints 17 digits).
+    EXPECT_EQ(PooledToJson(with->imus[k]).dump(),
+              PooledToJson(alone[k]).dump());
+  }
+  StatusOr<AutopilotParameters> emit_alone = Rigid3dAutopilotParameters(
+      PooledAsImuPositions(alone, kept), EmitFormat::kArduPilot);
+  ASSERT_TRUE(emit_alone.ok());
+  ASSERT_TRUE(with->emit.has_value());
+  EXPECT_EQ(AutopilotParametersToText(*with->emit),
+            AutopilotParametersToText(*emit_alone));
+}
+
+// An instance asked for by name that the log lacks is InvalidArgument
+// naming what it holds, for a CSV (one IMU, its `# imu:` line), a ULog and
+// a DataFlash log; with several logs the flight is named. The instance a
+// CSV does hold still fits, under its own number.
+TEST(IdentifyFlights, AnImuInstanceTheLogLacksIsRefused) {
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+  ASSERT_TRUE(o.ok());
+  o->sensor_profile = "gentle";
+  o->imus.resize(2);
+  StatusOr<Simulated3dFlight> f = Simulate3d(*o);
+  ASSERT_TRUE(f.ok()) << f.status().message();
+  StatusOr<std::string> csv = FormatSimulated3dCsv(f->logs[0]);
+  StatusOr<std::string> csv2 = FormatSimulated3dCsv(f->logs[1]);
+  StatusOr<std::string> ulog = FormatSimulated3dUlog(*o, *f);
+  StatusOr<std::string> bin = FormatSimulated3dDataFlash(*o, *f);
+  ASSERT_TRUE(csv.ok() && csv2.ok() && ulog.ok() && bin.ok());
+  ASSERT_THAT(*csv, HasSubstr("# imu: 1\n"));
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  options.imu = 2;
+  struct Case {
+    IdentifyInput input;
+    std::string message;
+  } cases[] = {
+      {IdentifyInput::LogBytes(*csv, "F.csv"),
+       "log 'F.csv' holds IMU instance 0 only (its '# imu: 1' line); imu=2 "
+       "names none"},
+      {IdentifyInput::LogBytes(*csv2, "F.imu2.csv"),
+       "log 'F.imu2.csv' holds IMU instance 1 only (its '# imu: 2' line); "
+       "imu=2 names none"},
+      {IdentifyInput::LogBytes(*ulog, "F.ulg"),
+       "log 'F.ulg' holds IMU instances 0 and 1; imu=2 names none"},
+      {IdentifyInput::LogBytes(*bin, "F.bin"),
+       "log 'F.bin' holds IMU instances 0 and 1; imu=2 names none"},
+  };
+  for (const Case& c : cases) {
+    StatusOr<IdentifySummary> s = Identify(c.input, options);
+    ASSERT_FALSE(s.ok()) << c.input.source();
+    EXPECT_EQ(s.status().code(), StatusCode::kInvalidArgument);
+    EXPECT_THAT(s.status().message(), HasSubstr(c.message));
+    // The planar path reads the same instance.
+    IdentifyOptions planar = options;
+    planar.model.clear();
+    StatusOr<IdentifySummary> p = Identify(c.input, planar);
+    ASSERT_FALSE(p.ok());
+    EXPECT_THAT(p.status().message(), HasSubstr(c.message));
+  }
+  StatusOr<FlightsSummary> several =
+      IdentifyFlights({IdentifyInput::LogBytes(*ulog, "F.ulg"),
+                       IdentifyInput::LogBytes(*csv, "F.csv")},
+                      options);
+  ASSERT_FALSE(several.ok());
+  EXPECT_EQ(several.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(several.status().message(),
+              HasSubstr("flight 1 (F.ulg): log 'F.ulg' holds IMU instances 0 "
+                        "and 1; imu=2 names none"));
+  // The boundary: the CSV's own instance, asked for by name or not, fits
+  // and is reported (and written) as that instance.
+  for (int imu : {1, kDefaultImu}) {
+    options.imu = imu;
+    StatusOr<IdentifySummary> s =
+        Identify(IdentifyInput::LogBytes(*csv2, "F.imu2.csv"), options);
+    ASSERT_TRUE(s.ok()) << s.status().ToString();
+    ASSERT_EQ(s->imus.size(), 1u);
+    EXPECT_EQ(s->imus[0].instance, 1);
+  }
 }
 
 }  // namespace

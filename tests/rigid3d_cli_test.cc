@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -277,6 +278,94 @@ TEST(Rigid3dCli, ImuFlagIsChecked) {
   const auto planar = RunCli("fit --log=" + FigureEight() + " --imu=all");
   EXPECT_EQ(planar.exit_code, 2);
   EXPECT_THAT(planar.err, HasSubstr("rigid3d"));
+}
+
+// --- Several logs and IMU instances (docs/failure-modes.md) ---
+
+// One flight given twice (the same path, a symbolic link to it, a byte
+// copy) is exit 2 naming both, before any fitting: pooled it would count
+// twice and shrink σ̂ by √2.
+TEST(Rigid3dCli, OneFlightGivenTwiceIsRefused) {
+  const std::string dir = testing::MakeTempDir();
+  const std::string& f = FigureEight();
+  ASSERT_EQ(std::system(("ln -s " + f + " " + dir + "/L.csv && cp " + f + " " +
+                         dir + "/C.csv")
+                            .c_str()),
+            0);
+  for (const std::string& twin : {f, dir + "/L.csv", dir + "/C.csv"}) {
+    const auto r =
+        RunCli("fit --log=" + f + " --log=" + twin + " --model=rigid3d");
+    EXPECT_EQ(r.exit_code, 2) << twin;
+    EXPECT_THAT(
+        r.err,
+        HasSubstr("flight 2 (" + twin + ") is flight 1 (" + f + ") again"));
+    EXPECT_TRUE(r.out.empty());
+    EXPECT_THAT(r.err, ::testing::Not(HasSubstr("fitting"))) << twin;
+  }
+}
+
+// A planar CSV (no attitude, no velocity) beside a 3-D flight: named "not
+// pooled" with why, and the pool, its JSON and its parameter file are
+// those of the 3-D flight alone to the bit (alone: beside a hover, which
+// is refused).
+TEST(Rigid3dCli, APlanarLogBesideA3dFlightIsNotPooled) {
+  const std::string dir = testing::MakeTempDir();
+  ASSERT_EQ(
+      RunCli("simulate --scenario=hover_3d --sensor_profile=gentle --out=" +
+             dir + "/H.csv")
+          .exit_code,
+      0);
+  const std::string planar = testing::DataDir() + "/paper_test1.csv";
+  const std::string& f = FigureEight();
+  const std::string flags = " --model=rigid3d --emit=ardupilot --format=json";
+  const auto with = RunCli("fit --log=" + planar + " --log=" + f + flags);
+  ASSERT_EQ(with.exit_code, 0) << with.err;
+  const auto alone = RunCli("fit --log=" + dir + "/H.csv --log=" + f + flags);
+  ASSERT_EQ(alone.exit_code, 0) << alone.err;
+  const nlohmann::json j = nlohmann::json::parse(with.out);
+  const nlohmann::json k = nlohmann::json::parse(alone.out);
+  ASSERT_EQ(j["flights"].size(), 2u);
+  EXPECT_EQ(j["flights"][0]["log"], planar);
+  EXPECT_EQ(j["flights"][0]["fitted"], false);
+  EXPECT_THAT(j["flights"][0]["reason"].get<std::string>(),
+              HasSubstr("cannot give model rigid3d's data"));
+  EXPECT_EQ(j["imus"].dump(), k["imus"].dump());
+  ASSERT_TRUE(j["emit"].is_object()) << with.out;
+  EXPECT_EQ(j["emit"].dump(), k["emit"].dump());
+  for (const auto& d : j["imus"][0]["decisions"]) {
+    EXPECT_EQ(d["flights_pooled"], 1);
+    ASSERT_EQ(d["flights"].size(), 1u);
+    EXPECT_EQ(d["flights"][0]["log"], f);
+  }
+}
+
+// --imu=2 on a CSV of one IMU (the simulator's `# imu: 1`: instance 0) is
+// exit 2 naming what it holds, alone or among several logs; --imu=0, the
+// instance it holds, still fits and is reported as instance 0.
+TEST(Rigid3dCli, AnImuInstanceTheCsvLacksIsRefused) {
+  const std::string& f = FigureEight();
+  const std::string holds =
+      "log '" + f +
+      "' holds IMU instance 0 only (its '# imu: 1' line); "
+      "imu=2 names none";
+  const auto one = RunCli("fit --log=" + f + " --model=rigid3d --imu=2");
+  EXPECT_EQ(one.exit_code, 2);
+  EXPECT_THAT(one.err, HasSubstr(holds));
+  EXPECT_TRUE(one.out.empty());
+  const auto emit =
+      RunCli("fit --log=" + f + " --model=rigid3d --imu=2 --emit=ardupilot");
+  EXPECT_EQ(emit.exit_code, 2);
+  EXPECT_THAT(emit.out, ::testing::Not(HasSubstr("INS_POS3")));
+  const auto several =
+      RunCli("fit --log=" + f + " --log=" + testing::DataDir() +
+             "/paper_test1.csv --model=rigid3d --imu=2");
+  EXPECT_EQ(several.exit_code, 2);
+  EXPECT_THAT(several.err, HasSubstr("flight 1 (" + f + "): " + holds));
+  const auto held =
+      RunCli("fit --log=" + f + " --model=rigid3d --imu=0 --format=json");
+  ASSERT_EQ(held.exit_code, 0) << held.err;
+  const nlohmann::json j = nlohmann::json::parse(held.out);
+  EXPECT_EQ(j["instance"], 0);
 }
 
 TEST(Rigid3dCli, InspectListsTheWindowsFitUses) {

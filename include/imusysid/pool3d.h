@@ -173,7 +173,10 @@ struct FlightsSummary {
   std::vector<IdentifySummary> flights;
   std::vector<std::size_t> flight_inputs;
   // A flight the data could not support (FailedPrecondition: a hover, a
-  // ground log, a log too slow): named with why, and left out of the pool.
+  // ground log, a log too slow), or whose log cannot give the pool's
+  // model's data (fitted alone with another model: a planar CSV beside
+  // rigid3d flights): named with why, and left out of the pool, which is
+  // then the other flights' pool exactly.
   struct RefusedFlight {
     std::size_t input = 0;  // its place among the inputs (0-based)
     std::string source;
@@ -193,8 +196,13 @@ struct FlightsSummary {
 // recorded in `refused` and the others are pooled; any other error of a
 // flight (a file that is not there, a damaged log, wrong options) is the
 // answer, prefixed with the flight's source, as is the first refusal when
-// every flight is refused. InvalidArgument for fewer than two inputs or a
-// planar model.
+// every flight is refused. InvalidArgument for fewer than two inputs, a
+// planar model, an IMU instance (options.imu) a log lacks (naming what it
+// holds), or one flight given twice: inputs of equal bytes (one file under
+// two names, a link, a copy; the same data) are refused before any fit,
+// naming both, since pooled twice a flight would count twice.
+// The pool's model is options.model where any flight gives it, else the
+// one every flight fell back to; a flight of another model is refused.
 StatusOr<FlightsSummary> IdentifyFlights(
     const std::vector<IdentifyInput>& inputs,
     const IdentifyOptions& options,

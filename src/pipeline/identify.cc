@@ -1,6 +1,8 @@
 #include "imusysid/identify.h"
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -106,6 +108,77 @@ StatusOr<EstimateResult> EstimateOrName(const Estimator& estimator,
   }
   return Status(result.status().code(),
                 result.status().message() + "; estimators that can:" + can);
+}
+
+int CsvImuInstance(const FlightLog& log) {
+  auto parse = [](const std::string* text, int* out) {
+    if (text == nullptr || text->size() != 1 || (*text)[0] < '0' ||
+        (*text)[0] > '9') {
+      return false;
+    }
+    *out = (*text)[0] - '0';
+    return true;
+  };
+  int n = 0;
+  if (parse(log.FindMetadata("imu_instance"), &n)) return n;
+  if (parse(log.FindMetadata("imu"), &n) && n >= 1) return n - 1;
+  return 0;
+}
+
+Status CheckCsvImuInstance(const FlightLog& log,
+                           const std::string& source,
+                           int imu) {
+  if (imu < 0) return Status::Ok();  // the default or every instance
+  const int held = CsvImuInstance(log);
+  if (imu == held) return Status::Ok();
+  std::string why;
+  if (log.FindMetadata("imu_instance") != nullptr) {
+    why = " (its '# imu_instance: " + std::to_string(held) + "' line)";
+  } else if (log.FindMetadata("imu") != nullptr) {
+    why = " (its '# imu: " + std::to_string(held + 1) + "' line)";
+  }
+  return InvalidArgumentError("log '" + source + "' holds IMU instance " +
+                              std::to_string(held) + " only" + why +
+                              "; imu=" + std::to_string(imu) +
+                              " names none (a CSV holds one IMU)");
+}
+
+Status ImuInstanceNotHeldError(std::string_view bytes,
+                               const ParsedFlightLog* parsed,
+                               const std::string& source,
+                               int imu,
+                               const IdentifyOptions& options,
+                               const Status& missing) {
+  if (missing.code() != StatusCode::kNotFound) return missing;
+  std::optional<ParsedFlightLog> own;
+  if (parsed == nullptr) {
+    StatusOr<ParsedFlightLog> p = ParsedFlightLog::Parse(bytes, source);
+    if (!p.ok()) return missing;
+    own = std::move(p).value();
+    parsed = &*own;
+  }
+  // An instance the reader finds (even one too short to fit) is held; only
+  // NotFound says it is not there.
+  std::vector<int> held;
+  for (int k = 0; k <= 2; ++k) {
+    if (k == imu) continue;
+    StatusOr<LogReadOptions> read = FitReadOptions(bytes, k, options);
+    if (!read.ok()) continue;
+    StatusOr<FlightLog> log = parsed->Instance(*read);
+    if (log.ok() || log.status().code() != StatusCode::kNotFound) {
+      held.push_back(k);
+    }
+  }
+  if (held.empty()) return missing;
+  std::string list;
+  for (std::size_t i = 0; i < held.size(); ++i) {
+    if (i > 0) list += i + 1 == held.size() ? " and " : ", ";
+    list += std::to_string(held[i]);
+  }
+  return InvalidArgumentError("log '" + source + "' holds IMU instance" +
+                              (held.size() > 1 ? "s " : " ") + list +
+                              (held.size() > 1 ? "" : " only") +
+                              "; imu=" + std::to_string(imu) + " names none");
 }
 
 }  // namespace internal

@@ -145,6 +145,8 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   bool log_ended = false;
   Status first_failure = Status::Ok();
   auto fit_instance = [&](int instance) -> Status {
+    // The instance the fit is reported as: a CSV's own (CsvImuInstance).
+    int label = instance;
     Preprocess3dResult pre;
     std::string damage;
     if (input.is_log()) {
@@ -159,7 +161,18 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
           log_ended = true;
           return Status::Ok();
         }
+        // One asked for by name that the log lacks: what it holds.
+        if (options.imu >= 0 && parsed.has_value()) {
+          return ImuInstanceNotHeldError(
+              bytes, &*parsed, input.source(), instance, options, log.status());
+        }
         return log.status();
+      }
+      if (!parsed.has_value()) {
+        // A CSV is the one IMU it says it is, under that instance's name.
+        IMUSYSID_RETURN_IF_ERROR(
+            CheckCsvImuInstance(*log, input.source(), options.imu));
+        label = CsvImuInstance(*log);
       }
       if (options.stop_after == IdentifyStage::kWindows) {
         StatusOr<Preprocess3dResult> windows = SelectWindows3d(*log, po);
@@ -241,13 +254,8 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     // the report reads too.
     auto owner = std::make_shared<const Preprocess3dResult>(std::move(pre));
     std::shared_ptr<const ProblemData> data(owner, &owner->data);
-    StatusOr<ImuPosition3d> report = FitInstance(*owner,
-                                                 data,
-                                                 model_name,
-                                                 **estimator,
-                                                 estimator_name,
-                                                 instance,
-                                                 options);
+    StatusOr<ImuPosition3d> report = FitInstance(
+        *owner, data, model_name, **estimator, estimator_name, label, options);
     if (!report.ok()) return report.status();
     // The first fitted instance's data, for a caller that refines the fit
     // (or draws it): an instance whose fit failed leaves none behind.

@@ -25,6 +25,29 @@ StatusOr<LogReadOptions> FitReadOptions(std::string_view bytes,
 // The input's bytes: read from its file, or as given.
 StatusOr<std::string> InputBytes(const IdentifyInput& input);
 
+// The instance a CSV log's one IMU is: its `# imu_instance: N` line (what
+// `imusysid convert` writes), else its `# imu: K` line (the 3-D simulator's
+// IMU K, instance K - 1), else 0. A CSV holds one IMU, so an instance asked
+// for by name (IdentifyOptions::imu >= 0) that is not this one names none:
+// reading the file as that instance would label one IMU's position as
+// another's (INS_POS3_* written from IMU 1).
+int CsvImuInstance(const FlightLog& log);
+// Ok when `imu` is kDefaultImu, kAllImuInstances or the CSV's own instance;
+// else InvalidArgument naming the instance the file holds.
+Status CheckCsvImuInstance(const FlightLog& log,
+                           const std::string& source,
+                           int imu);
+// A binary log's reader found no IMU instance `imu` (`missing`, NotFound):
+// InvalidArgument naming the instances the log does hold, probed from
+// `parsed` (or a parse of `bytes` when null); `missing` itself when it
+// holds none or the status is not NotFound.
+Status ImuInstanceNotHeldError(std::string_view bytes,
+                               const ParsedFlightLog* parsed,
+                               const std::string& source,
+                               int imu,
+                               const IdentifyOptions& options,
+                               const Status& missing);
+
 inline void Note(const IdentifyOptions& options, const std::string& text) {
   if (options.on_note) options.on_note(text);
 }

@@ -52,7 +52,23 @@ StatusOr<PlanarInput> DataFromLog(const IdentifyInput& input,
       FitReadOptions(out.bytes, out.imu_instance, options);
   if (!read.ok()) return read.status();
   StatusOr<FlightLog> log = ParseFlightLog(out.bytes, input.source(), *read);
-  if (!log.ok()) return log.status();
+  if (!log.ok()) {
+    if (options.imu >= 0) {
+      return ImuInstanceNotHeldError(out.bytes,
+                                     nullptr,
+                                     input.source(),
+                                     out.imu_instance,
+                                     options,
+                                     log.status());
+    }
+    return log.status();
+  }
+  if (DetectLogFormat(out.bytes) == LogFormat::kCsv) {
+    // A CSV is the one IMU it says it is, under that instance's name.
+    IMUSYSID_RETURN_IF_ERROR(
+        CheckCsvImuInstance(*log, input.source(), options.imu));
+    out.imu_instance = CsvImuInstance(*log);
+  }
   if (options.keep_log) {
     out.log = std::make_shared<const FlightLog>(std::move(*log));
   }
