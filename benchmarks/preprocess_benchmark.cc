@@ -15,7 +15,7 @@
 #include "imusysid/log.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/simulate.h"
-#include "src/preprocess/signal.h"
+#include "src/numerics/savitzky_golay.h"
 
 namespace imusysid {
 namespace {

@@ -6,16 +6,20 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
-#include <random>
 #include <sstream>
 #include <utility>
 
 #include "Eigen/Core"
 #include "Eigen/Eigenvalues"
 #include "glog/logging.h"
+#include "src/numerics/box_scaling.h"
+#include "src/numerics/random.h"
 
 namespace imusysid {
 namespace {
+
+using internal::BoxScaling;
+using internal::Random;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -48,81 +52,6 @@ constexpr int kMaxDraws = 100;
 // ConditionCov: beyond this the eigen-decomposition of C loses its smallest
 // axes to rounding (the tutorial's 1e14).
 constexpr double kMaxCondition = 1e14;
-
-// The parameters with lower < upper, mapped to the unit cube.
-class BoxScaling {
- public:
-  explicit BoxScaling(const Problem& problem)
-      : lower_(problem.lower_bounds()), upper_(problem.upper_bounds()) {
-    for (int i = 0; i < lower_.size(); ++i) {
-      if (lower_[i] < upper_[i]) free_.push_back(i);
-    }
-  }
-
-  int num_free() const { return static_cast<int>(free_.size()); }
-
-  Eigen::VectorXd ToUnit(const Eigen::VectorXd& x) const {
-    Eigen::VectorXd u(num_free());
-    for (int j = 0; j < num_free(); ++j) {
-      const int i = free_[static_cast<std::size_t>(j)];
-      u[j] = std::clamp((x[i] - lower_[i]) / (upper_[i] - lower_[i]), 0.0, 1.0);
-    }
-    return u;
-  }
-
-  // Fixed parameters sit at their (single) bound; the clamp keeps rounding
-  // in lower + u·width from stepping past upper.
-  Eigen::VectorXd ToModel(const Eigen::VectorXd& u) const {
-    Eigen::VectorXd x = lower_;
-    for (int j = 0; j < num_free(); ++j) {
-      const int i = free_[static_cast<std::size_t>(j)];
-      x[i] = std::clamp(
-          lower_[i] + u[j] * (upper_[i] - lower_[i]), lower_[i], upper_[i]);
-    }
-    return x;
-  }
-
- private:
-  Eigen::VectorXd lower_;
-  Eigen::VectorXd upper_;
-  std::vector<int> free_;
-};
-
-// Uniform and normal draws on the fully specified mt19937_64, so a seed
-// gives the same stream with every standard library.
-class CmaesRandom {
- public:
-  explicit CmaesRandom(std::uint64_t seed) : engine_(seed) {}
-
-  // Uniform on [0, 1) from the top 53 bits.
-  double Uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-
-  // Standard normal by Marsaglia's polar method (no trigonometry); the
-  // second value of each accepted pair is kept for the next call.
-  double Normal() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    double a = 0.0;
-    double b = 0.0;
-    double s = 0.0;
-    do {
-      a = 2.0 * Uniform() - 1.0;
-      b = 2.0 * Uniform() - 1.0;
-      s = a * a + b * b;
-    } while (s >= 1.0 || s == 0.0);
-    const double factor = std::sqrt(-2.0 * std::log(s) / s);
-    spare_ = b * factor;
-    has_spare_ = true;
-    return a * factor;
-  }
-
- private:
-  std::mt19937_64 engine_;
-  bool has_spare_ = false;
-  double spare_ = 0.0;
-};
 
 // The tutorial's default strategy parameters for dimension n and population
 // λ (Table 1, positive weights only).
@@ -260,7 +189,7 @@ struct Counters {
 // stopping criterion met after the update, if any.
 LocalStop Generation(double f_tolerance,
                      double x_tolerance,
-                     CmaesRandom* rng,
+                     Random* rng,
                      Objective* objective,
                      Run* run,
                      Counters* counters) {
@@ -273,7 +202,7 @@ LocalStop Generation(double f_tolerance,
     Eigen::VectorXd y;
     Eigen::VectorXd u;
     for (int draw = 0; draw < kMaxDraws; ++draw) {
-      for (int i = 0; i < n; ++i) z[i] = rng->Normal();
+      for (int i = 0; i < n; ++i) z[i] = rng->NormalPolar();
       y = run->basis * run->scales.cwiseProduct(z);
       u = run->mean + run->sigma * y;
       if (InUnitCube(u)) break;
@@ -449,10 +378,11 @@ Status CmaesEstimator::Solve(const Problem& problem,
   const std::int64_t max_restarts =
       options.NamedInt(kMaxRestartsName, kDefaultMaxRestarts);
 
-  const BoxScaling scaling(problem);
+  const BoxScaling scaling(problem.lower_bounds(), problem.upper_bounds());
   const int n = scaling.num_free();
   Objective objective(problem, scaling);
-  CmaesRandom rng(options.seed);
+  // On [0, 1): the stream CMA-ES has drawn since it was written.
+  Random rng(options.seed, Random::Interval::kHalfOpen);
   Counters counters;
   auto elapsed_s = [&]() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() -

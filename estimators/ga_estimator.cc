@@ -13,8 +13,8 @@
 #include "estimators/internal/adapt_feasible.h"
 #include "estimators/internal/budget.h"
 #include "estimators/internal/population_evaluator.h"
-#include "estimators/internal/random.h"
 #include "glog/logging.h"
+#include "src/numerics/random.h"
 
 namespace imusysid {
 namespace {

@@ -72,7 +72,7 @@
 // degrees, μ in 1/m), as MATLAB did on the paper's parametrisation; another
 // parametrisation would be a different search.
 //
-// Random numbers: internal::Random (estimators/internal/random.h), a
+// Random numbers: internal::Random (src/numerics/random.h), a
 // std::mt19937_64 seeded from EstimatorOptions::seed inside each run with its
 // own uniform, normal and permutation draws (the std distributions are
 // implementation-defined), so a run is bit-identical across runs, platforms

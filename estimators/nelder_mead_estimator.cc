@@ -11,9 +11,12 @@
 
 #include "Eigen/Core"
 #include "glog/logging.h"
+#include "src/numerics/box_scaling.h"
 
 namespace imusysid {
 namespace {
+
+using internal::BoxScaling;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -48,45 +51,6 @@ constexpr double kDefaultXTolerance = 1e-10;
 constexpr double kDefaultFTolerance = 1e-12;
 // Each restart costs one local run; two usually confirm the minimum.
 constexpr std::int64_t kDefaultMaxRestarts = 5;
-
-// The parameters with lower < upper, mapped to the unit cube.
-class BoxScaling {
- public:
-  explicit BoxScaling(const Problem& problem)
-      : lower_(problem.lower_bounds()), upper_(problem.upper_bounds()) {
-    for (int i = 0; i < lower_.size(); ++i) {
-      if (lower_[i] < upper_[i]) free_.push_back(i);
-    }
-  }
-
-  int num_free() const { return static_cast<int>(free_.size()); }
-
-  Eigen::VectorXd ToUnit(const Eigen::VectorXd& x) const {
-    Eigen::VectorXd u(num_free());
-    for (int j = 0; j < num_free(); ++j) {
-      const int i = free_[static_cast<std::size_t>(j)];
-      u[j] = std::clamp((x[i] - lower_[i]) / (upper_[i] - lower_[i]), 0.0, 1.0);
-    }
-    return u;
-  }
-
-  // Fixed parameters sit at their (single) bound; the clamp keeps rounding
-  // in lower + u·width from stepping past upper.
-  Eigen::VectorXd ToModel(const Eigen::VectorXd& u) const {
-    Eigen::VectorXd x = lower_;
-    for (int j = 0; j < num_free(); ++j) {
-      const int i = free_[static_cast<std::size_t>(j)];
-      x[i] = std::clamp(
-          lower_[i] + u[j] * (upper_[i] - lower_[i]), lower_[i], upper_[i]);
-    }
-    return x;
-  }
-
- private:
-  Eigen::VectorXd lower_;
-  Eigen::VectorXd upper_;
-  std::vector<int> free_;
-};
 
 Eigen::VectorXd Project(const Eigen::VectorXd& u) {
   return u.cwiseMax(0.0).cwiseMin(1.0);
@@ -340,7 +304,7 @@ Status NelderMeadEstimator::Solve(const Problem& problem,
   const std::int64_t max_restarts =
       options.NamedInt(kMaxRestartsName, kDefaultMaxRestarts);
 
-  const BoxScaling scaling(problem);
+  const BoxScaling scaling(problem.lower_bounds(), problem.upper_bounds());
   Objective objective(problem, scaling, options.max_evaluations, start);
   const Eigen::VectorXd u0 = scaling.ToUnit(problem.initial_guess());
 

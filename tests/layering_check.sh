@@ -30,9 +30,18 @@ check "public headers include only public headers, Eigen and nlohmann_json" \
   'src/|estimators/|benchmarks/|tests/|ceres/|glog/|gflags/' "${public[@]}"
 check "the library does not reach up into the apps or the benchmarks" \
   'src/cli/|benchmarks/|tests/|gflags/' $library
-allowed='src/tools/[a-z0-9_]+\.h|src/report/(figures|gnuplot|html)\.h' check \
-  "the benchmark library uses the public headers and the tool helpers only" \
+allowed='src/(tools|numerics)/[a-z0-9_]+\.h|src/report/(figures|gnuplot|html)\.h' check \
+  "the benchmark library uses the public headers, the tool helpers and the numerics only" \
   'src/|estimators/|tests/|gflags/' $bench_lib
+# src/numerics is the one home of shared numerics (random numbers, filters,
+# derivatives, box scaling, quantiles) that the library, the benchmarks and
+# the tests include: it stands on the user API, Eigen and itself alone, so
+# any of them can use it without a cycle.
+numerics=$(find src/numerics -name '*.cc' -o -name '*.h')
+allowed='src/numerics/[a-z0-9_]+\.h' check \
+  "src/numerics includes only the user API (not extend/), Eigen and itself" \
+  'src/|estimators/|benchmarks/|tests/|imusysid/extend/|ceres/|gflags/|nlohmann/' \
+  $numerics
 check "benchmark binaries include nothing from the CLI or the tests" \
   'src/cli/|tests/' $bench_bin
 check "tests include nothing from the CLI" 'src/cli/' $tests

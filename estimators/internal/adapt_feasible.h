@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "estimators/internal/random.h"
+#include "src/numerics/random.h"
 
 namespace imusysid {
 namespace internal {

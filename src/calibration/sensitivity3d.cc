@@ -8,7 +8,8 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "src/preprocess/signal.h"
+#include "src/numerics/butterworth.h"
+#include "src/numerics/savitzky_golay.h"
 
 namespace imusysid {
 namespace internal {

@@ -12,8 +12,9 @@
 #include <vector>
 
 #include "imusysid/preprocess3d.h"
+#include "src/numerics/butterworth.h"
+#include "src/numerics/savitzky_golay.h"
 #include "src/preprocess/preprocess3d_internal.h"
-#include "src/preprocess/signal.h"
 
 namespace imusysid {
 namespace internal {

@@ -8,8 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include "src/numerics/butterworth.h"
+#include "src/numerics/moving_statistics.h"
+#include "src/numerics/quantile.h"
 #include "src/preprocess/preprocess_internal.h"
-#include "src/preprocess/signal.h"
 
 namespace imusysid {
 namespace internal {

@@ -13,8 +13,11 @@
 #include <vector>
 
 #include "imusysid/parameters.h"
+#include "src/numerics/butterworth.h"
+#include "src/numerics/quantile.h"
+#include "src/numerics/savitzky_golay.h"
+#include "src/numerics/trapezoid.h"
 #include "src/preprocess/preprocess_internal.h"
-#include "src/preprocess/signal.h"
 #include "src/tools/format.h"
 
 namespace imusysid {

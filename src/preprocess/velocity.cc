@@ -8,8 +8,9 @@
 #include <vector>
 
 #include "imusysid/parameters.h"
+#include "src/numerics/butterworth.h"
+#include "src/numerics/trapezoid.h"
 #include "src/preprocess/preprocess_internal.h"
-#include "src/preprocess/signal.h"
 
 namespace imusysid {
 namespace internal {

@@ -13,8 +13,8 @@
 #include "imusysid/parameters.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
+#include "src/numerics/butterworth.h"
 #include "src/preprocess/preprocess3d_internal.h"
-#include "src/preprocess/signal.h"
 #include "src/tools/format.h"
 
 namespace imusysid {

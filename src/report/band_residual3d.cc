@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "imusysid/rigid3d_report.h"
-#include "src/preprocess/signal.h"
+#include "src/numerics/butterworth.h"
 
 namespace imusysid {
 namespace {

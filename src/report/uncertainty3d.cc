@@ -16,7 +16,7 @@
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/rigid3d_report.h"
-#include "src/tools/student_t.h"
+#include "src/numerics/student_t.h"
 
 namespace imusysid {
 namespace {

@@ -102,7 +102,7 @@ void SensorModel::Measure(const State& s,
   // Six draws per sample whatever is switched on, so one switch does not
   // change the other channels' noise.
   double noise[6];
-  for (double& value : noise) value = normal_.Next();
+  for (double& value : noise) value = normal_.NormalPolar();
   for (int axis = 0; axis < 3; ++axis) {
     if (accel_bias_on_) acc[axis] += accel_bias_[axis];
     if (gyro_bias_on_) gyr[axis] += gyro_bias_[axis];

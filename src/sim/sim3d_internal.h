@@ -126,7 +126,7 @@ class Jitter {
   double Next();
 
  private:
-  NormalGenerator normal_;
+  Random normal_;
   double sigma_;
 };
 

@@ -64,7 +64,7 @@ SlowForce::SlowForce(std::uint64_t seed, double rms, double max_hz) {
   // distinct frequencies is A sqrt(kTerms / 2).
   amplitude_ = rms / std::sqrt(0.5 * kTerms);
   constexpr double kMinHz = 0.05;
-  NormalGenerator normal(seed);
+  Random normal(seed);
   for (int axis = 0; axis < 3; ++axis) {
     for (int i = 0; i < kTerms; ++i) {
       // Log-spaced, each axis's set shifted by a fraction of a step so the
@@ -72,8 +72,8 @@ SlowForce::SlowForce(std::uint64_t seed, double rms, double max_hz) {
       const double x = (i + axis / 3.0) / kTerms;
       freq_[axis][i] = kMinHz * std::pow(max_hz / kMinHz, x);
       // atan2 of two independent normals is uniform on (−π, π].
-      const double u = normal.Next();
-      const double v = normal.Next();
+      const double u = normal.NormalPolar();
+      const double v = normal.NormalPolar();
       phase_[axis][i] = std::atan2(u, v);
     }
   }
@@ -91,7 +91,7 @@ Eigen::Vector3d SlowForce::At(double t) const {
 
 double Jitter::Next() {
   if (sigma_ <= 0.0) return 0.0;
-  return sigma_ * std::clamp(normal_.Next(), -3.0, 3.0);
+  return sigma_ * std::clamp(normal_.NormalPolar(), -3.0, 3.0);
 }
 
 }  // namespace internal

@@ -26,8 +26,8 @@ namespace {
 using internal::Commands3d;
 using internal::Controller3d;
 using internal::Derivative3d;
-using internal::NormalGenerator;
 using internal::Plant3d;
+using internal::Random;
 using internal::SecondOrderSection;
 using internal::State3d;
 using internal::Timeline3d;
@@ -74,11 +74,11 @@ StepPlan PlanSteps(const Simulator3dOptions& o, const Timeline3d& timeline) {
 struct ImuUnit {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   Eigen::Matrix3d body_to_sensor = Eigen::Matrix3d::Identity();
-  NormalGenerator normal;
+  Random normal;
   // The realistic profile's broadband vibration: its own stream (so the
   // white noise above draws the same numbers in every profile) and a
   // high-pass then low-pass section per axis (accelerometer, then gyro).
-  NormalGenerator vibration_normal;
+  Random vibration_normal;
   SecondOrderSection high_pass[6];
   SecondOrderSection low_pass[6];
   ImuUnit(std::uint64_t seed, std::uint64_t vibration_seed)
@@ -247,11 +247,11 @@ class Recorder {
       // Six draws per sample in a fixed order.
       for (int axis = 0; axis < 3; ++axis) {
         acc(axis) += vib[axis] + o_.accel_bias_mps2(axis) +
-                     accel_sigma_ * unit.normal.Next();
+                     accel_sigma_ * unit.normal.NormalPolar();
       }
       for (int axis = 0; axis < 3; ++axis) {
         gyr(axis) += vib[3 + axis] + o_.gyro_bias_radps(axis) +
-                     gyro_sigma_ * unit.normal.Next();
+                     gyro_sigma_ * unit.normal.NormalPolar();
       }
       if (realistic_) AddBroadbandAndClip(motors_on, level, &unit, &acc, &gyr);
       // The log holds FLU (FlightLog's convention); FRD → FLU flips y, z.
@@ -289,7 +289,7 @@ class Recorder {
                            Eigen::Vector3d* gyr) {
     for (int axis = 0; axis < 6; ++axis) {
       const double band = unit->low_pass[axis].Step(
-          unit->high_pass[axis].Step(unit->vibration_normal.Next()));
+          unit->high_pass[axis].Step(unit->vibration_normal.NormalPolar()));
       if (!motors_on) continue;
       const double v = level * o_.vibration_axis_scale(axis % 3) *
                        broadband_scale_[axis < 3 ? 0 : 1] * band;
@@ -317,11 +317,12 @@ class Recorder {
     Eigen::Vector3d angle;
     for (int axis = 0; axis < 3; ++axis) {
       angle(axis) = o_.estimator_attitude_noise_deg * kDegToRad *
-                    estimator_normal_.Next();
+                    estimator_normal_.NormalPolar();
     }
     Eigen::Vector3d dv;
     for (int axis = 0; axis < 3; ++axis) {
-      dv(axis) = o_.estimator_velocity_noise_mps * estimator_normal_.Next();
+      dv(axis) =
+          o_.estimator_velocity_noise_mps * estimator_normal_.NormalPolar();
     }
     Eigen::Quaterniond q = s.q;
     if (angle.norm() > 0.0) {
@@ -420,7 +421,7 @@ class Recorder {
   double gyro_sigma_ = 0.0;
   double hover_thrust_ = 0.0;
   std::vector<ImuUnit> units_;
-  NormalGenerator estimator_normal_;
+  Random estimator_normal_;
   internal::Jitter jitter_;
   std::vector<Estimate> estimates_;
   Simulated3dFlight flight_;

@@ -6,12 +6,12 @@
 #define IMUSYSID_SRC_SIM_SIMULATOR_INTERNAL_H_
 
 #include <cstdint>
-#include <random>
 #include <string>
 #include <variant>
 #include <vector>
 
 #include "imusysid/simulate.h"
+#include "src/numerics/random.h"
 
 namespace imusysid {
 namespace internal {
@@ -124,43 +124,6 @@ class Controller {
 
 // --- the sensor model (sensor_model.cc) --------------------------------------
 
-// A normal generator whose output depends only on the seed
-// (std::normal_distribution's algorithm is implementation-defined):
-// Marsaglia's polar method on 53-bit uniforms from std::mt19937_64.
-class NormalGenerator {
- public:
-  explicit NormalGenerator(std::uint64_t seed) : engine_(seed) {}
-
-  double Next() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    double u = 0.0;
-    double v = 0.0;
-    double s = 0.0;
-    do {
-      u = 2.0 * Uniform() - 1.0;
-      v = 2.0 * Uniform() - 1.0;
-      s = u * u + v * v;
-    } while (s >= 1.0 || s == 0.0);
-    const double factor = std::sqrt(-2.0 * std::log(s) / s);
-    spare_ = v * factor;
-    has_spare_ = true;
-    return u * factor;
-  }
-
- private:
-  // Uniform on (0, 1).
-  double Uniform() {
-    return (static_cast<double>(engine_() >> 11) + 0.5) * 0x1p-53;
-  }
-
-  std::mt19937_64 engine_;
-  bool has_spare_ = false;
-  double spare_ = 0.0;
-};
-
 // What the IMU reads: the exact specific force at the IMU position, seen by
 // the tilted sensor (or equation 9 in the model_exact scenario), plus motor
 // vibration, constant biases and white noise as the options switch them on.
@@ -200,7 +163,9 @@ class SensorModel {
   double accel_bias_[3] = {0.0, 0.0, 0.0};
   double gyro_bias_[3] = {0.0, 0.0, 0.0};
   double vib_phase_[2] = {0.0, 0.0};
-  NormalGenerator normal_;
+  // Normals by the polar method (Random::NormalPolar): the noise of a seed
+  // is fixed whatever the standard library.
+  Random normal_;
 };
 
 }  // namespace internal

@@ -22,8 +22,8 @@
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d.h"
 #include "src/models/rigid3d_model.h"
-#include "src/preprocess/signal.h"
-#include "src/tools/student_t.h"
+#include "src/numerics/butterworth.h"
+#include "src/numerics/student_t.h"
 
 namespace imusysid {
 namespace {

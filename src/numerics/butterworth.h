@@ -1,9 +1,12 @@
-// Numeric primitives for turning raw IMU samples into model inputs: a
-// zero-phase Butterworth low-pass, a Savitzky–Golay differentiator on the
-// actual time stamps, a cumulative trapezoid, and moving RMS / variance.
+// Zero-phase Butterworth low-pass filtering: the design as cascaded biquads
+// (bilinear transform, prewarped cutoff), one causal pass, the forward–backward
+// pass with its edge padding, and the zero-phase low-pass of series on uniform
+// or irregular times (LowPassTimeBase: the resampling worked out once). The
+// preprocessing, the 3-D conditioning, the tracker and the reports filter
+// through it.
 
-#ifndef IMUSYSID_SRC_PREPROCESS_SIGNAL_H_
-#define IMUSYSID_SRC_PREPROCESS_SIGNAL_H_
+#ifndef IMUSYSID_SRC_NUMERICS_BUTTERWORTH_H_
+#define IMUSYSID_SRC_NUMERICS_BUTTERWORTH_H_
 
 #include <cstddef>
 #include <vector>
@@ -132,110 +135,6 @@ class LowPassTimeBase {
   std::vector<double> offset_;
 };
 
-// Savitzky–Golay derivative: at each sample k, the least-squares polynomial of
-// `degree` (1 to 4) through the window of 2·half_width + 1 samples centred on
-// k is fitted against the ACTUAL times t (so non-uniform sampling is handled
-// exactly, not by assuming a constant dt), and its slope at t[k] is returned.
-// Near the ends the window keeps its length and shifts inward (the fit is then
-// evaluated off-centre, which is noisier but unbiased for polynomials up to
-// `degree`). On a symmetric window of half-width h seconds, sin(ωt) has
-// relative slope error ≈ (ωh)²/10 for degree 1–2 and ≈ (ωh)⁴/504 for degree
-// 3–4 (continuous least-squares limit). On a uniform grid (every interval
-// within 1e-9 of the mean, which decimal time stamps of a fixed-rate log
-// meet) and half_width ≥ 16 (rates from about 320 Hz with preprocessing's
-// 0.05 s), the interior samples, whose windows are all alike, are one
-// fixed-weight FIR (internal::SavitzkyGolayCentredWeights): O(half_width)
-// per sample instead of a (degree+1)² normal-equation build and solve; it
-// agrees with the general solve to rounding. InvalidArgument when
-// t and x differ in size, degree is outside 1..4, half_width < 1, or there are
-// fewer than degree + 1 samples.
-StatusOr<std::vector<double>> SavitzkyGolayDerivative(
-    const std::vector<double>& t,
-    const std::vector<double>& x,
-    int half_width,
-    int degree);
-
-// SavitzkyGolayDerivative of several series on the same times t: the
-// window fits of one sample share their abscissae, so the normal equations
-// are built and factored once for every series (a gyro's three axes cost
-// little more than one). Each result is SavitzkyGolayDerivative's of that
-// series, bit for bit; InvalidArgument as there, for any series.
-StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEach(
-    const std::vector<double>& t,
-    const std::vector<const std::vector<double>*>& xs,
-    int half_width,
-    int degree);
-
-// SavitzkyGolayDerivativeEach at samples first, first + step, ... only
-// (step ≥ 1; 0 is taken as 1): its result from `first` on thinned by
-// `step`, bit for bit, the window fits made for the samples kept alone.
-StatusOr<std::vector<std::vector<double>>> SavitzkyGolayDerivativeEachEvery(
-    const std::vector<double>& t,
-    const std::vector<const std::vector<double>*>& xs,
-    int half_width,
-    int degree,
-    std::size_t step,
-    std::size_t first = 0);
-
-namespace internal {
-// The FIR weights of SavitzkyGolayDerivative's centred window on a uniform
-// grid of step dt: the slope at sample k is Σ_{j=1..h} w[j] (x[k+j] − x[k−j])
-// / dt (w[0] = 0; the weights are odd in j). CHECKs 1 ≤ degree ≤ 4,
-// half_width ≥ 1: its only caller, SavitzkyGolayDerivative, has returned
-// InvalidArgument for them already.
-std::vector<double> SavitzkyGolayCentredWeights(int half_width, int degree);
-// Component i of the solution of A x = b by the general solve's LDLT (A
-// n × n row-major, read in its lower triangle, 1 ≤ n ≤ 4): what
-// Eigen::LDLT gives, bit for bit, without its dynamic-size overhead (the
-// tests hold it to Eigen).
-double SmallLdltSolve(int n, const double* a, const double* b, int i);
-// SavitzkyGolayDerivative with the per-sample solve everywhere, also on a
-// uniform grid (the reference the FIR is tested against).
-StatusOr<std::vector<double>> SavitzkyGolayDerivativeGeneral(
-    const std::vector<double>& t,
-    const std::vector<double>& x,
-    int half_width,
-    int degree);
-}  // namespace internal
-
-// Cumulative trapezoid: y[0] = 0, y[k] = y[k−1] + (t[k]−t[k−1])(x[k]+x[k−1])/2.
-// Works on any increasing t. For smooth x the error after time T is at most
-// T · max(dt)² · max|x''| / 12. CHECKs that t and x have the same size:
-// internal, its callers pass columns of one validated log or problem
-// (Preprocess's CheckLog), never sizes from input.
-std::vector<double> CumulativeTrapezoid(const std::vector<double>& t,
-                                        const std::vector<double>& x);
-
-// Moving statistics over the centred time window [t[k] − w/2, t[k] + w/2]
-// (clipped at the ends, so edge windows hold fewer samples). O(n) with prefix
-// sums of the mean-removed signal. CHECK on size mismatch or w ≤ 0:
-// internal, called on columns of one validated log with constant windows
-// (detect_segments.cc), never with sizes or windows from input.
-std::vector<double> MovingMean(const std::vector<double>& t,
-                               const std::vector<double>& x,
-                               double window_s);
-// sqrt(mean(x²)) over the window.
-std::vector<double> MovingRms(const std::vector<double>& t,
-                              const std::vector<double>& x,
-                              double window_s);
-// mean(x²) − mean(x)² over the window (population variance, clamped ≥ 0).
-std::vector<double> MovingVariance(const std::vector<double>& t,
-                                   const std::vector<double>& x,
-                                   double window_s);
-
-// The q-quantile (0 ≤ q ≤ 1) of x[begin, end) by linear interpolation between
-// order statistics; NaN for an empty range.
-double Quantile(const std::vector<double>& x,
-                double q,
-                std::size_t begin,
-                std::size_t end);
-inline double Quantile(const std::vector<double>& x, double q) {
-  return Quantile(x, q, 0, x.size());
-}
-
-// Median sample interval of t (0 for fewer than two samples).
-double MedianInterval(const std::vector<double>& t);
-
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_PREPROCESS_SIGNAL_H_
+#endif  // IMUSYSID_SRC_NUMERICS_BUTTERWORTH_H_

@@ -1,4 +1,4 @@
-#include "estimators/internal/random.h"
+#include "src/numerics/random.h"
 
 #include <numeric>
 #include <utility>

@@ -1,4 +1,4 @@
-#include "src/tools/student_t.h"
+#include "src/numerics/student_t.h"
 
 #include <cmath>
 
