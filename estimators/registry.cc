@@ -14,11 +14,18 @@
 
 namespace imusysid {
 
-void EstimatorRegistry::Register(std::string name, EstimatorFactory factory) {
+Status EstimatorRegistry::Register(std::string name, EstimatorFactory factory) {
+  if (factory == nullptr) {
+    return InvalidArgumentError("estimator '" + name + "' has no factory");
+  }
   for (const auto& entry : entries_) {
-    CHECK(entry.first != name) << "estimator '" << name << "' registered twice";
+    if (entry.first == name) {
+      return InvalidArgumentError("estimator '" + name +
+                                  "' is already registered");
+    }
   }
   entries_.emplace_back(std::move(name), std::move(factory));
+  return Status::Ok();
 }
 
 StatusOr<std::unique_ptr<Estimator>> EstimatorRegistry::Create(
@@ -47,23 +54,28 @@ std::vector<std::string> EstimatorRegistry::NamesSupporting(
   return names;
 }
 
-void RegisterBuiltinEstimators(EstimatorRegistry* registry) {
-  CHECK(registry != nullptr);
+Status RegisterBuiltinEstimators(EstimatorRegistry* registry) {
+  if (registry == nullptr) return InvalidArgumentError("no estimator registry");
   // One line per estimator (REGISTER-LINES).
-  registry->Register("ga", NewGaEstimator);
-  registry->Register("lm", NewLmEstimator);
-  registry->Register("ga+lm", NewGaLmEstimator);
-  registry->Register("hybrid", NewHybridEstimator);
-  registry->Register("linear", NewLinearEstimator);
-  registry->Register("varpro", NewVarproEstimator);
-  registry->Register("nelder-mead", NewNelderMeadEstimator);
-  registry->Register("cmaes", NewCmaesEstimator);
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("ga", NewGaEstimator));
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("lm", NewLmEstimator));
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("ga+lm", NewGaLmEstimator));
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("hybrid", NewHybridEstimator));
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("linear", NewLinearEstimator));
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("varpro", NewVarproEstimator));
+  IMUSYSID_RETURN_IF_ERROR(
+      registry->Register("nelder-mead", NewNelderMeadEstimator));
+  IMUSYSID_RETURN_IF_ERROR(registry->Register("cmaes", NewCmaesEstimator));
+  return Status::Ok();
 }
 
 const EstimatorRegistry& BuiltinEstimators() {
   static const EstimatorRegistry* const registry = [] {
     auto* r = new EstimatorRegistry;
-    RegisterBuiltinEstimators(r);
+    // Fails only when two built-in lines above share a name: a bug in this
+    // file that every test run meets at once, not something input reaches.
+    const Status status = RegisterBuiltinEstimators(r);
+    CHECK(status.ok()) << status.ToString();
     return r;
   }();
   return *registry;

@@ -11,6 +11,7 @@
 #include "imusysid/extend/model.h"
 #include "imusysid/extend/registry.h"
 #include "imusysid/paper_reference.h"
+#include "imusysid/version.h"
 #include "nlohmann/json.hpp"
 #include "src/tools/format.h"
 #include "tests/test_util.h"
@@ -38,6 +39,17 @@ TEST(Cli, EveryCommandHasHelp) {
   const auto top = RunCli("--help");
   EXPECT_EQ(top.exit_code, 0);
   EXPECT_THAT(top.out, HasSubstr("simulate"));
+}
+
+TEST(Cli, VersionIsTheProjectVersion) {
+  // From the generated imusysid/version.h (CMakeLists.txt's project
+  // VERSION), as the installed headers and the package state it.
+  for (const char* flag : {"--version", "version"}) {
+    const auto r = RunCli(flag);
+    EXPECT_EQ(r.exit_code, 0) << flag;
+    EXPECT_EQ(r.out, std::string("imusysid ") + IMUSYSID_VERSION_STRING + "\n")
+        << flag;
+  }
 }
 
 TEST(Cli, UsageErrorsExitWithTwo) {

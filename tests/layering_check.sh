@@ -28,6 +28,8 @@ bench_bin=$(ls benchmarks/*_benchmark.cc)
 tests=$(ls tests/*.cc tests/*.h)
 check "public headers include only public headers, Eigen and nlohmann_json" \
   'src/|estimators/|benchmarks/|tests/|ceres/|glog/|gflags/' "${public[@]}"
+check "the user API (include/imusysid/*.h) does not include the extension API (imusysid/extend/): forward-declare, or move the type into a user header" \
+  'imusysid/extend/' include/imusysid/*.h
 check "the library does not reach up into the apps or the benchmarks" \
   'src/cli/|benchmarks/|tests/|gflags/' $library
 allowed='src/(tools|numerics)/[a-z0-9_]+\.h|src/report/(figures|gnuplot|html)\.h' check \
@@ -62,6 +64,7 @@ done < <(find include -name '*.h' | sort)
 while IFS=: read -r file line inc; do
   path=$(sed -E 's/^#include [<"]([^">]+)[">].*/\1/' <<<"$inc")
   case $path in
+    imusysid/version.h) [ -f cmake/version.h.in ] && continue ;;  # generated
     imusysid/*) [ -f "include/$path" ] && continue ;;
     Eigen/* | nlohmann/*) continue ;;
     */*) ;;
@@ -71,5 +74,19 @@ while IFS=: read -r file line inc; do
   echo "  $file:$line:$inc"
   bad=1
 done < <(grep -HnE '^#include [<"]' "${public[@]}" || true)
+# The umbrella header includes every user-API header (and none of extend/,
+# checked above), so that one include gives a user the whole library.
+[ -f include/imusysid/imusysid.h ] || {
+  echo "layering: include/imusysid/imusysid.h (the umbrella header) is missing"
+  bad=1
+}
+for h in include/imusysid/*.h; do
+  [ -f include/imusysid/imusysid.h ] || break
+  inc=${h#include/}
+  [ "$inc" = imusysid/imusysid.h ] && continue
+  grep -qxF "#include \"$inc\"" include/imusysid/imusysid.h 2>/dev/null && continue
+  echo "layering: include/imusysid/imusysid.h does not include $inc"
+  bad=1
+done
 if [ "$bad" = 0 ]; then echo "layering: ok"; fi
 exit $bad

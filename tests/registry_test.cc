@@ -95,6 +95,11 @@ TEST(ModelRegistry, UnknownNameListsTheValidNames) {
   }
   StatusOr<ModelDescription> description = BuiltinModels().Describe("nope");
   EXPECT_EQ(description.status().code(), StatusCode::kNotFound);
+  // The user API's DescribeModel (imusysid/models.h) is the same lookup.
+  EXPECT_EQ(DescribeModel("nope").status().code(), StatusCode::kNotFound);
+  StatusOr<ModelDescription> paper = DescribeModel("paper");
+  ASSERT_TRUE(paper.ok());
+  EXPECT_EQ(paper->summary, BuiltinModels().Describe("paper")->summary);
 }
 
 TEST(ModelRegistry, NullOrInvalidDataAreInvalidArguments) {
@@ -109,7 +114,10 @@ TEST(ModelRegistry, NullOrInvalidDataAreInvalidArguments) {
 
 TEST(ModelRegistry, AModelFromOutsideTheLibraryRegistersAndBuilds) {
   ModelRegistry registry;
-  registry.Register("tilt_only", {"g sin(alpha) only", true}, NewTiltOnlyModel);
+  ASSERT_TRUE(
+      registry
+          .Register("tilt_only", {"g sin(alpha) only", true}, NewTiltOnlyModel)
+          .ok());
   EXPECT_THAT(registry.Names(), ElementsAreArray({"tilt_only"}));
   StatusOr<std::unique_ptr<Model>> model =
       registry.Create("tilt_only", SmallData());
@@ -131,12 +139,62 @@ TEST(ModelRegistry, BuiltinModelsIsOneRegistryForEveryThread) {
   for (const ModelRegistry* r : seen) EXPECT_EQ(r, &BuiltinModels());
 }
 
-TEST(ModelRegistryDeathTest, RegisteringANameTwiceIsAProgrammerError) {
-  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+TEST(ModelRegistry, RegisteringANameTwiceIsAnErrorThatLeavesTheRegistry) {
   ModelRegistry registry;
-  registry.Register("tilt_only", {"", true}, NewTiltOnlyModel);
-  EXPECT_DEATH(registry.Register("tilt_only", {"", true}, NewTiltOnlyModel),
-               "registered twice");
+  ASSERT_TRUE(
+      registry.Register("tilt_only", {"first", true}, NewTiltOnlyModel).ok());
+  const Status again =
+      registry.Register("tilt_only", {"second", false}, NewTiltOnlyModel);
+  EXPECT_EQ(again.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(again.message(), HasSubstr("model 'tilt_only'"));
+  EXPECT_THAT(again.message(), HasSubstr("already registered"));
+  // The first registration stands: one entry, its description.
+  EXPECT_THAT(registry.Names(), ElementsAreArray({"tilt_only"}));
+  StatusOr<ModelDescription> description = registry.Describe("tilt_only");
+  ASSERT_TRUE(description.ok());
+  EXPECT_EQ(description->summary, "first");
+  EXPECT_TRUE(description->uses_data_velocity);
+
+  const Status no_factory = registry.Register("none", {"", true}, nullptr);
+  EXPECT_EQ(no_factory.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(no_factory.message(), HasSubstr("model 'none'"));
+  EXPECT_THAT(registry.Names(), ElementsAreArray({"tilt_only"}));
+}
+
+TEST(ModelRegistry, RegisteringTheBuiltinsTwiceIsAnErrorNamingTheFirst) {
+  ModelRegistry registry;
+  ASSERT_TRUE(RegisterBuiltinModels(&registry).ok());
+  const std::vector<std::string> names = registry.Names();
+  EXPECT_EQ(names, ModelNames());
+  const Status again = RegisterBuiltinModels(&registry);
+  EXPECT_EQ(again.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(again.message(), HasSubstr("model '" + names.front() + "'"));
+  EXPECT_EQ(registry.Names(), names);
+  EXPECT_EQ(RegisterBuiltinModels(nullptr).code(),
+            StatusCode::kInvalidArgument);
+}
+
+TEST(ModelRegistry, AFactoryThatBreaksItsContractIsAnErrorNotAnAbort) {
+  ModelRegistry registry;
+  ASSERT_TRUE(
+      registry
+          .Register("null_model",
+                    {"", true},
+                    [](std::shared_ptr<const ProblemData>, const ModelOptions&)
+                        -> StatusOr<std::unique_ptr<Model>> {
+                      return std::unique_ptr<Model>();
+                    })
+          .ok());
+  // Registered under one name, builds a model of another.
+  ASSERT_TRUE(registry.Register("alias", {"", true}, NewTiltOnlyModel).ok());
+  StatusOr<std::unique_ptr<Model>> null_model =
+      registry.Create("null_model", SmallData());
+  EXPECT_EQ(null_model.status().code(), StatusCode::kInternal);
+  EXPECT_THAT(null_model.status().message(), HasSubstr("no model"));
+  StatusOr<std::unique_ptr<Model>> alias =
+      registry.Create("alias", SmallData());
+  EXPECT_EQ(alias.status().code(), StatusCode::kInternal);
+  EXPECT_THAT(alias.status().message(), HasSubstr("'tilt_only'"));
 }
 
 // --- estimator registry -----------------------------------------------------
@@ -195,11 +253,33 @@ TEST(EstimatorRegistry, EstimatorsThatNeedALinearStructureRefuseAModelWithout) {
                         (*linear)->Requirement()));
 }
 
-TEST(EstimatorRegistryDeathTest, RegisteringANameTwiceIsAProgrammerError) {
-  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+TEST(EstimatorRegistry, RegisteringANameTwiceIsAnErrorThatLeavesTheRegistry) {
   EstimatorRegistry registry;
-  RegisterBuiltinEstimators(&registry);
-  EXPECT_DEATH(RegisterBuiltinEstimators(&registry), "registered twice");
+  ASSERT_TRUE(RegisterBuiltinEstimators(&registry).ok());
+  const std::vector<std::string> names = registry.Names();
+  EXPECT_EQ(names, BuiltinEstimators().Names());
+
+  // The same name with another factory: refused, the first one stays.
+  const Status again = registry.Register(
+      "lm", [] { return BuiltinEstimators().Create("nelder-mead").value(); });
+  EXPECT_EQ(again.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(again.message(), HasSubstr("estimator 'lm'"));
+  EXPECT_THAT(again.message(), HasSubstr("already registered"));
+  EXPECT_EQ(registry.Names(), names);
+  StatusOr<std::unique_ptr<Estimator>> lm = registry.Create("lm");
+  ASSERT_TRUE(lm.ok());
+  EXPECT_EQ((*lm)->name(), "lm");
+
+  const Status builtins = RegisterBuiltinEstimators(&registry);
+  EXPECT_EQ(builtins.code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(builtins.message(), HasSubstr("estimator '" + names.front()));
+  EXPECT_EQ(registry.Names(), names);
+
+  EXPECT_EQ(registry.Register("none", nullptr).code(),
+            StatusCode::kInvalidArgument);
+  EXPECT_EQ(registry.Names(), names);
+  EXPECT_EQ(RegisterBuiltinEstimators(nullptr).code(),
+            StatusCode::kInvalidArgument);
 }
 
 }  // namespace

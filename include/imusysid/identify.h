@@ -18,8 +18,8 @@
 
 #include "imusysid/autopilot.h"
 #include "imusysid/estimator_options.h"
-#include "imusysid/extend/model.h"
 #include "imusysid/log.h"
+#include "imusysid/models.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem_data.h"

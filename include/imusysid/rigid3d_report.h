@@ -13,8 +13,7 @@
 
 #include "Eigen/Core"
 #include "imusysid/autopilot.h"
-#include "imusysid/extend/estimator.h"
-#include "imusysid/extend/problem.h"
+#include "imusysid/estimator_options.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem_data.h"
 #include "imusysid/result.h"
@@ -23,6 +22,12 @@
 #include "nlohmann/json.hpp"
 
 namespace imusysid {
+
+// The extension API's types a caller refining a fit passes by reference
+// (imusysid/extend/estimator.h, extend/model.h, extend/problem.h).
+class Estimator;
+class Model;
+class Problem;
 
 // A fit's residual and the x/y specific force in the band where the
 // lever-arm signal lives: above low_hz (each window high-passed by a

@@ -13,6 +13,7 @@
 
 #include "gflags/gflags.h"
 #include "glog/logging.h"
+#include "imusysid/version.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
@@ -226,7 +227,7 @@ int Main(int argc, char** argv) {
     return kExitOk;
   }
   if (name == "--version" || name == "version") {
-    std::cout << "imusysid 0.1.0\n";
+    std::cout << "imusysid " IMUSYSID_VERSION_STRING "\n";
     return kExitOk;
   }
   for (const Command* c : AllCommands()) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "imusysid/extend/model.h"
 #include "imusysid/rigid3d_report.h"
 #include "src/numerics/butterworth.h"
 

@@ -1,13 +1,21 @@
 // A downstream program: computes the paper's CoM displacement through the
 // installed package and exits 0 when it matches the paper's l and the
-// installed version header matches the package's version.
-#include <imusysid/displacement.h>
-#include <imusysid/paper_reference.h>
-#include <imusysid/version.h>
+// installed version header matches the package's version. Includes the
+// umbrella header alone: it must give the whole user API, and none of the
+// extension API (imusysid/extend/).
+#include <imusysid/imusysid.h>
 
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
+
+#if defined(IMUSYSID_EXTEND_MODEL_H_) ||     \
+    defined(IMUSYSID_EXTEND_PROBLEM_H_) ||   \
+    defined(IMUSYSID_EXTEND_ESTIMATOR_H_) || \
+    defined(IMUSYSID_EXTEND_REGISTRY_H_)
+#error "imusysid/imusysid.h includes the extension API"
+#endif
 
 int main() {
   using imusysid::kPaperTest1Fit;
@@ -20,6 +28,12 @@ int main() {
               IMUSYSID_VERSION_STRING,
               d.l_m,
               d.delta_deg);
+  // Names from several user headers, through the umbrella alone.
+  const std::vector<std::string> models = imusysid::ModelNames();
+  if (models.empty() || !imusysid::DescribeModel(models.front()).ok()) {
+    std::printf("no model registered\n");
+    return 1;
+  }
   if (std::string(IMUSYSID_VERSION_STRING) != PACKAGE_VERSION_FOUND) {
     std::printf("version.h says %s, the package %s\n",
                 IMUSYSID_VERSION_STRING,

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "imusysid/models.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/problem_data.h"
@@ -183,37 +184,6 @@ class Model {
   std::shared_ptr<const ProblemData> data_;
 };
 
-struct ModelOptions {
-  // consistent model: integrate v̇ = f_z·sin θ − μ v|v| with the measured z
-  // specific force instead of assuming altitude hold (v̇ = g tan θ − μ v|v|).
-  bool use_measured_fz = false;
-};
-
-// What a front end needs to know about a model before it has data to build
-// one on.
-struct ModelDescription {
-  std::string summary;  // one line for --help
-  // True when the prediction uses ProblemData::planar.v (the velocity
-  // preprocessing made, or the log's); false when the model integrates its own
-  // from the IMU and so needs the raw log behind the data.
-  bool uses_data_velocity = true;
-  // True when the model needs ProblemData::motion (Preprocess3d).
-  bool needs_motion3d = false;
-  // The estimator a fit uses unless told otherwise: the closed form where
-  // the model is linear outright, variable projection where it is
-  // separable, the paper's GA seeding LM otherwise.
-  std::string default_estimator = "ga+lm";
-  // A 3-D model that reads the autopilot's attitude and velocity
-  // (Preprocess3d) rather than integrating them from the IMU
-  // (Preprocess3dImuOnly); and the registered model to fit instead on a log
-  // without them ("": refuse).
-  bool needs_estimator_channels = false;
-  std::string without_estimator_channels = "";
-  // What the model takes its inputs from, for the note that says a fit
-  // fell back to it ("attitude from the gyro, ...").
-  std::string inputs = "";
-};
-
 // Builds a model over valid data (the registry validates them first).
 // FailedPrecondition if the data lack what the model needs.
 using ModelFactory = std::function<StatusOr<std::unique_ptr<Model>>(
@@ -225,13 +195,15 @@ using ModelFactory = std::function<StatusOr<std::unique_ptr<Model>>(
 // Built-in models are registered explicitly in RegisterBuiltinModels.
 class ModelRegistry {
  public:
-  // Adds a model. Registering a name twice is a programmer error (CHECK).
-  void Register(std::string name,
-                ModelDescription description,
-                ModelFactory factory);
+  // Adds a model. InvalidArgument, naming the name, when the name is already
+  // registered or the factory is null; the registry is then unchanged.
+  Status Register(std::string name,
+                  ModelDescription description,
+                  ModelFactory factory);
   // InvalidArgument when `data` is null or fails ProblemData::Validate;
   // FailedPrecondition when it has no samples; NotFound, listing the valid
-  // names, for an unknown name; else the factory's result.
+  // names, for an unknown name; else the factory's result (Internal when
+  // it returns no model, or a model of another name).
   StatusOr<std::unique_ptr<Model>> Create(
       std::string_view name,
       std::shared_ptr<const ProblemData> data,
@@ -252,14 +224,17 @@ class ModelRegistry {
   std::vector<Entry> entries_;
 };
 
-// Registers paper and consistent (src/models/models.cc).
-void RegisterBuiltinModels(ModelRegistry* registry);
+// Registers paper, consistent, rigid3d and rigid3d_imu
+// (src/models/models.cc). InvalidArgument when `registry` is null or already
+// holds one of their names (registration stops there; the earlier ones stay
+// registered).
+Status RegisterBuiltinModels(ModelRegistry* registry);
 
 // A registry holding the built-in models, built once (thread-safe).
 const ModelRegistry& BuiltinModels();
 
-// BuiltinModels().Names().
-std::vector<std::string> ModelNames();
+// ModelNames() and DescribeModel() (imusysid/models.h) are
+// BuiltinModels().Names() and BuiltinModels().Describe(name).
 
 // BuiltinModels().Create(name, data, options).
 StatusOr<std::unique_ptr<Model>> CreateModel(

@@ -21,8 +21,10 @@ using EstimatorFactory = std::function<std::unique_ptr<Estimator>()>;
 
 class EstimatorRegistry {
  public:
-  // Adds a factory. Registering a name twice is a programmer error (CHECK).
-  void Register(std::string name, EstimatorFactory factory);
+  // Adds a factory. InvalidArgument, naming the name, when the name is
+  // already registered or the factory is null; the registry is then
+  // unchanged.
+  Status Register(std::string name, EstimatorFactory factory);
   // NotFound, listing the valid names, for an unknown name.
   StatusOr<std::unique_ptr<Estimator>> Create(std::string_view name) const;
   // Names in registration order.
@@ -36,7 +38,9 @@ class EstimatorRegistry {
 };
 
 // Registers the built-in estimators (estimators/registry.cc, one line each).
-void RegisterBuiltinEstimators(EstimatorRegistry* registry);
+// InvalidArgument when `registry` is null or already holds one of their
+// names (registration stops there; the earlier ones stay registered).
+Status RegisterBuiltinEstimators(EstimatorRegistry* registry);
 
 // A registry holding the built-in estimators, built once (thread-safe).
 const EstimatorRegistry& BuiltinEstimators();
