@@ -21,6 +21,10 @@ except ImportError as e:  # pragma: no cover - depends on the build
         f"{os.path.dirname(__file__)}: build it with cmake (target "
         "imusysid_python) or install the package (docs/python.md)") from e
 
+#: The library's version (include/imusysid/version.h), as ``imusysid --version``
+#: prints it.
+__version__ = _imusysid.__version__
+
 __all__ = ["Error", "read_log", "simulate", "identify", "fit",
            "scenario_names"]
 

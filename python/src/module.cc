@@ -31,6 +31,7 @@
 #include "imusysid/simulate.h"
 #include "imusysid/simulate3d.h"
 #include "imusysid/status.h"
+#include "imusysid/version.h"
 
 namespace py = pybind11;
 
@@ -557,6 +558,7 @@ PYBIND11_MODULE(_imusysid, m) {
   using imusysid::python::CallOptions;
   using imusysid::python::StatusError;
   m.doc() = "imusysid's C++ library; use the imusysid package, not this.";
+  m.attr("__version__") = IMUSYSID_VERSION_STRING;
 
   static py::exception<StatusError> error(m, "Error", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {

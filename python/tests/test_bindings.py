@@ -33,6 +33,13 @@ def read_csv(path):
     return {name: values[:, i] for i, name in enumerate(names)}
 
 
+def test_version_is_the_tools(cli):
+    code, out, _ = cli("--version")
+    assert code == 0
+    assert out.strip() == "imusysid " + imusysid.__version__
+    assert imusysid.__version__.count(".") == 2
+
+
 def test_identify_gives_the_cli_json(cli, data_dir):
     log = str(data_dir / "paper_test2.csv")
     rc, out, _ = cli("fit", f"--log={log}", "--estimator=lm",
