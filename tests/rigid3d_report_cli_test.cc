@@ -453,7 +453,6 @@ TEST(Rigid3dReportCli, LogNamesAreTextNotCommands) {
       shown = std::regex_replace(shown, std::regex("<"), "&lt;");
       shown = std::regex_replace(shown, std::regex(">"), "&gt;");
       shown = std::regex_replace(shown, std::regex("\""), "&quot;");
-      shown = std::regex_replace(shown, std::regex("'"), "&#39;");
       EXPECT_THAT(html, HasSubstr(shown)) << c.report;
     }
     int svgs = 0;
@@ -477,8 +476,7 @@ TEST(Rigid3dReportCli, LogNamesAreTextNotCommands) {
 // When gnuplot fails, the message says what gnuplot said: the script and
 // its log are in the staging folder, removed with the failed page.
 TEST(Rigid3dReportCli, GnuplotFailureQuotesGnuplot) {
-  const ReportRun& f = ShortFlightReport();
-  ASSERT_EQ(f.fit.exit_code, 0) << f.fit.err;
+  const ReportRun& f = ShortFlightReport();  // its log; no gnuplot needed
   const std::string bin = testing::MakeTempDir();
   {
     std::ofstream fake(bin + "/gnuplot");

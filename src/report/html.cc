@@ -27,9 +27,6 @@ std::string HtmlEscape(const std::string& text) {
       case '"':
         out += "&quot;";
         break;
-      case '\'':
-        out += "&#39;";
-        break;
       default:
         out += c;
     }
