@@ -65,9 +65,8 @@ Status DrawGbenchScaling(const std::string& gnuplot,
                                 "gbench_runtime_guide.dat",
                                 report::GnuplotTable({&guide_x, &guide_y})));
     plot += ", " + report::GnuplotQuote("gbench_runtime_guide.dat") +
-            " using 1:2 with lines dt 3 lw 1.5 lc rgb '#888888' title "
-            "'time ∝ n (through " +
-            guide_it->first + ")'";
+            " using 1:2 with lines dt 3 lw 1.5 lc rgb '#888888' title " +
+            report::GnuplotQuote("time ∝ n (through " + guide_it->first + ")");
   }
   IMUSYSID_RETURN_IF_ERROR(report::RunGnuplot(
       gnuplot,

@@ -29,6 +29,7 @@
 #include "src/cli/log_flags.h"
 #include "src/cli/model_names.h"
 #include "src/report/figures.h"
+#include "src/report/gnuplot.h"
 #include "src/tools/format.h"
 #include "src/tools/safe_text.h"
 
@@ -363,6 +364,17 @@ int RunFit(const std::vector<std::string>& positional) {
   const EmitFormat emit_format = *emit;
   if (emit_format == EmitFormat::kNone && !FLAGS_emit_out.empty()) {
     return UsageError(cmd, "--emit_out needs --emit=px4|ardupilot");
+  }
+  // Every file the fit writes is checked now, not after the fit.
+  for (const auto& [flag, out] :
+       {std::pair<std::string, std::string>{"--out", FLAGS_out},
+        {"--emit_out", FLAGS_emit_out}}) {
+    Status target = CheckOutputFileTarget(flag, out);
+    if (!target.ok()) return ReportError(cmd, target);
+  }
+  if (!FLAGS_plot.empty()) {
+    Status target = report::CheckFigureFolder(FLAGS_plot);
+    if (!target.ok()) return ReportError(cmd, target.WithPrefix("--plot"));
   }
   StatusOr<ModelDescription> description =
       BuiltinModels().Describe(FLAGS_model);

@@ -1,6 +1,11 @@
 #include "src/cli/fit3d.h"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <limits>
@@ -228,6 +233,52 @@ Status CheckReportFlag(bool three_d) {
         "rigid3d_imu); for a planar model, --plot=DIR draws its figures");
   }
   return report::CheckRigid3dPageFolder(FLAGS_report).WithPrefix("--report");
+}
+
+Status CheckOutputFileTarget(const std::string& flag, const std::string& path) {
+  if (path.empty() || path == "-" || path == "/dev/stdout" ||
+      path == "/dev/stderr" || path == "/dev/fd/1" || path == "/dev/fd/2") {
+    return Status::Ok();
+  }
+  const auto refuse = [&](const std::string& why) {
+    return InvalidArgumentError(flag + "=" + path + ": " + why +
+                                " (checked before the fit)");
+  };
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);  // through links
+  if (st.type() == fs::file_type::fifo ||
+      st.type() == fs::file_type::character) {
+    return access(path.c_str(), W_OK) == 0
+               ? Status::Ok()
+               : refuse(std::string("cannot write it: ") +
+                        std::strerror(errno));
+  }
+  fs::path file = path;
+  if (st.type() == fs::file_type::regular) {
+    file = fs::canonical(path, ec);  // a link's target is what is replaced
+    if (ec) return refuse("cannot resolve it: " + ec.message());
+  } else if (st.type() != fs::file_type::not_found) {
+    return refuse(st.type() == fs::file_type::directory
+                      ? "it is a folder, not a file to write"
+                      : "it is not a regular file to write");
+  }
+  const fs::path parent =
+      file.has_parent_path() ? file.parent_path() : fs::path(".");
+  if (!fs::is_directory(parent, ec)) {
+    return refuse("its folder '" + parent.string() +
+                  "' does not exist or is not a folder");
+  }
+  // The file is written beside its target and renamed over it.
+  std::string probe = (parent / ".imusysid-check.XXXXXX").string();
+  const int fd = mkstemp(probe.data());
+  if (fd < 0) {
+    return refuse("no file can be made in '" + parent.string() +
+                  "': " + std::strerror(errno));
+  }
+  close(fd);
+  unlink(probe.c_str());
+  return Status::Ok();
 }
 
 }  // namespace cli

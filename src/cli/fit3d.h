@@ -41,6 +41,15 @@ int WriteFlights3d(const FlightsSummary& summary,
 // neither fails only after the fit.
 Status CheckReportFlag(bool three_d);
 
+// A file the fit writes (--emit_out, --out), checked before the fit so
+// that a target it cannot write fails at once (InvalidArgument naming
+// `flag` and `path`) rather than after the result was computed: "-" and
+// the standard streams pass; an existing target must be a regular file, a
+// FIFO or a character device (through symbolic links), and a file replaced
+// or made new needs its folder to exist and take a new entry (tried by
+// making and removing one, as WriteFileAtomically writes beside it).
+Status CheckOutputFileTarget(const std::string& flag, const std::string& path);
+
 }  // namespace cli
 }  // namespace imusysid
 

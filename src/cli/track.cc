@@ -256,6 +256,12 @@ int RunTrack(const std::vector<std::string>& positional) {
     return UsageError(cmd,
                       "--report needs gnuplot, which was not found on PATH");
   }
+  // The folder is checked before the track: a file in its place (or a
+  // place that takes no folder) is refused now, not after the whole log.
+  if (!FLAGS_report.empty()) {
+    const Status target = report::CheckFigureFolder(FLAGS_report);
+    if (!target.ok()) return ReportError(cmd, target.WithPrefix("--report"));
+  }
   if (FLAGS_log == "-") return RunStream(cmd, table);
   StatusOr<FlightLog> log = ReadLogFromFlags(FLAGS_log);
   if (!log.ok()) return ReportError(cmd, log.status());

@@ -279,8 +279,9 @@ Status WriteFitFigures(const std::string& dir,
       cols.push_back(&v_models.back());
       plot += ", " + GnuplotQuote(p + "velocity.dat") +
               " using 1:" + std::to_string(column) + " with lines lw 1.5 lc " +
-              std::to_string(column - 1) + " title '" + entry.first +
-              " model (" + entry.second->estimator + " fit)'";
+              std::to_string(column - 1) + " title " +
+              GnuplotQuote(entry.first + " model (" + entry.second->estimator +
+                           " fit)");
       ++column;
     }
     if (options.truth != nullptr && !options.truth->t_s.empty()) {

@@ -1,12 +1,17 @@
 #include "src/report/gnuplot.h"
 
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "imusysid/log.h"
+#include "src/io/staging_folder.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace report {
@@ -19,7 +24,84 @@ const char* const kTerminal =
     "set grid lc rgb '#dddddd'\n"
     "set key outside top center horizontal\n";
 
+// `word` as one word of a POSIX shell command: single-quoted, a quote as
+// '\'' (a folder named by the user may hold any byte but NUL); a word that
+// starts with '-' is made a path ("./-x") so that no command takes it for
+// an option.
+std::string GnuplotShellWord(const std::string& word) {
+  std::string out = "'";
+  if (!word.empty() && word[0] == '-') out += "./";
+  for (char c : word)
+    out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The last line that is not empty of the file at `path`, escaped for
+// display and cut to 160 bytes; empty when there is none.
+std::string GnuplotLastLine(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  }
+  std::string shown = EscapeForDisplay(last);
+  constexpr std::size_t kMaxBytes = 160;
+  if (shown.size() > kMaxBytes) {
+    std::size_t cut = kMaxBytes;
+    // Not inside a UTF-8 sequence.
+    while (cut > 0 && (static_cast<unsigned char>(shown[cut]) & 0xC0) == 0x80) {
+      --cut;
+    }
+    shown = shown.substr(0, cut) + "...";
+  }
+  return shown;
+}
+
+// Empty when a folder can be made (and is removed again) inside `folder`,
+// else why not (strerror).
+std::string GnuplotFolderTakesEntry(const std::string& folder) {
+  std::string probe = folder + "/.imusysid-check.XXXXXX";
+  if (mkdtemp(probe.data()) == nullptr) return std::strerror(errno);
+  std::error_code ec;
+  std::filesystem::remove(probe, ec);
+  return "";
+}
+
 }  // namespace
+
+Status CheckFigureFolder(const std::string& dir_in) {
+  const std::string dir = internal::WithoutTrailingSlashes(dir_in);
+  if (dir.empty()) return InvalidArgumentError("no folder given");
+  std::error_code ec;
+  const auto type = std::filesystem::status(dir, ec).type();
+  const bool exists = type != std::filesystem::file_type::not_found;
+  if (exists && type != std::filesystem::file_type::directory) {
+    return InvalidArgumentError("'" + dir + "' exists and is not a folder");
+  }
+  // The nearest folder above `dir` that exists: `dir`'s missing parents,
+  // or the staging folder beside it (src/io/staging_folder.h), are made
+  // there.
+  std::filesystem::path p = std::filesystem::absolute(dir, ec).parent_path();
+  while (!p.empty() && !std::filesystem::exists(p, ec)) {
+    if (p == p.parent_path()) break;
+    p = p.parent_path();
+  }
+  if (!std::filesystem::is_directory(p, ec)) {
+    return InvalidArgumentError("cannot write '" + dir + "': '" + p.string() +
+                                "' is not a folder");
+  }
+  std::vector<std::string> folders = {p.string()};
+  if (exists) folders.push_back(dir);
+  for (const std::string& folder : folders) {
+    const std::string why = GnuplotFolderTakesEntry(folder);
+    if (!why.empty()) {
+      return InvalidArgumentError("cannot write '" + dir +
+                                  "': no new entry can be made in '" + folder +
+                                  "' (" + why + ")");
+    }
+  }
+  return Status::Ok();
+}
 
 std::string FindGnuplot() {
   const char* path_env = std::getenv("PATH");
@@ -36,7 +118,9 @@ std::string FindGnuplot() {
 
 std::string GnuplotQuote(const std::string& text) {
   std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  for (char c : EscapeForMarkup(text, /*keep_line_breaks=*/false)) {
+    out += c == '\'' ? std::string("''") : std::string(1, c);
+  }
   return out + "'";
 }
 
@@ -72,14 +156,18 @@ Status RunGnuplot(const std::string& gnuplot,
   const std::string script = std::string(kTerminal) + "set output " +
                              GnuplotQuote(name + ".svg") + "\n" + body;
   IMUSYSID_RETURN_IF_ERROR(WriteFigureFile(dir, name + ".gp", script));
-  const std::string command = "cd " + GnuplotQuote(dir) + " && " +
-                              GnuplotQuote(gnuplot) + " " +
-                              GnuplotQuote(name + ".gp") + " > " +
-                              GnuplotQuote(name + ".log") + " 2>&1";
+  const std::string command = "cd " + GnuplotShellWord(dir) + " && " +
+                              GnuplotShellWord(gnuplot) + " " +
+                              GnuplotShellWord(name + ".gp") + " > " +
+                              GnuplotShellWord(name + ".log") + " 2>&1";
   const int status = std::system(command.c_str());
   if (status != 0 || !std::filesystem::exists(dir + "/" + name + ".svg")) {
-    return IoError("gnuplot failed on " + dir + "/" + name + ".gp (see " +
-                   name + ".log)");
+    // The message quotes gnuplot's own: the log may be in a folder the
+    // caller removes on failure (the report's staging folder).
+    std::string said = GnuplotLastLine(dir + "/" + name + ".log");
+    return IoError(
+        "gnuplot failed on " + name + ".gp" +
+        (said.empty() ? std::string(" (it wrote nothing)") : ": " + said));
   }
   std::error_code ec;
   std::filesystem::remove(dir + "/" + name + ".log", ec);

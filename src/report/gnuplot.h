@@ -18,8 +18,25 @@ namespace report {
 // The gnuplot executable found on PATH, or empty when there is none.
 std::string FindGnuplot();
 
-// `text` as a gnuplot single-quoted string (a quote doubled).
+// `text` as a gnuplot single-quoted string: the one way text (a title, a
+// label, a file name) enters a script. Control bytes (a newline would end
+// the string and start a command of the file name's choosing) and invalid
+// UTF-8 are written as \xNN (EscapeForMarkup), so the script stays one
+// command a line and the SVG gnuplot writes from it is valid UTF-8; a quote
+// is doubled. Inside single quotes gnuplot expands no backslash escape,
+// backquote (shell command), @macro or system(), and `!` starts a shell
+// command only at the start of a command.
 std::string GnuplotQuote(const std::string& text);
+
+// The folder figures are to be written into (`fit --report`, `track
+// --report`), checked before the work that makes them so that a bad target
+// fails at once rather than after a fit or a track: `dir` must be a folder
+// or be creatable as one, and both it (when it exists) and the nearest
+// existing folder above it must take a new entry (tried by making and
+// removing one: permission bits do not tell for root, for /proc or for a
+// read-only file system). InvalidArgument naming `dir` otherwise. Does not
+// look for gnuplot (FindGnuplot).
+Status CheckFigureFolder(const std::string& dir);
 
 // Columns of equal length as a whitespace-separated table, every `stride`
 // rows, numbers to 9 significant digits; NaN and the infinities as gnuplot's
@@ -34,7 +51,9 @@ Status WriteFigureFile(const std::string& dir,
 
 // Writes dir/NAME.gp (the SVG terminal, `set output 'NAME.svg'`, then
 // `body`) and runs `gnuplot` on it in dir, producing NAME.svg. IoError when
-// a file cannot be written or gnuplot fails (its output is kept in NAME.log).
+// a file cannot be written or gnuplot fails, quoting the last line gnuplot
+// wrote (its whole output is kept in dir/NAME.log, which a caller that
+// removes `dir` on failure removes too).
 Status RunGnuplot(const std::string& gnuplot,
                   const std::string& dir,
                   const std::string& name,

@@ -2,13 +2,18 @@
 
 #include <sstream>
 
+#include "src/tools/safe_text.h"
+
 namespace imusysid {
 namespace report {
 
 std::string HtmlEscape(const std::string& text) {
   std::string out;
   out.reserve(text.size());
-  for (char c : text) {
+  // A file name or log string may hold control bytes or bytes that are
+  // not UTF-8: escaped first (\xNN), so the page stays valid UTF-8 and XML
+  // text that a browser accepts.
+  for (char c : EscapeForMarkup(text, /*keep_line_breaks=*/true)) {
     switch (c) {
       case '<':
         out += "&lt;";

@@ -12,7 +12,10 @@
 namespace imusysid {
 namespace report {
 
-// `text` with <, >, & and " replaced by entities.
+// `text` with <, >, & and " replaced by entities, control bytes other than
+// tab and line ends and invalid UTF-8 as \xNN text (EscapeForMarkup): valid
+// UTF-8 for an element's text or a double-quoted attribute (the pages quote
+// every attribute with ").
 std::string HtmlEscape(const std::string& text);
 
 // One cell: the text shown and, when not empty, the exact value it rounds

@@ -402,11 +402,12 @@ Status DrawSpecificForce(const std::string& gnuplot,
           s, {&s.t, &s.fx, &s.mx, &s.fy, &s.my, &s.rx, &s.ry}, stride)));
   const std::string file = GnuplotQuote(name + ".dat");
   auto panel = [&](const std::string& axis, int measured, int predicted) {
-    std::string p =
-        "set ylabel " + GnuplotQuote("f_" + axis + " (m/s²)") + "\nset title " +
-        GnuplotQuote(axis + " specific force: measured and model") + "\nplot " +
-        file + " using 1:" + std::to_string(measured) +
-        " with lines lw 3 lc rgb '#b0b0b0' title 'measured f_" + axis + "'";
+    std::string p = "set ylabel " + GnuplotQuote("f_" + axis + " (m/s²)") +
+                    "\nset title " +
+                    GnuplotQuote(axis + " specific force: measured and model") +
+                    "\nplot " + file + " using 1:" + std::to_string(measured) +
+                    " with lines lw 3 lc rgb '#b0b0b0' title " +
+                    GnuplotQuote("measured f_" + axis);
     if (model) {
       p += ", " + file + " using 1:" + std::to_string(predicted) +
            " with lines lw 1 lc rgb '#1f77b4' title 'model at the fit'";
@@ -874,29 +875,10 @@ void AddParameterFiles(const std::vector<Rigid3dPageFlight>& flights,
 }  // namespace
 
 Status CheckRigid3dPageFolder(const std::string& dir_in) {
-  const std::string dir = internal::WithoutTrailingSlashes(dir_in);
-  if (dir.empty()) return InvalidArgumentError("no folder given");
-  std::error_code ec;
-  const auto type = std::filesystem::status(dir, ec).type();
-  if (type != std::filesystem::file_type::not_found &&
-      type != std::filesystem::file_type::directory) {
-    return InvalidArgumentError("'" + dir + "' exists and is not a folder");
-  }
-  // The nearest folder that exists must take a new entry: the staging
-  // folder beside `dir` (or `dir`'s missing parents) is made there.
-  std::filesystem::path p = std::filesystem::absolute(dir, ec).parent_path();
-  while (!p.empty() && !std::filesystem::exists(p, ec)) {
-    if (p == p.parent_path()) break;
-    p = p.parent_path();
-  }
-  if (!std::filesystem::is_directory(p, ec)) {
-    return InvalidArgumentError("cannot write '" + dir + "': '" + p.string() +
-                                "' is not a folder");
-  }
-  if (access(p.c_str(), W_OK | X_OK) != 0) {
-    return InvalidArgumentError("cannot write '" + dir + "': '" + p.string() +
-                                "' is not writable");
-  }
+  // The staging folder beside `dir` (or `dir`'s missing parents) is made
+  // in the nearest folder that exists, and the files are moved into an
+  // existing `dir`: both must take a new entry.
+  IMUSYSID_RETURN_IF_ERROR(CheckFigureFolder(dir_in));
   if (FindGnuplot().empty()) {
     return FailedPreconditionError(
         "gnuplot is not installed (Debian: gnuplot-nox); the report's "

@@ -58,9 +58,9 @@ Status WriteTrackFigure(const std::string& dir,
     const std::string p = std::to_string(2 + 3 * a);
     const std::string lo = std::to_string(3 + 3 * a);
     const std::string hi = std::to_string(4 + 3 * a);
-    body += "set ylabel '" + std::string(axes[a]) + " (mm)'\nplot " +
-            GnuplotQuote("track.dat") + " using 1:" + lo + ":" + hi +
-            " with filledcurves lc rgb '#c6dbef' title '2 sigma', " +
+    body += "set ylabel " + GnuplotQuote(std::string(axes[a]) + " (mm)") +
+            "\nplot " + GnuplotQuote("track.dat") + " using 1:" + lo + ":" +
+            hi + " with filledcurves lc rgb '#c6dbef' title '2 sigma', " +
             GnuplotQuote("track.dat") + " using 1:" + p +
             " with lines lw 2 lc rgb '#1f77b4' title 'estimate'\n";
   }

@@ -62,6 +62,33 @@ std::string EscapeForDisplay(std::string_view text) {
   return out;
 }
 
+std::string EscapeForMarkup(std::string_view text, bool keep_line_breaks) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const std::size_t length = Utf8SequenceLength(text, i);
+    const bool line_break = c == '\t' || c == '\n' || c == '\r';
+    // U+FFFE and U+FFFF: EF BF BE and EF BF BF.
+    const bool noncharacter = length == 3 && c == 0xEF &&
+                              static_cast<unsigned char>(text[i + 1]) == 0xBF &&
+                              static_cast<unsigned char>(text[i + 2]) >= 0xBE;
+    if (length == 0 || noncharacter ||
+        ((c < 0x20 || c == 0x7F) && !(keep_line_breaks && line_break))) {
+      const std::size_t bad = noncharacter ? 3 : 1;
+      for (std::size_t k = 0; k < bad; ++k) {
+        out += "\\x";
+        AppendHexByte(&out, static_cast<unsigned char>(text[i + k]));
+      }
+      i += bad;
+      continue;
+    }
+    out.append(text.substr(i, length));
+    i += length;
+  }
+  return out;
+}
+
 bool IsValidUtf8(std::string_view text) {
   for (std::size_t i = 0; i < text.size();) {
     const std::size_t length = Utf8SequenceLength(text, i);

@@ -18,6 +18,14 @@ namespace imusysid {
 // terminal and for a JSON string. Linear time.
 std::string EscapeForDisplay(std::string_view text);
 
+// `text` for an HTML or SVG page or a gnuplot string: as EscapeForDisplay
+// writes it (control bytes and invalid UTF-8 as \xNN, so a file name that is
+// not UTF-8 still makes a page a browser accepts), except that tab, line
+// feed and carriage return are kept when `keep_line_breaks` (a <pre> block)
+// and the noncharacters U+FFFE and U+FFFF, which XML forbids, are escaped
+// too. Linear time.
+std::string EscapeForMarkup(std::string_view text, bool keep_line_breaks);
+
 // True when `text` is valid UTF-8 (no overlong forms, surrogates or code
 // points beyond U+10FFFF).
 bool IsValidUtf8(std::string_view text);
