@@ -7,6 +7,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -343,6 +344,7 @@ class Child {
  public:
   explicit Child(const std::vector<std::string>& args,
                  const std::string& err_path = "/dev/null") {
+    signal(SIGPIPE, SIG_IGN);
     int in[2], out[2];
     EXPECT_EQ(pipe(in), 0);
     EXPECT_EQ(pipe(out), 0);
@@ -369,11 +371,14 @@ class Child {
     to_ = in[1];
     from_ = out[0];
   }
+  // Stops where the command has stopped reading (it refused its input
+  // before the end): a write to its closed pipe fails with EPIPE, SIGPIPE
+  // being ignored.
   void Write(const std::string& text) {
     std::size_t done = 0;
     while (done < text.size()) {
       const ssize_t n = write(to_, text.data() + done, text.size() - done);
-      ASSERT_GT(n, 0);
+      if (n <= 0) return;
       done += static_cast<std::size_t>(n);
     }
   }
