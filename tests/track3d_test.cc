@@ -7,9 +7,11 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -93,6 +95,199 @@ TEST(Track3dCsvStream, BadRowsNameLineAndField) {
       << got.status().message();
 }
 
+// Rows at `rate_hz` from t = 0 (FRD, at rest): `count` of them, the k-th
+// at time k / rate_hz.
+std::vector<std::string> RestRows(int count, double rate_hz) {
+  std::vector<std::string> rows;
+  for (int k = 0; k < count; ++k) {
+    std::ostringstream row;
+    row.precision(17);
+    row << k / rate_hz << ",0,0,-9.8,0,0,0,1,0,0,0,0,0,0";
+    rows.push_back(row.str());
+  }
+  return rows;
+}
+
+// Feeds `lines`; the first error, or OK after Finish.
+Status FeedStream(const std::vector<std::string>& lines, Track3dCsvStream* in) {
+  Track3dSample s;
+  for (const std::string& line : lines) {
+    StatusOr<bool> got = in->Line(line, &s);
+    if (!got.ok()) return got.status();
+  }
+  return in->Finish();
+}
+
+std::vector<std::string> WithRateHeader(const std::string& rate,
+                                        int rows,
+                                        double rate_hz) {
+  std::vector<std::string> lines = {"# rate_hz: " + rate, kHeader};
+  for (const std::string& r : RestRows(rows, rate_hz)) lines.push_back(r);
+  return lines;
+}
+
+// The rate is the time column's; a `# rate_hz:` that disagrees with it (a
+// 100 Hz header on 400 Hz rows left z 76 mm off) or is not a rate is
+// refused, naming its line.
+TEST(Track3dCsvStream, RateComesFromTheTimeColumnAndTheHeaderIsChecked) {
+  {
+    Track3dCsvStream in;
+    const Status st = FeedStream(WithRateHeader("100", 200, 400.0), &in);
+    ASSERT_FALSE(st.ok());
+    EXPECT_EQ(st.code(), StatusCode::kInvalidArgument);
+    EXPECT_NE(st.message().find("line 1, metadata 'rate_hz': '100' Hz "
+                                "disagrees with the time column's 400 Hz"),
+              std::string::npos)
+        << st.message();
+  }
+  // Equal, and within the tolerance either way: accepted, at the time
+  // column's rate.
+  for (const char* rate : {"400", "400.0", "381", "419"}) {
+    Track3dCsvStream in;
+    const Status st = FeedStream(WithRateHeader(rate, 200, 400.0), &in);
+    EXPECT_TRUE(st.ok()) << rate << ": " << st.message();
+    EXPECT_NEAR(in.rate_hz(), 400.0, 1e-6) << rate;
+  }
+  for (const char* rate : {"379", "421"}) {
+    Track3dCsvStream in;
+    EXPECT_FALSE(FeedStream(WithRateHeader(rate, 200, 400.0), &in).ok())
+        << rate;
+  }
+  // Not a rate.
+  for (const char* rate : {"abc", "nan", "0", "-400", "inf", "400Hz", ""}) {
+    Track3dCsvStream in;
+    const Status st = FeedStream(WithRateHeader(rate, 200, 400.0), &in);
+    ASSERT_FALSE(st.ok()) << rate;
+    EXPECT_NE(st.message().find("line 1, metadata 'rate_hz': '" +
+                                std::string(rate) + "' is not a rate"),
+              std::string::npos)
+        << st.message();
+  }
+  // Without a header the time column alone; a stream shorter than the
+  // intervals the rate waits for gets it (and the check) at its end.
+  {
+    Track3dCsvStream in;
+    std::vector<std::string> lines = {kHeader};
+    for (const std::string& r : RestRows(10, 250.0)) lines.push_back(r);
+    Track3dSample s;
+    for (const std::string& line : lines) ASSERT_TRUE(in.Line(line, &s).ok());
+    EXPECT_EQ(in.rate_hz(), 0.0);
+    ASSERT_TRUE(in.Finish().ok());
+    EXPECT_NEAR(in.rate_hz(), 250.0, 1e-6);
+    Track3dCsvStream short_in;
+    EXPECT_FALSE(FeedStream(WithRateHeader("100", 10, 250.0), &short_in).ok());
+  }
+  // A header after the rate is known is checked at once.
+  {
+    Track3dCsvStream in;
+    std::vector<std::string> lines = {kHeader};
+    for (const std::string& r : RestRows(100, 400.0)) lines.push_back(r);
+    lines.push_back("# rate_hz: 100");
+    const Status st = FeedStream(lines, &in);
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.message().find("line 102, metadata 'rate_hz'"),
+              std::string::npos)
+        << st.message();
+  }
+}
+
+// The CSV reader's hole in time (10 median intervals, CsvReadOptions::
+// max_gap_factor): refused in the stream too, also among the rows read
+// before the rate was known.
+TEST(Track3dCsvStream, RefusesAHoleInTimeAsTheReaderDoes) {
+  const double dt = 1.0 / 400.0;
+  auto rows_with_step = [&](int at, double step) {
+    std::vector<std::string> lines = {kHeader};
+    double t = 0.0;
+    for (int k = 0; k < 200; ++k) {
+      std::ostringstream row;
+      row.precision(17);
+      row << t << ",0,0,-9.8,0,0,0,1,0,0,0,0,0,0";
+      lines.push_back(row.str());
+      t += k + 1 == at ? step : dt;
+    }
+    return lines;
+  };
+  {
+    Track3dCsvStream in;
+    const Status st = FeedStream(rows_with_step(150, 1e6), &in);
+    ASSERT_FALSE(st.ok());
+    // Row 150 (0-based) is on line 152.
+    EXPECT_NE(st.message().find("line 152, field 't': gap of 1e+06 s"),
+              std::string::npos)
+        << st.message();
+    EXPECT_NE(st.message().find("exceeds 10 x the median interval 0.0025 s"),
+              std::string::npos)
+        << st.message();
+  }
+  {
+    Track3dCsvStream in;
+    const Status st = FeedStream(rows_with_step(20, 1e6), &in);
+    ASSERT_FALSE(st.ok());
+    EXPECT_NE(st.message().find("line 22, field 't': gap of 1e+06 s"),
+              std::string::npos)
+        << st.message();
+  }
+  for (int at : {20, 150}) {
+    Track3dCsvStream in;
+    const Status st = FeedStream(rows_with_step(at, 9.99 * dt), &in);
+    EXPECT_TRUE(st.ok()) << st.message();
+    Track3dCsvStream over;
+    EXPECT_FALSE(FeedStream(rows_with_step(at, 10.01 * dt), &over).ok());
+  }
+}
+
+TEST(Track3dCsvStream, FrameLinesAsTheReaderTakesThemAndTheOverride) {
+  Track3dSample s;
+  const std::string row = "0.5,1,2,3,4,5,6,1,0,0,0,7,8,9";
+  Track3dCsvStream contradicted;
+  ASSERT_TRUE(contradicted.Line("# frame: frd", &s).ok());
+  StatusOr<bool> got = contradicted.Line("# frame: flu", &s);
+  ASSERT_FALSE(got.ok());
+  EXPECT_NE(got.status().message().find(
+                "line 2, metadata 'frame': 'flu' contradicts 'frame: frd' on "
+                "line 1"),
+            std::string::npos)
+      << got.status().message();
+  Track3dCsvStream unknown;
+  got = unknown.Line("# frame: nwu", &s);
+  ASSERT_FALSE(got.ok());
+  EXPECT_NE(got.status().message().find("line 1, metadata 'frame'"),
+            std::string::npos);
+  // --frame=flu over a file's frd.
+  Track3dCsvStream overridden(Frame::kFlu);
+  ASSERT_TRUE(overridden.Line("# frame: FRD", &s).ok());
+  ASSERT_TRUE(overridden.Line(kHeader, &s).ok());
+  ASSERT_TRUE(*overridden.Line(row, &s));
+  EXPECT_EQ(s.accel_frd_mps2, Eigen::Vector3d(1, -2, -3));
+}
+
+// A field of 10 MB is quoted cut to 40 characters, as fit's reader does.
+TEST(Track3dCsvStream, CutsLongFieldsInMessages) {
+  const std::string huge(10 << 20, '7');
+  const std::string bad = huge + "x";
+  const std::vector<std::string> rows = {
+      "0.1," + bad + ",0,-9.8,0,0,0,1,0,0,0,0,0,0",
+      "0.1,0,0,-9.8,0,0,0,1,0,0,0,0,0," + bad,
+      "0,0,0,-9.8,0,0,0,1,0,0,0,0,0,0",  // replaced by the huge time below
+      "# rate_hz: " + bad,
+      "# frame: " + bad,
+      "# rate_hz: " + huge,  // beyond a double: infinite
+  };
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    Track3dCsvStream in;
+    Track3dSample s;
+    ASSERT_FALSE(*in.Line(kHeader, &s));
+    ASSERT_TRUE(*in.Line("0,0,0,-9.8,0,0,0,1,0,0,0,0,0,0", &s));
+    std::string row = rows[i];
+    if (i == 2) row = "-" + huge + ",0,0,-9.8,0,0,0,1,0,0,0,0,0,0";
+    const Status st = in.Line(row, &s).status();
+    ASSERT_FALSE(st.ok()) << i;
+    EXPECT_LT(st.message().size(), 300u) << i << ": " << st.message().size();
+    EXPECT_NE(st.message().find("..."), std::string::npos) << st.message();
+  }
+}
+
 TEST(Track3dOptions, RefusesOutOfRangeNamingTheField) {
   Track3dOptions o;
   EXPECT_TRUE(o.Validate().ok());
@@ -149,6 +344,7 @@ class Child {
  public:
   explicit Child(const std::vector<std::string>& args,
                  const std::string& err_path = "/dev/null") {
+    signal(SIGPIPE, SIG_IGN);
     int in[2], out[2];
     EXPECT_EQ(pipe(in), 0);
     EXPECT_EQ(pipe(out), 0);
@@ -175,11 +371,14 @@ class Child {
     to_ = in[1];
     from_ = out[0];
   }
+  // Stops where the command has stopped reading (it refused its input
+  // before the end): a write to its closed pipe fails with EPIPE, SIGPIPE
+  // being ignored.
   void Write(const std::string& text) {
     std::size_t done = 0;
     while (done < text.size()) {
       const ssize_t n = write(to_, text.data() + done, text.size() - done);
-      ASSERT_GT(n, 0);
+      if (n <= 0) return;
       done += static_cast<std::size_t>(n);
     }
   }
@@ -308,7 +507,7 @@ TEST(TrackCli, BadRowEndsWithExitTwoAfterTheEstimatesBeforeIt) {
   // Time going backwards and NaN alike.
   const auto r2 = RunWithInput(head + "9.5,0.1,0,-9.8,0,0,0,1,0,0,0,0,0,0\n");
   EXPECT_EQ(r2.exit_code, 2);
-  EXPECT_NE(r2.err.find("field 't': time 9.5 does not increase"),
+  EXPECT_NE(r2.err.find("field 't': time '9.5' does not increase"),
             std::string::npos)
       << r2.err;
   const auto r3 =
@@ -317,6 +516,103 @@ TEST(TrackCli, BadRowEndsWithExitTwoAfterTheEstimatesBeforeIt) {
   EXPECT_NE(r3.err.find("field 'gx': 'nan' is not a finite number"),
             std::string::npos)
       << r3.err;
+}
+
+// `fit`'s checks in `track`, on the same simulated figure-eight (FRD, 400 Hz
+// rows, `# rate_hz: 400`).
+std::string FigureEightWithRateHeader(const std::string& rate) {
+  std::string csv = ReadFile(FigureEightCsv());
+  const std::size_t at = csv.find("# rate_hz: 400\n");
+  EXPECT_NE(at, std::string::npos);
+  return csv.replace(at, 15, "# rate_hz: " + rate + "\n");
+}
+
+int LineOf(const std::string& csv, const std::string& text) {
+  const std::size_t at = csv.find(text);
+  EXPECT_NE(at, std::string::npos) << text;
+  return 1 + static_cast<int>(std::count(csv.begin(), csv.begin() + at, '\n'));
+}
+
+TEST(TrackCli, RateHeaderDisagreeingOrMalformedIsExitTwo) {
+  const std::string csv = FigureEightWithRateHeader("100");
+  const std::string line =
+      "line " + std::to_string(LineOf(csv, "# rate_hz:")) + ", ";
+  const auto r = RunWithInput(csv);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("stdin: " + line +
+                       "metadata 'rate_hz': '100' Hz disagrees with the "
+                       "time column's 400 Hz"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out, "");  // refused before anything was tracked
+  for (const char* rate : {"abc", "nan", "0", "-400"}) {
+    const auto bad = RunWithInput(FigureEightWithRateHeader(rate));
+    EXPECT_EQ(bad.exit_code, 2) << rate;
+    EXPECT_NE(
+        bad.err.find(line + "metadata 'rate_hz': '" + rate + "' is not a rate"),
+        std::string::npos)
+        << bad.err;
+  }
+}
+
+// A hole of 10^6 s after 10 s of rows: exit 2 naming the row, after the
+// estimates before it.
+TEST(TrackCli, HoleInTimeOnStandardInputIsExitTwo) {
+  std::istringstream in(ReadFile(FigureEightCsv()));
+  std::string line, head;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    head += line + "\n";
+    if (line_no > 10 && line.rfind("10.0025,", 0) == 0) break;
+  }
+  const auto r =
+      RunWithInput(head + "1000010.005,0,0,-9.8,0,0,0,1,0,0,0,0,0,0\n");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("line " + std::to_string(line_no + 1) +
+                       ", field 't': gap of 1e+06 s"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 11);
+  // Just under the reader's threshold (10 intervals of 2.5 ms): tracked on.
+  const auto ok = RunWithInput(head + "10.0274,0,0,-9.8,0,0,0,1,0,0,0,0,0,0\n");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+}
+
+// --frame=flu on an FRD log: fit refuses it; track too, from a file before
+// tracking and from standard input at the calibration (the accelerometer's
+// median z then reads -g).
+TEST(TrackCli, WrongFrameIsRefusedAsFitRefusesIt) {
+  const auto fit = testing::RunCli("fit --model=rigid3d --frame=flu --log=" +
+                                   FigureEightCsv());
+  EXPECT_EQ(fit.exit_code, 2);
+  const std::string reason = "so the frame looks wrong: the data look frd";
+  EXPECT_NE(fit.err.find(reason), std::string::npos) << fit.err;
+  const auto file =
+      testing::RunCli("track --frame=flu --log=" + FigureEightCsv());
+  EXPECT_EQ(file.exit_code, 2);
+  EXPECT_NE(file.err.find(reason), std::string::npos) << file.err;
+
+  const std::string err_path = testing::MakeTempDir() + "/stderr";
+  Child child({"track", "--log=-", "--frame=flu"}, err_path);
+  child.Write(ReadFile(FigureEightCsv()));
+  std::string out;
+  EXPECT_EQ(child.Finish(&out), 2);
+  const std::string err = ReadFile(err_path);
+  EXPECT_NE(err.find("refused the input"), std::string::npos) << err;
+  EXPECT_NE(err.find(reason), std::string::npos) << err;
+  // What came before it was printed, and nothing was tracked.
+  EXPECT_GT(std::count(out.begin(), out.end(), '\n'), 20);
+  EXPECT_EQ(out.find("tracking"), std::string::npos);
+}
+
+TEST(TrackCli, LongFieldIsCutInTheMessage) {
+  const std::string row =
+      "0.1," + std::string(10 << 20, 'x') + ",0,-9.8,0,0,0,1,0,0,0,0,0,0\n";
+  const auto r = RunWithInput(std::string(kHeader) + "\n" + row);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_LT(r.err.size(), 200u) << r.err.substr(0, 300);
+  EXPECT_NE(r.err.find("line 2, field 'ax': 'xxxx"), std::string::npos);
 }
 
 TEST(TrackCli, ReportDrawsTheTrack) {

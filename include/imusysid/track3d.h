@@ -100,6 +100,10 @@ struct Track3dOptions {
   // The systematic part of σ̂: the calibration's (Track3dCalibration::
   // systematic_ratio), the batch σ̂'s preprocessing and delay sensitivity.
   bool calibration_systematic = true;
+  // The frame the log declared (or --frame gave) before its samples were
+  // turned to FRD: a refused calibration that finds the frame looks wrong
+  // (Track3dCalibration::refused) names the other one.
+  Frame input_frame = Frame::kFrd;
   // Model-error floor added in quadrature to σ̂, m (the batch fit's), and
   // the σ̂ up to which an axis counts as determined, m.
   double stderr_floor_m = 0.00025;
@@ -166,7 +170,14 @@ struct Track3dChange {
 struct Track3dCalibration {
   bool done = false;
   bool estimated = false;  // false: it failed, `note` says why
-  double t_s = 0.0;        // when it ran
+  // The samples failed the checks `fit` refuses a log for (the
+  // accelerometer's magnitude and the frame it implies; the gyro against
+  // the estimator's attitude: an axis reversed, deg/s for rad/s): `note`
+  // says why, and from then on Update ignores samples and no estimate is
+  // valid. (A calibration that merely could not estimate the delay or the
+  // wind is not refused: the defaults are held.)
+  bool refused = false;
+  double t_s = 0.0;  // when it ran
   double estimator_delay_s = 0.0;
   bool delay_at_limit = false;
   double wind_n = 0.0, wind_e = 0.0;
@@ -237,22 +248,72 @@ struct Track3dLog {
 StatusOr<Track3dLog> Track3dSamplesOfLog(std::shared_ptr<const FlightLog> log);
 
 // A streamed 3-D CSV (docs/log-format.md: `# key: value` lines, a header,
-// then rows; FRD unless `# frame: flu`), one line at a time: Line() returns
-// true with a sample for a data row, false for metadata and the header, and
-// InvalidArgument naming the line and field for text in a number, a NaN or
-// infinite IMU value, a missing column or time not increasing.
+// then rows; FRD unless `# frame: flu`), one line at a time, with the checks
+// the CSV reader `fit` uses makes (src/io/csv_log.cc) where a stream allows
+// them. Line() returns true with a sample for a data row, false for
+// metadata and the header, and InvalidArgument naming the line and field
+// (quoted text cut to 40 characters) for text in a number, a NaN or
+// infinite IMU value, a missing column, time not increasing, a `# frame:`
+// or `# rate_hz:` that is not one, two `# frame:` lines that disagree, a
+// hole in time (a step beyond CsvReadOptions::max_gap_factor median
+// intervals) and a `# rate_hz:` that disagrees with the time column.
+//
+// The rate is the time column's: the median of the first kRateIntervals
+// intervals (fit takes the whole log's; a stream has only its start), known
+// from the row that completes them on, or from Finish() for a shorter
+// stream. Steps before it is known are checked for holes when it is.
 class Track3dCsvStream {
  public:
+  static constexpr int kRateIntervals = 64;
+  // A `# rate_hz:` header within this fraction of the time column's rate is
+  // accepted (and the time column's rate used): a header states the IMU's
+  // nominal rate, and MEMS output rates run off their nominal by up to a
+  // few percent; a filter designed 5 % off moves its 5 Hz cutoff by
+  // 0.25 Hz. Beyond it the header and the rows describe different logs (a
+  // 100 Hz header on 400 Hz rows), and one of them is wrong.
+  static constexpr double kRateTolerance = 0.05;
+
+  Track3dCsvStream() = default;
+  // `frame` overrides the stream's `# frame:` lines (the CLI's --frame, as
+  // CsvReadOptions::frame does for fit).
+  explicit Track3dCsvStream(Frame frame)
+      : override_frame_(true), frame_(frame) {}
+
   StatusOr<bool> Line(const std::string& line, Track3dSample* sample);
+  // At the end of the input: the rate's checks for a stream shorter than
+  // kRateIntervals intervals. InvalidArgument with fewer than two rows.
+  Status Finish();
   int line_number() const { return line_; }
+  // The frame the rows are read in (FRD, `# frame:`, or the override).
+  Frame frame() const { return frame_; }
+  // The time column's rate, Hz; 0 until known.
+  double rate_hz() const { return rate_hz_; }
 
  private:
+  Status SettleRate();
+  Status CheckDeclaredRate() const;
+
   int line_ = 0;
   bool have_header_ = false;
-  bool flu_ = false;
-  int column_[14] = {};  // t, ax..gz, qw..qz, vn..vd
+  bool override_frame_ = false;
+  Frame frame_ = Frame::kFrd;
+  Frame file_frame_ = Frame::kFrd;  // what the `# frame:` lines say
+  int frame_line_ = 0;              // of the first `# frame:` line
+  int column_[14] = {};             // t, ax..gz, qw..qz, vn..vd
   int num_columns_ = 0;
+  int rows_ = 0;
   double last_t_ = -std::numeric_limits<double>::infinity();
+  // The first intervals (their rows' end times and lines), until the rate
+  // is known.
+  double early_t_[kRateIntervals + 1] = {};
+  int early_line_[kRateIntervals + 1] = {};
+  double median_dt_ = 0.0;
+  double rate_hz_ = 0.0;
+  int rate_line_ = 0;  // the line the rate was settled at
+  // The last `# rate_hz:` header (0: none) and its line.
+  double declared_rate_hz_ = 0.0;
+  int declared_rate_line_ = 0;
+  std::string declared_rate_text_;
 };
 
 }  // namespace imusysid

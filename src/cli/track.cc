@@ -8,11 +8,13 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "gflags/gflags.h"
+#include "imusysid/log_sanity.h"
 #include "imusysid/track3d.h"
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
@@ -118,9 +120,10 @@ class Printer {
   bool table_;
 };
 
-Track3dOptions OptionsFromFlags(double rate_hz) {
+Track3dOptions OptionsFromFlags(double rate_hz, Frame input_frame) {
   Track3dOptions o;
   o.rate_hz = rate_hz;
+  o.input_frame = input_frame;
   if (std::isfinite(FLAGS_estimator_delay_s)) {
     o.estimator_delay_s = FLAGS_estimator_delay_s;
   }
@@ -135,12 +138,20 @@ class Runner {
  public:
   Runner(Track3d tracker, bool table)
       : tracker_(std::move(tracker)), printer_(table) {}
-  void Take(const Track3dSample& s) {
+  // FailedPrecondition when the calibration refused the input (fit's
+  // checks of the accelerometer, the frame and the gyro against the
+  // attitude): nothing more is tracked.
+  Status Take(const Track3dSample& s) {
     if (tracker_.Update(s)) {
       printer_.Change(tracker_.last_change());
       changes_.push_back(tracker_.last_change());
     }
     const Track3dCalibration& c = tracker_.calibration();
+    if (c.refused) {
+      return FailedPreconditionError("the calibration at " +
+                                     FormatNumber(c.t_s, 6) +
+                                     " s refused the input: " + c.note);
+    }
     if (c.done && !calibration_noted_) {
       calibration_noted_ = true;
       if (c.estimated) {
@@ -164,6 +175,7 @@ class Runner {
       if (!FLAGS_report.empty()) estimates_.push_back(e);
       next_print_ = std::floor(s.t_s * FLAGS_output_hz + 1.0) / FLAGS_output_hz;
     }
+    return Status::Ok();
   }
 
  private:
@@ -192,39 +204,51 @@ class Runner {
   double next_print_ = -std::numeric_limits<double>::infinity();
 };
 
+// Standard input, one line at a time: estimates are printed (and flushed)
+// as they come, so an error found mid-stream (a bad row, a hole in time, a
+// refused calibration) ends the command after everything before it.
 int RunStream(const std::string& cmd, bool table) {
-  Track3dCsvStream stream;
+  StatusOr<std::optional<Frame>> frame = FrameFromFlag();
+  if (!frame.ok()) return ReportError(cmd, frame.status());
+  Track3dCsvStream stream =
+      frame->has_value() ? Track3dCsvStream(**frame) : Track3dCsvStream();
   std::string line;
   std::unique_ptr<Runner> runner;
-  Track3dSample first;
-  bool have_first = false;
-  double rate_hz = std::numeric_limits<double>::quiet_NaN();
-  while (std::getline(std::cin, line)) {
-    // A `# rate_hz: N` line gives the rate; else the first two rows do.
-    if (line.rfind("# rate_hz:", 0) == 0) {
-      rate_hz = std::strtod(line.c_str() + 10, nullptr);
+  // The rows before the time column has given the rate (its first
+  // Track3dCsvStream::kRateIntervals intervals).
+  std::vector<Track3dSample> pending;
+  auto start = [&]() -> Status {
+    StatusOr<Track3d> tracker =
+        Track3d::Create(OptionsFromFlags(stream.rate_hz(), stream.frame()));
+    if (!tracker.ok()) return tracker.status().WithPrefix("stdin");
+    runner = std::make_unique<Runner>(std::move(*tracker), table);
+    for (const Track3dSample& p : pending) {
+      IMUSYSID_RETURN_IF_ERROR(runner->Take(p).WithPrefix("stdin"));
     }
+    pending.clear();
+    return Status::Ok();
+  };
+  while (std::getline(std::cin, line)) {
     Track3dSample s;
     StatusOr<bool> got = stream.Line(line, &s);
     if (!got.ok()) return ReportError(cmd, got.status().WithPrefix("stdin"));
     if (!*got) continue;
-    if (!runner) {
-      if (!have_first) {
-        first = s;
-        have_first = true;
-        continue;
-      }
-      if (!(rate_hz > 0.0)) rate_hz = 1.0 / (s.t_s - first.t_s);
-      StatusOr<Track3d> tracker = Track3d::Create(OptionsFromFlags(rate_hz));
-      if (!tracker.ok()) return ReportError(cmd, tracker.status());
-      runner = std::make_unique<Runner>(std::move(*tracker), table);
-      runner->Take(first);
+    if (runner) {
+      const Status taken = runner->Take(s);
+      if (!taken.ok()) return ReportError(cmd, taken.WithPrefix("stdin"));
+      continue;
     }
-    runner->Take(s);
+    pending.push_back(s);
+    if (stream.rate_hz() > 0.0) {
+      const Status started = start();
+      if (!started.ok()) return ReportError(cmd, started);
+    }
   }
+  const Status finished = stream.Finish();
+  if (!finished.ok()) return ReportError(cmd, finished.WithPrefix("stdin"));
   if (!runner) {
-    return ReportError(
-        cmd, InvalidArgumentError("stdin: fewer than two samples to track"));
+    const Status started = start();
+    if (!started.ok()) return ReportError(cmd, started);
   }
   if (!FLAGS_report.empty()) {
     const Status written = runner->WriteReport();
@@ -265,15 +289,20 @@ int RunTrack(const std::vector<std::string>& positional) {
   if (FLAGS_log == "-") return RunStream(cmd, table);
   StatusOr<FlightLog> log = ReadLogFromFlags(FLAGS_log);
   if (!log.ok()) return ReportError(cmd, log.status());
+  // fit's check of the accelerometer's magnitude and frame (the reader
+  // made fit's checks of the rows, the time and the gaps).
+  const Status accelerometer = CheckAccelerometer(*log);
+  if (!accelerometer.ok()) return ReportError(cmd, accelerometer);
   auto shared = std::make_shared<const FlightLog>(std::move(*log));
   StatusOr<Track3dLog> samples = Track3dSamplesOfLog(shared);
   if (!samples.ok()) return ReportError(cmd, samples.status());
   StatusOr<Track3d> tracker =
-      Track3d::Create(OptionsFromFlags(samples->rate_hz));
+      Track3d::Create(OptionsFromFlags(samples->rate_hz, shared->source_frame));
   if (!tracker.ok()) return ReportError(cmd, tracker.status());
   Runner runner(std::move(*tracker), table);
   for (std::size_t k = 0; k < samples->size; ++k) {
-    runner.Take(samples->sample(k));
+    const Status taken = runner.Take(samples->sample(k));
+    if (!taken.ok()) return ReportError(cmd, taken.WithPrefix(FLAGS_log));
   }
   if (!FLAGS_report.empty()) {
     const Status written = runner.WriteReport();
@@ -308,9 +337,12 @@ const Command& TrackCommand() {
       "estimator delay and the wind are calibrated once,\nafter 25 s of "
       "flight, on the samples so far (--estimator_delay_s is used where "
       "that\nfails). Default format JSON lines. A bad row on standard input "
-      "(text in a number,\nNaN, time not increasing) ends the command with "
-      "exit 2 naming the line and field,\nafter every estimate before it "
-      "has been printed. --report=DIR draws DIR/track.svg:\nthe estimate "
+      "(text in a number,\nNaN, time not increasing, a hole in time), a "
+      "'# rate_hz:' more than 5% from the time\ncolumn's rate (which is "
+      "used) or a calibration that finds the frame or units wrong\nends "
+      "the command with exit 2 naming the line and field, after every "
+      "estimate\nbefore it has been printed. --report=DIR draws "
+      "DIR/track.svg:\nthe estimate "
       "per axis over time with its 2-sigma band and the changes marked\n"
       "(gnuplot).",
       {"log",

@@ -566,9 +566,11 @@ std::size_t FindGap(const FlightLog& log,
                     double* median) {
   if (!(options.max_gap_factor > 0.0) || log.size() < 2) return 0;
   *median = log.MedianDt();
-  const double limit = options.max_gap_factor * *median;
   for (std::size_t i = 1; i < log.size(); ++i) {
-    if (!(log.t_s[i] - log.t_s[i - 1] <= limit)) return i;
+    if (internal::IsTimeGap(
+            log.t_s[i - 1], log.t_s[i], *median, options.max_gap_factor)) {
+      return i;
+    }
   }
   return 0;
 }
@@ -592,18 +594,15 @@ Status CheckWholeLog(const FlightLog& log,
   double median = 0.0;
   const std::size_t i = FindGap(log, options, &median);
   if (i > 0) {
-    const double gap = log.t_s[i] - log.t_s[i - 1];
     int line_number, column;
     LocateRowField(body, i, t_column, &line_number, &column);
-    return ErrorAt(name,
-                   line_number,
-                   column,
-                   "column 't': gap of " + FormatNumber(gap, 6) +
-                       " s from t=" + FormatNumber(log.t_s[i - 1], 12) +
-                       " to t=" + FormatNumber(log.t_s[i], 12) + " exceeds " +
-                       FormatNumber(options.max_gap_factor, 6) +
-                       " x the median interval " + FormatNumber(median, 6) +
-                       " s; the log has a hole");
+    return ErrorAt(
+        name,
+        line_number,
+        column,
+        "column 't': " +
+            internal::TimeGapMessage(
+                log.t_s[i - 1], log.t_s[i], median, options.max_gap_factor));
   }
   return Status::Ok();
 }
@@ -684,6 +683,24 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
 }
 
 namespace internal {
+
+bool IsTimeGap(double t_before,
+               double t_after,
+               double median_dt,
+               double max_gap_factor) {
+  return !(t_after - t_before <= max_gap_factor * median_dt);
+}
+
+std::string TimeGapMessage(double t_before,
+                           double t_after,
+                           double median_dt,
+                           double max_gap_factor) {
+  return "gap of " + FormatNumber(t_after - t_before, 6) +
+         " s from t=" + FormatNumber(t_before, 12) +
+         " to t=" + FormatNumber(t_after, 12) + " exceeds " +
+         FormatNumber(max_gap_factor, 6) + " x the median interval " +
+         FormatNumber(median_dt, 6) + " s; the log has a hole";
+}
 
 Status FinishRelaxedCsvLog(std::string_view text,
                            const std::string& name,

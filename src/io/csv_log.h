@@ -24,6 +24,22 @@ Status FinishRelaxedCsvLog(std::string_view text,
                            const CsvReadOptions& options,
                            FlightLog* log);
 
+// The reader's hole in time, shared with the tracker's streamed CSV
+// (src/track/track3d_input.cc) so that both refuse the same steps alike: a
+// step from `t_before` to `t_after` longer than `max_gap_factor` times the
+// median interval `median_dt` (CsvReadOptions::max_gap_factor).
+bool IsTimeGap(double t_before,
+               double t_after,
+               double median_dt,
+               double max_gap_factor);
+// What the reader says of such a gap, after "column 't': ": "gap of 1e+06 s
+// from t=... to t=... exceeds 10 x the median interval 0.0025 s; the log
+// has a hole".
+std::string TimeGapMessage(double t_before,
+                           double t_after,
+                           double median_dt,
+                           double max_gap_factor);
+
 }  // namespace internal
 }  // namespace imusysid
 

@@ -18,12 +18,14 @@
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
 #include "Eigen/Geometry"
+#include "imusysid/log_sanity.h"
 #include "imusysid/parameters.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d.h"
 #include "src/models/rigid3d_model.h"
 #include "src/numerics/butterworth.h"
 #include "src/numerics/student_t.h"
+#include "src/preprocess/preprocess3d_internal.h"
 
 namespace imusysid {
 namespace {
@@ -933,6 +935,7 @@ struct Track3d::Impl {
   }
 
   bool Update(const Track3dSample& s) {
+    if (calibration.refused) return false;
     if (calibration.done) return pipe->Update(s);
     const auto keep_on_ground = static_cast<std::size_t>(5.0 * o.rate_hz);
     if (!pipe->airborne && buffer.size() >= 2 * keep_on_ground) {
@@ -955,7 +958,8 @@ struct Track3d::Impl {
     FlightLog log;
     log.source = "the first " + std::to_string(o.calibration_s) +
                  " s of flight (track calibration)";
-    log.source_frame = Frame::kFrd;
+    // Holds FLU as every FlightLog; the frame it was read in is the log's.
+    log.source_frame = o.input_frame;
     const char* names[7] = {"qw", "qx", "qy", "qz", "vn", "ve", "vd"};
     std::vector<std::vector<double>> extra(7);
     for (const Track3dSample& s : buffer) {
@@ -973,9 +977,36 @@ struct Track3d::Impl {
     for (int c = 0; c < 7; ++c) log.extra.push_back({names[c], extra[c]});
     Preprocess3dOptions po;
     po.cutoff_hz = o.cutoff_hz;
-    StatusOr<Preprocess3dResult> r = Preprocess3d(log, po);
     calibration.done = true;
     calibration.t_s = t;
+    // fit refuses a log whose accelerometer or frame is wrong
+    // (src/io/log_sanity.cc); tracking it would print a wrong position with
+    // a σ̂ that does not show it.
+    const Status refusal = CheckAccelerometer(log);
+    if (!refusal.ok()) {
+      calibration.refused = true;
+      calibration.note = refusal.message();
+      buffer.clear();
+      return false;
+    }
+    StatusOr<Preprocess3dResult> r = Preprocess3d(log, po);
+    if (!r.ok()) {
+      // The gyro-against-attitude check runs inside Preprocess3d, after the
+      // windows: a refusal is told from a failed estimate by running it
+      // alone, which only a failed calibration pays for.
+      internal::EstimatorTrack track;
+      Preprocess3dResult windows;
+      if (internal::EstimatorTrackAndWindows(log, po, &track, &windows).ok()) {
+        const Status gyro = internal::CheckGyroAgainstAttitude(
+            log, track, windows.windows, windows.gyro_bias_frd);
+        if (!gyro.ok()) {
+          calibration.refused = true;
+          calibration.note = gyro.message();
+          buffer.clear();
+          return false;
+        }
+      }
+    }
     if (r.ok()) {
       calibration.estimated = true;
       calibration.estimator_delay_s = r->estimator_delay_s;
@@ -1038,6 +1069,7 @@ Track3dEstimate Track3d::Estimate() const {
   Track3dEstimate e;
   e.t_s = m.state_t;
   e.state = m.state;
+  if (impl_->calibration.refused) return e;  // invalid: see the note
   e.flight_s = m.flight_s;
   e.inflation = m.estimate_inflation;
   e.wind_n = m.wind_n;

@@ -1,13 +1,20 @@
 // The tracker's inputs (include/imusysid/track3d.h): a flight log's samples
 // with the estimator's track at each, and a 3-D CSV streamed line by line.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <vector>
 
+#include "imusysid/log.h"
 #include "imusysid/track3d.h"
+#include "src/io/csv_log.h"
+#include "src/io/csv_text.h"
 #include "src/preprocess/preprocess3d_internal.h"
+#include "src/tools/format.h"
 
 namespace imusysid {
 namespace {
@@ -66,14 +73,40 @@ StatusOr<bool> Track3dCsvStream::Line(const std::string& raw_line,
   const std::string where = "line " + std::to_string(line_);
   if (line.empty()) return false;
   if (line[0] == '#') {
-    const std::string body = Trim(line.substr(1));
-    if (body.rfind("frame:", 0) == 0) {
-      const std::string frame = Trim(body.substr(6));
-      if (frame != "flu" && frame != "frd") {
-        return InvalidArgumentError(where + ": frame '" + frame +
-                                    "'; required flu or frd");
+    // The reader's own parse of `# key: value` (a key ends at a colon
+    // followed by a blank), so that both take the same lines as metadata.
+    std::string_view key, value;
+    if (!internal::ParseMetadata(line, &key, &value)) return false;
+    if (key == "frame") {
+      StatusOr<Frame> frame = FrameFromString(value);
+      if (!frame.ok()) {
+        return InvalidArgumentError(
+            where + ", metadata 'frame': " + frame.status().message());
       }
-      flu_ = frame == "flu";
+      if (frame_line_ > 0 && *frame != file_frame_) {
+        return InvalidArgumentError(
+            where + ", metadata 'frame': " + internal::Quote(value) +
+            " contradicts 'frame: " + FrameToString(file_frame_) +
+            "' on line " + std::to_string(frame_line_));
+      }
+      if (frame_line_ == 0) frame_line_ = line_;
+      file_frame_ = *frame;
+      if (!override_frame_) frame_ = *frame;
+    } else if (key == "rate_hz") {
+      const std::string text(value);
+      char* end = nullptr;
+      const double rate = std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size() ||
+          !std::isfinite(rate) || !(rate > 0.0)) {
+        return InvalidArgumentError(
+            where + ", metadata 'rate_hz': " + internal::Quote(value) +
+            " is not a rate (required a positive number of Hz; the rate is "
+            "the time column's, the header only checks it)");
+      }
+      declared_rate_hz_ = rate;
+      declared_rate_line_ = line_;
+      declared_rate_text_ = text.substr(0, 64);
+      if (rate_hz_ > 0.0) IMUSYSID_RETURN_IF_ERROR(CheckDeclaredRate());
     }
     return false;
   }
@@ -119,26 +152,104 @@ StatusOr<bool> Track3dCsvStream::Line(const std::string& raw_line,
     char* end = nullptr;
     v[c] = std::strtod(cell.c_str(), &end);
     if (cell.empty() || end != cell.c_str() + cell.size()) {
-      return InvalidArgumentError(where + ", " + field + ": '" + cell +
-                                  "' is not a number");
+      return InvalidArgumentError(where + ", " + field + ": " +
+                                  internal::Quote(cell) + " is not a number");
     }
     if (!std::isfinite(v[c]) || std::abs(v[c]) > kMaxAbsInputValue) {
-      return InvalidArgumentError(where + ", " + field + ": '" + cell +
-                                  "' is not a finite number");
+      return InvalidArgumentError(where + ", " + field + ": " +
+                                  internal::Quote(cell) +
+                                  " is not a finite number");
     }
   }
   if (!(v[0] > last_t_)) {
     return InvalidArgumentError(where + ", field 't': time " +
-                                cells[column_[0]] + " does not increase");
+                                internal::Quote(cells[column_[0]]) +
+                                " does not increase");
   }
+  // Holes in time: at once once the rate is known, else when it is.
+  if (median_dt_ > 0.0) {
+    if (internal::IsTimeGap(
+            last_t_, v[0], median_dt_, CsvReadOptions().max_gap_factor)) {
+      return InvalidArgumentError(
+          where + ", field 't': " +
+          internal::TimeGapMessage(
+              last_t_, v[0], median_dt_, CsvReadOptions().max_gap_factor) +
+          " (the median of the first " + std::to_string(kRateIntervals) +
+          " intervals)");
+    }
+  } else {
+    early_t_[rows_] = v[0];
+    early_line_[rows_] = line_;
+  }
+  ++rows_;
   last_t_ = v[0];
-  const double sign = flu_ ? -1.0 : 1.0;  // FLU → FRD flips y and z
+  if (median_dt_ == 0.0 && rows_ == kRateIntervals + 1) {
+    IMUSYSID_RETURN_IF_ERROR(SettleRate());
+  }
+  const bool flu = frame_ == Frame::kFlu;
+  const double sign = flu ? -1.0 : 1.0;  // FLU → FRD flips y and z
   sample->t_s = v[0];
   sample->accel_frd_mps2 = Eigen::Vector3d(v[1], sign * v[2], sign * v[3]);
   sample->gyro_frd_radps = Eigen::Vector3d(v[4], sign * v[5], sign * v[6]);
   sample->attitude_wxyz = Eigen::Vector4d(v[7], v[8], v[9], v[10]);
   sample->velocity_ned_mps = Eigen::Vector3d(v[11], v[12], v[13]);
   return true;
+}
+
+// The median of the first rows' intervals (as FlightLog::MedianDt), then the
+// checks that needed it on those rows.
+Status Track3dCsvStream::SettleRate() {
+  const int intervals = rows_ - 1;
+  std::vector<double> dt(static_cast<std::size_t>(intervals));
+  for (int i = 0; i < intervals; ++i) dt[i] = early_t_[i + 1] - early_t_[i];
+  const std::size_t mid = dt.size() / 2;
+  std::nth_element(dt.begin(), dt.begin() + mid, dt.end());
+  median_dt_ = dt[mid];
+  if (dt.size() % 2 == 0) {
+    median_dt_ =
+        0.5 * (median_dt_ + *std::max_element(dt.begin(), dt.begin() + mid));
+  }
+  rate_hz_ = 1.0 / median_dt_;
+  rate_line_ = line_;
+  const double factor = CsvReadOptions().max_gap_factor;
+  for (int i = 1; i < rows_; ++i) {
+    if (internal::IsTimeGap(early_t_[i - 1], early_t_[i], median_dt_, factor)) {
+      return InvalidArgumentError(
+          "line " + std::to_string(early_line_[i]) + ", field 't': " +
+          internal::TimeGapMessage(
+              early_t_[i - 1], early_t_[i], median_dt_, factor) +
+          " (the median of the first " + std::to_string(intervals) +
+          " intervals)");
+    }
+  }
+  if (declared_rate_line_ > 0) return CheckDeclaredRate();
+  return Status::Ok();
+}
+
+Status Track3dCsvStream::CheckDeclaredRate() const {
+  if (std::abs(declared_rate_hz_ - rate_hz_) <= kRateTolerance * rate_hz_) {
+    return Status::Ok();
+  }
+  return InvalidArgumentError(
+      "line " + std::to_string(declared_rate_line_) +
+      ", metadata 'rate_hz': " + internal::Quote(declared_rate_text_) +
+      " Hz disagrees with the time column's " + FormatNumber(rate_hz_, 6) +
+      " Hz (the median interval " + FormatNumber(median_dt_, 6) +
+      " s of the rows up to line " + std::to_string(rate_line_) +
+      "; more than " + FormatNumber(100.0 * kRateTolerance, 3) +
+      " % apart): the rows or the header are wrong (fix or remove the "
+      "header; the rate is taken from the time column)");
+}
+
+Status Track3dCsvStream::Finish() {
+  if (rows_ < 2) {
+    return InvalidArgumentError("line " + std::to_string(line_) + ": " +
+                                std::to_string(rows_) +
+                                " data row(s), fewer than the two a rate "
+                                "needs");
+  }
+  if (median_dt_ == 0.0) return SettleRate();
+  return Status::Ok();
 }
 
 }  // namespace imusysid
