@@ -163,6 +163,27 @@ const char kShortPlanar[] =
     "takeoff_s=0.5,hover_s=2,hover_altitude_m=0.5,landing_s=1.5,"
     "motors_off_end_s=0 ";
 
+// A folder that exists but takes no new entry (/proc/self: root passes every
+// permission bit, the kernel refuses anyway): refused before flying, since
+// the set is written to temporary files beside its targets. /proc/self/fd/1
+// is a link to the tool's stdout (a pipe here: refused as one; a file in a
+// shell: its siblings would go to /proc/self/fd).
+TEST(Simulate3dCli, OutInAFolderThatTakesNoEntryIsRefusedBeforeAnyWork) {
+  EXPECT_THAT(
+      RunCli(
+          "simulate --scenario=hover_3d --rate_hz=100 --out=/proc/self/x.csv")
+          .err,
+      HasSubstr("no new entry can be made in '/proc/self'"));
+  for (const std::string& out :
+       {std::string("/proc/self/x.csv"), std::string("/proc/self/fd/1")}) {
+    const auto r =
+        RunCli("simulate --scenario=hover_3d --rate_hz=100 --out=" + out);
+    EXPECT_EQ(r.exit_code, 2) << out << "\n" << r.err;
+    EXPECT_THAT(r.err, HasSubstr("--out")) << out;
+    EXPECT_THAT(r.err, ::testing::Not(HasSubstr("simulating"))) << out;
+  }
+}
+
 TEST(Simulate3dCli, OutOnADeviceOrFifoIsRefusedBeforeAnyWork) {
   const std::vector<std::string> siblings = {
       "/dev/null.truth.json", "/dev/null.imu2.csv", "/dev/null.imu3.csv"};

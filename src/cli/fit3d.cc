@@ -17,6 +17,7 @@
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
 #include "src/report/rigid3d_page.h"
+#include "src/tools/file_probe.h"
 
 DEFINE_double(estimator_delay_s,
               std::numeric_limits<double>::quiet_NaN(),
@@ -270,14 +271,10 @@ Status CheckOutputFileTarget(const std::string& flag, const std::string& path) {
                   "' does not exist or is not a folder");
   }
   // The file is written beside its target and renamed over it.
-  std::string probe = (parent / ".imusysid-check.XXXXXX").string();
-  const int fd = mkstemp(probe.data());
-  if (fd < 0) {
-    return refuse("no file can be made in '" + parent.string() +
-                  "': " + std::strerror(errno));
+  const std::string why = WhyFolderTakesNoEntry(parent.string());
+  if (!why.empty()) {
+    return refuse("no file can be made in '" + parent.string() + "': " + why);
   }
-  close(fd);
-  unlink(probe.c_str());
   return Status::Ok();
 }
 

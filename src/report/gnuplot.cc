@@ -10,6 +10,7 @@
 
 #include "imusysid/log.h"
 #include "src/io/staging_folder.h"
+#include "src/tools/file_probe.h"
 #include "src/tools/format.h"
 #include "src/tools/safe_text.h"
 
@@ -59,14 +60,6 @@ std::string GnuplotLastLine(const std::string& path) {
 
 // Empty when a folder can be made (and is removed again) inside `folder`,
 // else why not (strerror).
-std::string GnuplotFolderTakesEntry(const std::string& folder) {
-  std::string probe = folder + "/.imusysid-check.XXXXXX";
-  if (mkdtemp(probe.data()) == nullptr) return std::strerror(errno);
-  std::error_code ec;
-  std::filesystem::remove(probe, ec);
-  return "";
-}
-
 }  // namespace
 
 Status CheckFigureFolder(const std::string& dir_in) {
@@ -93,7 +86,7 @@ Status CheckFigureFolder(const std::string& dir_in) {
   std::vector<std::string> folders = {p.string()};
   if (exists) folders.push_back(dir);
   for (const std::string& folder : folders) {
-    const std::string why = GnuplotFolderTakesEntry(folder);
+    const std::string why = WhyFolderTakesNoEntry(folder);
     if (!why.empty()) {
       return InvalidArgumentError("cannot write '" + dir +
                                   "': no new entry can be made in '" + folder +

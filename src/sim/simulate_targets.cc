@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "src/tools/file_probe.h"
 #include "src/tools/safe_text.h"
 
 namespace imusysid {
@@ -152,6 +153,13 @@ Status CheckTargets(const std::string& out,
     if (!S_ISDIR(st.st_mode)) {
       return InvalidArgumentError("--out: cannot write '" + path + "': '" +
                                   folder + "' is not a folder");
+    }
+    // The set is written to temporary files beside its targets.
+    const std::string why = WhyFolderTakesNoEntry(folder);
+    if (!why.empty()) {
+      return InvalidArgumentError("--out: cannot write '" + path +
+                                  "': no new entry can be made in '" + folder +
+                                  "' (" + why + ")");
     }
   }
   return Status::Ok();
