@@ -1,7 +1,8 @@
 // Reading the documented CSV log format (docs/log-format.md) into a
 // FlightLog: one pass over the text without copying lines or allocating per
 // row, every malformed input an error that names the file, line, column and
-// offending text.
+// offending text. The comments, the header line and the columns' binding
+// are csv_log_header.cc's; this file reads the rows and checks the whole log.
 
 #include "src/io/csv_log.h"
 
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "imusysid/log.h"
+#include "src/io/csv_log_header.h"
 #include "src/io/csv_text.h"
 #include "src/tools/format.h"
 #include "src/tools/safe_text.h"
@@ -24,53 +26,25 @@
 namespace imusysid {
 namespace {
 
+using internal::BindCsvColumns;
 using internal::CharColumn;
 using internal::Classify;
+using internal::CsvColumnBinding;
+using internal::CsvCommentHandler;
+using internal::CsvHeader;
 using internal::ErrorAt;
 using internal::FieldStart;
 using internal::FieldText;
+using internal::FindCsvHeaderLine;
 using internal::IsBlank;
+using internal::kCsvRequiredColumns;
 using internal::LineKind;
 using internal::LineReader;
+using internal::ParseCsvNumber;
 using internal::ParseMetadata;
 using internal::Quote;
+using internal::SplitCsvHeader;
 using internal::TrimBlanks;
-
-constexpr int kNumRequired = 7;
-constexpr const char* kRequiredNames[kNumRequired] = {
-    "t", "ax", "ay", "az", "gx", "gy", "gz"};
-
-// Parses one number that starts at or after `p` (leading blanks allowed) and
-// ends at a comma or `end`. On success stores the value and returns the
-// position of the comma or `end`; otherwise returns nullptr and leaves `*bad`
-// at the start of the offending text. A leading '+' is accepted because
-// spreadsheets write it; from_chars alone rejects it.
-inline const char* ParseNumber(const char* p,
-                               const char* end,
-                               double* value,
-                               const char** bad) {
-  while (p < end && IsBlank(*p)) ++p;
-  *bad = p;
-  const char* digits = p;
-  if (p < end && *p == '+' && p + 1 < end && p[1] != '-' && p[1] != '+') {
-    ++digits;
-  }
-  const std::from_chars_result result = std::from_chars(digits, end, *value);
-  if (result.ec != std::errc()) return nullptr;
-  const char* q = result.ptr;
-  while (q < end && IsBlank(*q)) ++q;
-  if (q < end && *q != ',') return nullptr;
-  return q;
-}
-
-std::string JoinNames(const std::vector<std::string>& names) {
-  std::string out;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    if (i > 0) out += ", ";
-    out += "'" + names[i] + "'";
-  }
-  return out;
-}
 
 // Where the k-th data row is in the file and where its `column`-th field
 // starts. Only used to place an error found after the single pass (a gap
@@ -206,7 +180,7 @@ inline bool ParseRow(std::string_view line,
   for (std::size_t c = 0; c < num_columns; ++c) {
     double value;
     const char* bad;
-    const char* next = ParseNumber(p, end, &value, &bad);
+    const char* next = ParseCsvNumber(p, end, &value, &bad);
     bool missing = false;
     if (next == nullptr && empty_until_first[c] &&
         (bad == end || *bad == ',') &&
@@ -282,223 +256,14 @@ void FlipYZ(std::vector<double>* y, std::vector<double>* z) {
   for (double& v : *z) v = -v;
 }
 
-// The `# key: value` comments of a file, in order, as metadata; `frame`
-// comments also set the file's frame and must agree with one another.
-// Comments are legal anywhere, so the same handler runs before and after the
-// header.
-class CommentHandler {
- public:
-  CommentHandler(const std::string& name, FlightLog* log)
-      : name_(name), log_(log) {}
-
-  // `comment` is the whole line, `line_number` its 1-based number.
-  Status Handle(std::string_view comment, int line_number) {
-    std::string_view key, value;
-    if (!ParseMetadata(comment, &key, &value)) return Status::Ok();
-    if (key == "frame") {
-      StatusOr<Frame> frame = FrameFromString(value);
-      if (!frame.ok()) {
-        return ErrorAt(name_,
-                       line_number,
-                       CharColumn(comment, value.data()),
-                       "metadata 'frame': " + frame.status().message());
-      }
-      if (frame_seen_ && *frame != file_frame_) {
-        return ErrorAt(
-            name_,
-            line_number,
-            CharColumn(comment, value.data()),
-            "metadata 'frame': " + Quote(value) +
-                " contradicts 'frame: " + FrameToString(file_frame_) +
-                "' on line " + std::to_string(frame_line_));
-      }
-      frame_seen_ = true;
-      file_frame_ = *frame;
-      frame_line_ = line_number;
-    }
-    log_->metadata.emplace_back(std::string(key), std::string(value));
-    return Status::Ok();
-  }
-
-  // The frame the file declares (FLU when it declares none).
-  Frame file_frame() const { return file_frame_; }
-
- private:
-  const std::string& name_;
-  FlightLog* log_;
-  bool frame_seen_ = false;
-  Frame file_frame_ = Frame::kFlu;
-  int frame_line_ = 0;
-};
-
-// The header line and the column names it holds.
-struct CsvHeader {
-  int line = 0;  // 1-based line number
-  std::string_view text;
-  std::vector<std::string> names;
-  std::vector<int> columns;  // character column of each name
-};
-
-// Reads up to the first content line, handing comments to `comments`.
-// InvalidArgument when the file has none: it is empty or all comments.
-StatusOr<std::string_view> FindHeaderLine(LineReader* reader,
-                                          const std::string& name,
-                                          CommentHandler* comments) {
-  std::string_view line;
-  while (reader->Next(&line)) {
-    const LineKind kind = Classify(line);
-    if (kind == LineKind::kBlank) continue;
-    if (kind == LineKind::kComment) {
-      IMUSYSID_RETURN_IF_ERROR(comments->Handle(line, reader->line_number()));
-      continue;
-    }
-    return line;
-  }
-  if (reader->line_number() == 0) {
-    return ErrorAt(name,
-                   1,
-                   1,
-                   "the file is empty; expected a header line "
-                   "naming the columns t,ax,ay,az,gx,gy,gz");
-  }
-  return ErrorAt(name,
-                 reader->line_number(),
-                 1,
-                 "no header line: the file holds only comments or blank "
-                 "lines; expected a header naming the columns "
-                 "t,ax,ay,az,gx,gy,gz");
-}
-
-// Splits the header line into column names. A name must be non-empty, not a
-// number (a file without a header would lose its first row) and unique.
-StatusOr<CsvHeader> SplitHeader(std::string_view line,
-                                int line_number,
-                                const std::string& name) {
-  CsvHeader header;
-  header.line = line_number;
-  header.text = line;
-  const char* p = line.data();
-  const char* const end = p + line.size();
-  while (true) {
-    const char* stop = p;
-    while (stop < end && *stop != ',') ++stop;
-    const std::string_view field =
-        TrimBlanks(std::string_view(p, static_cast<size_t>(stop - p)));
-    const char* field_start = p;
-    while (field_start < stop && IsBlank(*field_start)) ++field_start;
-    const int col = CharColumn(line, field_start);
-    if (field.empty()) {
-      return ErrorAt(name,
-                     line_number,
-                     col,
-                     "header column " +
-                         std::to_string(header.names.size() + 1) +
-                         " has an empty name");
-    }
-    double ignored;
-    const char* bad;
-    if (ParseNumber(
-            field.data(), field.data() + field.size(), &ignored, &bad) !=
-        nullptr) {
-      return ErrorAt(name,
-                     line_number,
-                     col,
-                     "no header: the first non-comment line holds the "
-                     "number " +
-                         Quote(field) +
-                         " where a column name belongs; the first line "
-                         "must name the columns t,ax,ay,az,gx,gy,gz");
-    }
-    for (std::size_t i = 0; i < header.names.size(); ++i) {
-      if (header.names[i] == field) {
-        return ErrorAt(name,
-                       line_number,
-                       col,
-                       "duplicate column name " + Quote(field) +
-                           " (first at column " +
-                           std::to_string(header.columns[i]) + ")");
-      }
-    }
-    header.names.emplace_back(field);
-    header.columns.push_back(col);
-    if (stop == end) break;
-    p = stop + 1;
-  }
-  return header;
-}
-
-// Where each column's values go: the required columns into the log's own
-// vectors, every other column into log.extra under its name.
-struct ColumnBinding {
-  std::vector<std::vector<double>*> dest;  // one per header column
-  // Per column: an estimator channel, which may be empty (NaN) until its
-  // first value.
-  std::vector<char> empty_until_first;
-  std::size_t t_column = 0;
-};
-
-// Binds the header's columns to `log`, reserving `row_estimate` values each.
-// InvalidArgument names the missing required columns.
-StatusOr<ColumnBinding> BindColumns(const CsvHeader& header,
-                                    const std::string& name,
-                                    std::size_t row_estimate,
-                                    FlightLog* log) {
-  int required_index[kNumRequired];
-  std::vector<std::string> missing;
-  for (int r = 0; r < kNumRequired; ++r) {
-    const auto it =
-        std::find(header.names.begin(), header.names.end(), kRequiredNames[r]);
-    required_index[r] = it == header.names.end()
-                            ? -1
-                            : static_cast<int>(it - header.names.begin());
-    if (it == header.names.end()) missing.emplace_back(kRequiredNames[r]);
-  }
-  if (!missing.empty()) {
-    return ErrorAt(name,
-                   header.line,
-                   1,
-                   "header " + Quote(header.text) +
-                       " is missing required column" +
-                       (missing.size() > 1 ? "s " : " ") + JoinNames(missing) +
-                       "; required: t,ax,ay,az,gx,gy,gz in any order");
-  }
-
-  ColumnBinding binding;
-  std::vector<double>* required_dest[kNumRequired] = {
-      &log->t_s, &log->ax, &log->ay, &log->az, &log->gx, &log->gy, &log->gz};
-  std::vector<std::vector<double>*>& dest = binding.dest;
-  dest.assign(header.names.size(), nullptr);
-  for (int r = 0; r < kNumRequired; ++r) {
-    dest[static_cast<std::size_t>(required_index[r])] = required_dest[r];
-  }
-  const std::size_t num_extra = header.names.size() - kNumRequired;
-  log->extra.reserve(num_extra);
-  for (std::size_t c = 0; c < header.names.size(); ++c) {
-    if (dest[c] == nullptr) log->extra.push_back(Channel{header.names[c], {}});
-  }
-  // Pointers into log.extra are taken only after it stopped growing.
-  for (std::size_t c = 0, e = 0; c < header.names.size(); ++c) {
-    if (dest[c] == nullptr) dest[c] = &log->extra[e++].values;
-  }
-  for (std::vector<double>* d : dest) d->reserve(row_estimate);
-  binding.empty_until_first.assign(header.names.size(), 0);
-  for (std::size_t c = 0; c < header.names.size(); ++c) {
-    for (const char* channel : kEstimatorChannels) {
-      if (header.names[c] == channel) binding.empty_until_first[c] = 1;
-    }
-  }
-  binding.t_column = static_cast<std::size_t>(required_index[0]);
-  return binding;
-}
-
 // Parses the data rows that follow the header into the bound columns (comment
 // lines may still appear). Time must increase strictly. Returns the line
 // number of the last data row (the header's when there is none).
 StatusOr<int> ParseRows(LineReader* reader,
                         const std::string& name,
                         const CsvHeader& header,
-                        const ColumnBinding& binding,
-                        CommentHandler* comments,
+                        const CsvColumnBinding& binding,
+                        CsvCommentHandler* comments,
                         FlightLog* log) {
   const std::size_t t_column = binding.t_column;
   const std::size_t num_columns = binding.dest.size();
@@ -607,10 +372,6 @@ Status CheckWholeLog(const FlightLog& log,
   return Status::Ok();
 }
 
-}  // namespace
-
-namespace {
-
 // True when the start of `text` is binary rather than text: a NUL byte, or
 // more than one in ten bytes a control byte or not UTF-8. A binary file that
 // is neither ULog nor DataFlash ends up here, and a "header error" quoting
@@ -648,13 +409,13 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
     body.remove_prefix(3);
   }
   LineReader reader(body);
-  CommentHandler comments(name, &log);
+  CsvCommentHandler comments(name, &log);
 
   StatusOr<std::string_view> header_line =
-      FindHeaderLine(&reader, name, &comments);
+      FindCsvHeaderLine(&reader, name, &comments);
   if (!header_line.ok()) return header_line.status();
   StatusOr<CsvHeader> header =
-      SplitHeader(*header_line, reader.line_number(), name);
+      SplitCsvHeader(*header_line, reader.line_number(), name);
   if (!header.ok()) return header.status();
 
   // Reserved from the first rows' length rather than a count of the line
@@ -662,9 +423,9 @@ StatusOr<FlightLog> ParseCsvLog(std::string_view text,
   const std::size_t row_estimate = internal::EstimateRows(
       std::string_view(reader.pos(),
                        static_cast<std::size_t>(reader.end() - reader.pos())),
-      header->names.size() + kNumRequired);
-  StatusOr<ColumnBinding> binding =
-      BindColumns(*header, name, row_estimate, &log);
+      header->names.size() + kCsvRequiredColumns);
+  StatusOr<CsvColumnBinding> binding =
+      BindCsvColumns(*header, name, row_estimate, &log);
   if (!binding.ok()) return binding.status();
 
   StatusOr<int> last_row_line =

@@ -91,6 +91,12 @@ std::vector<double> FilterCascade(const std::vector<Biquad>& sections,
   return y;
 }
 
+CausalLowPass::CausalLowPass(const std::vector<Biquad>& sections) {
+  CHECK_LE(sections.size(), static_cast<std::size_t>(kMaxSections));
+  sections_ = static_cast<int>(sections.size());
+  for (int i = 0; i < sections_; ++i) section_[i] = sections[i];
+}
+
 namespace {
 
 // Series filtered in lockstep by ZeroPhaseLowPassEachOnTimes: a biquad's

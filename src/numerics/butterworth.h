@@ -1,5 +1,6 @@
 // Zero-phase Butterworth low-pass filtering: the design as cascaded biquads
-// (bilinear transform, prewarped cutoff), one causal pass, the forward–backward
+// (bilinear transform, prewarped cutoff), one causal pass (over a series, or
+// streamed sample by sample: CausalLowPass), the forward–backward
 // pass with its edge padding, and the zero-phase low-pass of series on uniform
 // or irregular times (LowPassTimeBase: the resampling worked out once). The
 // preprocessing, the 3-D conditioning, the tracker and the reports filter
@@ -46,6 +47,52 @@ double CascadeGain(const std::vector<Biquad>& sections,
 // the start does not ring).
 std::vector<double> FilterCascade(const std::vector<Biquad>& sections,
                                   const std::vector<double>& x);
+
+// FilterCascade one sample at a time, for a stream (the tracker filters each
+// channel as its samples arrive): transposed direct form II, the sections'
+// states set at the first input x0 to the steady state of a constant x0
+// (so a constant passes unchanged from the first sample and the start does
+// not ring). FilterCascade starts each later section at the previous one's
+// first output instead, which differs from x0 by rounding only: the outputs
+// agree to rounding, and bit for bit when the input starts at 0.
+class CausalLowPass {
+ public:
+  // Enough for a Butterworth design of order 8.
+  static constexpr int kMaxSections = 4;
+
+  // Passes its input unchanged.
+  CausalLowPass() = default;
+  // The cascade `sections`, at most kMaxSections of them (CHECKed: the
+  // designs of DesignButterworthLowPass).
+  explicit CausalLowPass(const std::vector<Biquad>& sections);
+
+  // The filtered value of the next input sample.
+  double Step(double x) {
+    if (!primed_) {
+      // Unit gain at DC: every section's output is x, and its states follow.
+      primed_ = true;
+      for (int i = 0; i < sections_; ++i) {
+        z1_[i] = (1.0 - section_[i].b0) * x;
+        z2_[i] = (section_[i].b2 - section_[i].a2) * x;
+      }
+    }
+    for (int i = 0; i < sections_; ++i) {
+      const Biquad& b = section_[i];
+      const double y = b.b0 * x + z1_[i];
+      z1_[i] = b.b1 * x - b.a1 * y + z2_[i];
+      z2_[i] = b.b2 * x - b.a2 * y;
+      x = y;
+    }
+    return x;
+  }
+
+ private:
+  Biquad section_[kMaxSections];
+  double z1_[kMaxSections] = {};
+  double z2_[kMaxSections] = {};
+  int sections_ = 0;
+  bool primed_ = false;
+};
 
 // Forward–backward (zero-phase) filtering: the magnitude response is |H|²
 // and the phase is exactly zero. `pad` samples of odd reflection about each
