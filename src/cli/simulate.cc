@@ -1,6 +1,8 @@
 // `imusysid simulate`: flies the planar quadrotor simulator (or the 6-DOF one
 // for the *_3d scenarios) through a named scenario and writes the IMU log
-// (CSV) plus its truth sidecar (NAME.truth.json).
+// (CSV, or a ULog or DataFlash log for the 3-D scenarios) plus its truth
+// sidecar (NAME.truth.json). The flags and their parsing are
+// simulate_flags.cc's.
 
 #include "imusysid/simulate.h"
 
@@ -9,8 +11,6 @@
 #include <cstdio>
 #include <iostream>
 #include <iterator>
-#include <limits>
-#include <sstream>
 #include <vector>
 
 #include "imusysid/paper_reference.h"
@@ -18,130 +18,13 @@
 #include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
-#include "src/sim/sim3d_effect_flags.h"
+#include "src/cli/simulate_flags.h"
 #include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
-
-DEFINE_string(scenario,
-              "paper_test1",
-              "Scenario: paper_test1, paper_test2, model_exact, hover_only, "
-              "paper_battery_move (planar); figure8_3d, hover_3d, "
-              "pitch_laps_3d, roll_laps_3d, "
-              "yaw_sweeps_3d (6-DOF, FRD, one CSV per IMU).");
-DEFINE_double(r_m,
-              std::numeric_limits<double>::quiet_NaN(),
-              "Override the true IMU distance from the CoM, m.");
-DEFINE_double(beta_deg,
-              std::numeric_limits<double>::quiet_NaN(),
-              "Override the true IMU direction, deg.");
-DEFINE_double(alpha_deg,
-              std::numeric_limits<double>::quiet_NaN(),
-              "Override the true sensor tilt, deg.");
-DEFINE_double(mu,
-              std::numeric_limits<double>::quiet_NaN(),
-              "Override the true drag per unit mass, 1/m.");
-DEFINE_double(rate_hz,
-              std::numeric_limits<double>::quiet_NaN(),
-              "Override the IMU sample rate, Hz.");
-DEFINE_string(set,
-              "",
-              "Override any simulator setting: name=value[,name=value...]. "
-              "See --list_settings.");
-DEFINE_string(sensor_profile,
-              "",
-              "3-D scenarios: gentle (one vibration tone, nothing else: the "
-              "logs of earlier versions) or realistic (broadband vibration "
-              "and rotor harmonics, clipping, slow unmodelled forces, "
-              "timestamp jitter); default realistic.");
-DEFINE_string(log_format,
-              "",
-              "3-D scenarios: csv, ulog or dataflash; default from --out's "
-              "extension (.ulg ULog, .bin DataFlash, anything else CSV).");
-DEFINE_bool(high_rate_raw_imu,
-            false,
-            "3-D scenarios, ULog: log sensor_accel/sensor_gyro at every raw "
-            "sample (PX4's high-rate profile) instead of about 1 Hz.");
-DEFINE_string(payload_change,
-              "",
-              "3-D scenarios: T,DM,DX,DY,DZ attaches (DM > 0) or drops "
-              "(DM < 0) DM kg at (DX, DY, DZ) m from the CoM (body FRD) at "
-              "T s; the CoM moves by DM/(M+DM) times that offset and the "
-              "truth records every IMU position before and after.");
-DEFINE_string(flexible_mount,
-              "",
-              "3-D scenarios: F_HZ,AMPLITUDE_M[,DX,DY,DZ] puts every IMU on a "
-              "soft mount oscillating at F_HZ with AMPLITUDE_M m peak along "
-              "(DX, DY, DZ) body FRD (default (1, 1, 1)); the truth's p is "
-              "the mean position.");
-DEFINE_string(periodic_force,
-              "",
-              "3-D scenarios: F_HZ,AMPLITUDE_MPS2[,DX,DY,DZ] adds an "
-              "unmodelled body force per unit mass AMPLITUDE_MPS2 sin(2 pi "
-              "F_HZ t) along (DX, DY, DZ) body FRD (default (1, 1, 0)) in "
-              "flight (a loose part, a propeller imbalance).");
-DEFINE_string(estimator_glitch,
-              "",
-              "3-D scenarios: T_S,YAW_DEG,VEL_MPS[,VEL_DURATION_S] turns the "
-              "logged estimator attitude by YAW_DEG about down from T_S s on "
-              "(a yaw reset) and adds VEL_MPS north to its velocity for "
-              "VEL_DURATION_S s (default 0.5) from T_S; the truth is "
-              "untouched.");
-DEFINE_bool(list_settings,
-            false,
-            "Print every simulator setting of the scenario with its value, "
-            "unit and meaning, then exit.");
 
 namespace imusysid {
 namespace cli {
 namespace {
-
-bool EndsWith(const std::string& text, const std::string& ext) {
-  return text.size() > ext.size() &&
-         text.compare(text.size() - ext.size(), ext.size(), ext) == 0;
-}
-
-Status ApplyOverrides(SimulatorOptions* o) {
-  auto set_if =
-      [&](const char* flag, double value, const char* setting) -> Status {
-    if (!FlagWasSet(flag)) return Status::Ok();
-    return SetSimulatorSetting(o, setting, FormatShortest(value))
-        .WithPrefix(std::string("--") + flag);
-  };
-  IMUSYSID_RETURN_IF_ERROR(set_if("r_m", FLAGS_r_m, "r_m"));
-  IMUSYSID_RETURN_IF_ERROR(set_if("beta_deg", FLAGS_beta_deg, "beta_deg"));
-  IMUSYSID_RETURN_IF_ERROR(set_if("alpha_deg", FLAGS_alpha_deg, "alpha_deg"));
-  IMUSYSID_RETURN_IF_ERROR(set_if("mu", FLAGS_mu, "mu"));
-  IMUSYSID_RETURN_IF_ERROR(set_if("rate_hz", FLAGS_rate_hz, "rate_hz"));
-  if (FlagWasSet("seed")) {
-    IMUSYSID_RETURN_IF_ERROR(
-        SetSimulatorSetting(o, "seed", std::to_string(FLAGS_seed)));
-  }
-  std::stringstream items(FLAGS_set);
-  std::string item;
-  while (std::getline(items, item, ',')) {
-    if (item.empty()) continue;
-    const auto eq = item.find('=');
-    if (eq == std::string::npos) {
-      return InvalidArgumentError("--set: '" +
-                                  sim_targets::CutForMessage(item) +
-                                  "' is not name=value");
-    }
-    IMUSYSID_RETURN_IF_ERROR(
-        SetSimulatorSetting(o, item.substr(0, eq), item.substr(eq + 1))
-            .WithPrefix("--set"));
-  }
-  // A range error names the setting; when a flag of the same name set it,
-  // say which flag and value.
-  const Status valid = o->Validate();
-  for (const char* flag : {"r_m", "beta_deg", "alpha_deg", "mu", "rate_hz"}) {
-    const std::string field = std::string("SimulatorOptions::") + flag + " ";
-    if (!valid.ok() && FlagWasSet(flag) &&
-        valid.message().compare(0, field.size(), field) == 0) {
-      return valid.WithPrefix(std::string("--") + flag);
-    }
-  }
-  return FLAGS_set.empty() || valid.ok() ? valid : valid.WithPrefix("--set");
-}
 
 // --out's set: every name is written together and the names of --out's set
 // this run does not write (an earlier 3-D run's NAME.imu2.csv beside a
@@ -155,28 +38,6 @@ Status WriteOutSet(
       files,
       sim_targets::StalePaths(
           FLAGS_out, Simulator3dOptions::DefaultImus().size(), names));
-}
-
-bool Is3dScenario(const std::string& name) {
-  const std::vector<std::string> names = Scenario3dNames();
-  return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-enum class LogKind { kCsv, kUlog, kDataFlash };
-
-// --log_format, else --out's extension.
-StatusOr<LogKind> ChosenLogKind() {
-  if (FLAGS_log_format.empty()) {
-    if (EndsWith(FLAGS_out, ".ulg")) return LogKind::kUlog;
-    if (EndsWith(FLAGS_out, ".bin")) return LogKind::kDataFlash;
-    return LogKind::kCsv;
-  }
-  if (FLAGS_log_format == "csv") return LogKind::kCsv;
-  if (FLAGS_log_format == "ulog") return LogKind::kUlog;
-  if (FLAGS_log_format == "dataflash") return LogKind::kDataFlash;
-  return InvalidArgumentError(
-      "--log_format=" + sim_targets::CutForMessage(FLAGS_log_format) +
-      ": required csv, ulog or dataflash");
 }
 
 // The truth's IMU positions after a payload change, when one was flown.
@@ -263,113 +124,44 @@ int Write3dBinary(LogKind kind,
   return kExitOk;
 }
 
-// --payload_change, --flexible_mount, --periodic_force and --estimator_glitch
-// into `o`, each held to its range (sim3d_effect_flags.h).
-Status ApplyEffectFlags(Simulator3dOptions* o) {
-  if (FlagWasSet("payload_change")) {
-    IMUSYSID_RETURN_IF_ERROR(
-        sim3d_flags::ApplyPayloadChangeFlag(FLAGS_payload_change, o));
-  }
-  if (FlagWasSet("flexible_mount")) {
-    IMUSYSID_RETURN_IF_ERROR(
-        sim3d_flags::ApplyFlexibleMountFlag(FLAGS_flexible_mount, o));
-  }
-  if (FlagWasSet("periodic_force")) {
-    IMUSYSID_RETURN_IF_ERROR(
-        sim3d_flags::ApplyPeriodicForceFlag(FLAGS_periodic_force, o));
-  }
-  if (FlagWasSet("estimator_glitch")) {
-    IMUSYSID_RETURN_IF_ERROR(
-        sim3d_flags::ApplyEstimatorGlitchFlag(FLAGS_estimator_glitch, o));
-  }
-  return Status::Ok();
-}
-
 // The 6-DOF scenarios: one FRD CSV per IMU, or one binary log with every IMU
 // as an instance, and one truth sidecar. The planar scenarios' settings do
 // not apply to them.
 int Run3d() {
   const std::string cmd = "simulate";
-  for (const char* flag :
-       {"r_m", "beta_deg", "alpha_deg", "mu", "set", "list_settings"}) {
-    if (FlagWasSet(flag)) {
-      return UsageError(cmd,
-                        std::string("--") + flag +
-                            " applies to the planar scenarios only, not to " +
-                            sim_targets::CutForMessage(FLAGS_scenario));
-    }
-  }
-  if (!FLAGS_frame.empty() && FLAGS_frame != "frd") {
-    return UsageError(cmd,
-                      "the 3-D scenarios write FRD logs only (--frame=" +
-                          sim_targets::CutForMessage(FLAGS_frame) + ")");
-  }
-  StatusOr<LogKind> kind = ChosenLogKind();
-  if (!kind.ok()) return UsageError(cmd, kind.status().message());
-  if (*kind != LogKind::kUlog && FlagWasSet("high_rate_raw_imu")) {
-    return UsageError(cmd, "--high_rate_raw_imu applies to ULog output only");
-  }
-  if (!FLAGS_sensor_profile.empty() && FLAGS_sensor_profile != "gentle" &&
-      FLAGS_sensor_profile != "realistic") {
-    return UsageError(
-        cmd,
-        "--sensor_profile=" + sim_targets::CutForMessage(FLAGS_sensor_profile) +
-            ": required gentle or realistic");
-  }
-  StatusOr<Simulator3dOptions> options = Scenario3dOptions(FLAGS_scenario);
-  if (!options.ok()) return ReportError(cmd, options.status());
-  // The CLI flies the realistic sensors unless asked for the gentle ones;
-  // the binary logs sample the raw IMU at 1 kHz, as real IMUs are read, so
-  // PX4's 250 Hz sensor_combined averages four samples.
-  options->sensor_profile =
-      FLAGS_sensor_profile.empty() ? "realistic" : FLAGS_sensor_profile;
-  if (*kind != LogKind::kCsv) options->rate_hz = 1000.0;
-  Status s = Status::Ok();
-  if (FlagWasSet("rate_hz")) {
-    s = sim3d_flags::CheckRateFlag(FLAGS_rate_hz);
-    if (!s.ok()) return UsageError(cmd, s.message());
-    options->rate_hz = FLAGS_rate_hz;
-  }
-  if (FlagWasSet("seed")) options->seed = FLAGS_seed;
-  s = ApplyEffectFlags(&*options);
-  if (!s.ok()) return UsageError(cmd, s.message());
-  s = options->Validate();
-  if (!s.ok()) return ReportError(cmd, s);
+  Simulator3dOptions options;
   Sim3dLogOptions log_options;
-  log_options.ulog_high_rate_raw_imu = FLAGS_high_rate_raw_imu;
-  // Below 250 Hz raw the IMU topics follow the raw rate.
-  log_options.ulog_imu_rate_hz =
-      std::min(log_options.ulog_imu_rate_hz, options->rate_hz);
-  log_options.dataflash_imu_rate_hz =
-      std::min(log_options.dataflash_imu_rate_hz, options->rate_hz);
-  if (*kind != LogKind::kCsv) {
-    s = log_options.Validate(*options);
-    if (!s.ok()) return ReportError(cmd, s);
+  LogKind kind = LogKind::kCsv;
+  if (const int code =
+          Simulator3dOptionsFromFlags(cmd, &options, &log_options, &kind);
+      code != kExitOk) {
+    return code;
   }
+  Status s = Status::Ok();
   // Every name this run writes, refused before simulating when one cannot
   // be (a device, a FIFO, a folder, "-").
   std::vector<std::string> names = {FLAGS_out,
                                     sim_targets::TruthPathFor(FLAGS_out)};
-  for (std::size_t k = 2; *kind == LogKind::kCsv && k <= options->imus.size();
+  for (std::size_t k = 2; kind == LogKind::kCsv && k <= options.imus.size();
        ++k) {
     names.push_back(sim_targets::ImuCsvPathFor(FLAGS_out, k));
   }
   s = sim_targets::CheckTargets(FLAGS_out, names);
   if (!s.ok()) return UsageError(cmd, s.message());
-  std::cerr << "simulating " << FLAGS_scenario << " (" << options->duration_s()
-            << " s at " << options->rate_hz << " Hz, " << options->imus.size()
+  std::cerr << "simulating " << FLAGS_scenario << " (" << options.duration_s()
+            << " s at " << options.rate_hz << " Hz, " << options.imus.size()
             << " IMUs)...\n";
-  StatusOr<Simulated3dFlight> flight = Simulate3d(*options);
+  StatusOr<Simulated3dFlight> flight = Simulate3d(options);
   if (!flight.ok()) return ReportError(cmd, flight.status());
   const Simulated3dFlight& f = *flight;
-  if (*kind != LogKind::kCsv) {
-    return Write3dBinary(*kind, *options, log_options, f);
+  if (kind != LogKind::kCsv) {
+    return Write3dBinary(kind, options, log_options, f);
   }
 
   // The truth and every IMU's log as one set: all or none.
   const std::string truth_path = sim_targets::TruthPathFor(FLAGS_out);
   std::vector<std::pair<std::string, std::string>> files = {
-      {truth_path, Truth3dJson(*options, f)}};
+      {truth_path, Truth3dJson(options, f)}};
   for (std::size_t k = 0; k < f.logs.size(); ++k) {
     StatusOr<std::string> text = FormatSimulated3dCsv(f.logs[k]);
     if (!text.ok()) return ReportError(cmd, text.status());
@@ -387,12 +179,12 @@ int Run3d() {
     }
     j["truth"] = truth_path;
     j["samples"] = f.t_s.size();
-    j["duration_s"] = options->duration_s();
-    j["rate_hz"] = options->rate_hz;
-    j["seed"] = options->seed;
+    j["duration_s"] = options.duration_s();
+    j["rate_hz"] = options.rate_hz;
+    j["seed"] = options.seed;
     j["frame"] = "frd";
     j["imu_positions_frd_m"] = nlohmann::ordered_json::array();
-    for (const Imu3dMount& m : options->imus) {
+    for (const Imu3dMount& m : options.imus) {
       j["imu_positions_frd_m"].push_back(
           {m.p_frd_m.x(), m.p_frd_m.y(), m.p_frd_m.z()});
     }
@@ -408,24 +200,24 @@ int Run3d() {
               << " in " << sim_targets::ImuCsvPathFor(FLAGS_out, k + 1);
   }
   std::cout << "; " << f.t_s.size() << " samples each, "
-            << FormatNumber(options->rate_hz, 4) << " Hz, frame frd, columns "
+            << FormatNumber(options.rate_hz, 4) << " Hz, frame frd, columns "
             << "t,ax,ay,az,gx,gy,gz,qw,qx,qy,qz,vn,ve,vd) and " << truth_path
             << "\n";
-  for (std::size_t k = 0; k < options->imus.size(); ++k) {
-    const Imu3dMount& m = options->imus[k];
+  for (std::size_t k = 0; k < options.imus.size(); ++k) {
+    const Imu3dMount& m = options.imus[k];
     std::cout << "truth: IMU " << k + 1 << " at ("
               << FormatNumber(m.p_frd_m.x(), 4) << ", "
               << FormatNumber(m.p_frd_m.y(), 4) << ", "
               << FormatNumber(m.p_frd_m.z(), 4) << ") m FRD\n";
   }
   PrintPayloadChange(f);
-  std::cout << "truth: rotor drag " << FormatNumber(options->rotor_drag_per_s)
-            << " 1/s, mu " << FormatNumber(options->mu) << " 1/m, wind NED ("
-            << FormatNumber(options->wind_ned_mps.x()) << ", "
-            << FormatNumber(options->wind_ned_mps.y()) << ", "
-            << FormatNumber(options->wind_ned_mps.z())
+  std::cout << "truth: rotor drag " << FormatNumber(options.rotor_drag_per_s)
+            << " 1/s, mu " << FormatNumber(options.mu) << " 1/m, wind NED ("
+            << FormatNumber(options.wind_ned_mps.x()) << ", "
+            << FormatNumber(options.wind_ned_mps.y()) << ", "
+            << FormatNumber(options.wind_ned_mps.z())
             << ") m/s, estimator delay "
-            << FormatNumber(options->estimator_delay_s) << " s\n"
+            << FormatNumber(options.estimator_delay_s) << " s\n"
             << "flight: maneuver " << FormatNumber(f.maneuver_start_t_s, 5)
             << "-" << FormatNumber(f.maneuver_end_t_s, 5) << " s, max tilt "
             << FormatNumber(f.max_tilt_deg, 3) << " deg, max speed "
@@ -433,36 +225,6 @@ int Run3d() {
             << FormatNumber(f.rms_rate_maneuver_radps.x(), 3) << ", "
             << FormatNumber(f.rms_rate_maneuver_radps.y(), 3) << ", "
             << FormatNumber(f.rms_rate_maneuver_radps.z(), 3) << ") rad/s\n";
-  return kExitOk;
-}
-
-// The scenario that joins the paper's two tests into one log.
-constexpr char kBatteryMoveScenario[] = "paper_battery_move";
-
-// Flags of the 3-D simulator, which a planar scenario refuses.
-constexpr const char* kThreeDOnlyFlags[] = {"sensor_profile",
-                                            "log_format",
-                                            "high_rate_raw_imu",
-                                            "payload_change",
-                                            "flexible_mount",
-                                            "periodic_force",
-                                            "estimator_glitch"};
-
-// A planar log's --out and --frame: kExitOk with `frame` set, else the exit
-// code of the usage or input error (reported).
-int PlanarOutAndFrame(const std::string& cmd, Frame* frame) {
-  if (FLAGS_out.empty()) {
-    return UsageError(cmd, "--out=FILE.csv is required");
-  }
-  const Status s = sim_targets::CheckTargets(
-      FLAGS_out, {FLAGS_out, sim_targets::TruthPathFor(FLAGS_out)});
-  if (!s.ok()) return UsageError(cmd, s.message());
-  *frame = Frame::kFlu;
-  if (!FLAGS_frame.empty()) {
-    StatusOr<Frame> f = FrameFromString(FLAGS_frame);
-    if (!f.ok()) return ReportError(cmd, f.status().WithPrefix("--frame"));
-    *frame = *f;
-  }
   return kExitOk;
 }
 
@@ -500,8 +262,8 @@ int RunBatteryMove() {
   StatusOr<SimulatorOptions> after = ScenarioOptions("paper_test2");
   if (!before.ok()) return ReportError(cmd, before.status());
   if (!after.ok()) return ReportError(cmd, after.status());
-  Status s = ApplyOverrides(&*before);
-  if (s.ok()) s = ApplyOverrides(&*after);
+  Status s = ApplyPlanarOverrides(&*before);
+  if (s.ok()) s = ApplyPlanarOverrides(&*after);
   if (!s.ok()) return ReportError(cmd, s);
   // The second flight's noise is its own.
   after->seed = before->seed + 1;
@@ -567,7 +329,7 @@ int RunSimulate(const std::vector<std::string>& positional) {
   }
   StatusOr<SimulatorOptions> options = ScenarioOptions(FLAGS_scenario);
   if (!options.ok()) return ReportError(cmd, options.status());
-  Status s = ApplyOverrides(&*options);
+  Status s = ApplyPlanarOverrides(&*options);
   if (!s.ok()) return ReportError(cmd, s);
   if (FLAGS_list_settings) {
     std::vector<std::vector<std::string>> rows;
