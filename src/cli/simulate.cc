@@ -21,6 +21,7 @@
 #include "src/cli/simulate_flags.h"
 #include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace cli {
@@ -313,9 +314,8 @@ int RunBatteryMove() {
 int RunSimulate(const std::vector<std::string>& positional) {
   const std::string cmd = "simulate";
   if (!positional.empty()) {
-    return UsageError(cmd,
-                      "unexpected argument '" +
-                          sim_targets::CutForMessage(positional[0]) + "'");
+    return UsageError(
+        cmd, "unexpected argument '" + CutForMessage(positional[0]) + "'");
   }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
   if (FLAGS_scenario == kBatteryMoveScenario) return RunBatteryMove();
@@ -324,7 +324,7 @@ int RunSimulate(const std::vector<std::string>& positional) {
       return UsageError(cmd,
                         std::string("--") + flag +
                             " applies to the 3-D scenarios only, not to " +
-                            sim_targets::CutForMessage(FLAGS_scenario));
+                            CutForMessage(FLAGS_scenario));
     }
   }
   StatusOr<SimulatorOptions> options = ScenarioOptions(FLAGS_scenario);

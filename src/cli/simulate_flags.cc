@@ -11,6 +11,7 @@
 #include "src/sim/sim3d_effect_flags.h"
 #include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 DEFINE_string(scenario,
               "paper_test1",
@@ -101,7 +102,7 @@ StatusOr<LogKind> ChosenLogKind() {
   if (FLAGS_log_format == "ulog") return LogKind::kUlog;
   if (FLAGS_log_format == "dataflash") return LogKind::kDataFlash;
   return InvalidArgumentError(
-      "--log_format=" + sim_targets::CutForMessage(FLAGS_log_format) +
+      "--log_format=" + CutForMessage(FLAGS_log_format) +
       ": required csv, ulog or dataflash");
 }
 
@@ -156,8 +157,7 @@ Status ApplyPlanarOverrides(SimulatorOptions* o) {
     if (item.empty()) continue;
     const auto eq = item.find('=');
     if (eq == std::string::npos) {
-      return InvalidArgumentError("--set: '" +
-                                  sim_targets::CutForMessage(item) +
+      return InvalidArgumentError("--set: '" + CutForMessage(item) +
                                   "' is not name=value");
     }
     IMUSYSID_RETURN_IF_ERROR(
@@ -205,13 +205,13 @@ int Simulator3dOptionsFromFlags(const std::string& cmd,
       return UsageError(cmd,
                         std::string("--") + flag +
                             " applies to the planar scenarios only, not to " +
-                            sim_targets::CutForMessage(FLAGS_scenario));
+                            CutForMessage(FLAGS_scenario));
     }
   }
   if (!FLAGS_frame.empty() && FLAGS_frame != "frd") {
     return UsageError(cmd,
                       "the 3-D scenarios write FRD logs only (--frame=" +
-                          sim_targets::CutForMessage(FLAGS_frame) + ")");
+                          CutForMessage(FLAGS_frame) + ")");
   }
   StatusOr<LogKind> kind = ChosenLogKind();
   if (!kind.ok()) return UsageError(cmd, kind.status().message());
@@ -222,7 +222,7 @@ int Simulator3dOptionsFromFlags(const std::string& cmd,
       FLAGS_sensor_profile != "realistic") {
     return UsageError(
         cmd,
-        "--sensor_profile=" + sim_targets::CutForMessage(FLAGS_sensor_profile) +
+        "--sensor_profile=" + CutForMessage(FLAGS_sensor_profile) +
             ": required gentle or realistic");
   }
   StatusOr<Simulator3dOptions> options = Scenario3dOptions(FLAGS_scenario);

@@ -9,7 +9,6 @@ namespace imusysid {
 namespace internal {
 namespace {
 
-constexpr std::size_t kMaxQuotedText = 40;
 constexpr std::size_t kSampleLines = 64;
 constexpr std::size_t kSampleBytes = 64 * 1024;
 
@@ -34,15 +33,7 @@ int CharColumn(std::string_view line, const char* at) {
 std::string Quote(std::string_view text) {
   // Escaped: the text comes from a file and may hold control bytes or
   // invalid UTF-8 that must not reach a terminal raw.
-  std::string out = "'";
-  if (text.size() > kMaxQuotedText) {
-    out += EscapeForDisplay(text.substr(0, kMaxQuotedText));
-    out += "...";
-  } else {
-    out += EscapeForDisplay(text);
-  }
-  out += "'";
-  return out;
+  return "'" + CutForMessage(text) + "'";
 }
 
 Status ErrorAt(const std::string& name,

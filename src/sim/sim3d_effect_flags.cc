@@ -10,6 +10,7 @@
 
 #include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace sim3d_flags {
@@ -17,7 +18,7 @@ namespace {
 
 // "--NAME=TEXT" with TEXT cut for messages.
 std::string EffectFlagText(const std::string& flag, const std::string& text) {
-  return "--" + flag + "=" + sim_targets::CutForMessage(text);
+  return "--" + flag + "=" + CutForMessage(text);
 }
 
 // --NAME=a,b,...: between min_count and max_count finite numbers.
@@ -39,7 +40,7 @@ StatusOr<std::vector<double>> EffectFlagNumbers(const std::string& flag,
     }
     if (used == 0 || used != cell.size() || !std::isfinite(value)) {
       return InvalidArgumentError(EffectFlagText(flag, text) + ": '" +
-                                  sim_targets::CutForMessage(cell) +
+                                  CutForMessage(cell) +
                                   "' is not a number (required " + usage + ")");
     }
     values.push_back(value);

@@ -13,6 +13,7 @@
 #include "src/sim/sim3d_effect_flags.h"
 #include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace {
@@ -73,7 +74,7 @@ Status Simulator3dOptions::Validate() const {
   for (const std::string& name : Scenario3dNames()) known |= name == scenario;
   if (!known) {
     return InvalidArgumentError("Simulator3dOptions::scenario = '" +
-                                sim_targets::CutForMessage(scenario) +
+                                CutForMessage(scenario) +
                                 "'; required figure8_3d, hover_3d, "
                                 "pitch_laps_3d, roll_laps_3d or "
                                 "yaw_sweeps_3d");
@@ -150,7 +151,7 @@ Status Simulator3dOptions::Validate() const {
       "estimator_velocity_noise_mps", estimator_velocity_noise_mps, 0.0, 5.0));
   if (sensor_profile != "gentle" && sensor_profile != "realistic") {
     return InvalidArgumentError("Simulator3dOptions::sensor_profile = '" +
-                                sim_targets::CutForMessage(sensor_profile) +
+                                CutForMessage(sensor_profile) +
                                 "'; required gentle or realistic");
   }
   IMUSYSID_RETURN_IF_ERROR(
@@ -295,8 +296,7 @@ StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
       return o;
     }
   }
-  return NotFoundError("unknown 3-D scenario '" +
-                       sim_targets::CutForMessage(name) +
+  return NotFoundError("unknown 3-D scenario '" + CutForMessage(name) +
                        "'; valid: figure8_3d, hover_3d, pitch_laps_3d, "
                        "roll_laps_3d, yaw_sweeps_3d");
 }

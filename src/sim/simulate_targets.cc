@@ -22,7 +22,6 @@ namespace sim_targets {
 namespace {
 
 // Longest quoted flag value in a message (the CLI's rule for fields).
-constexpr std::size_t kSimTargetsMaxQuoted = 40;
 
 // Symbolic links followed this deep at most (as WriteFileAtomically).
 constexpr int kSimTargetsMaxLinks = 40;
@@ -260,11 +259,6 @@ Status WriteSet(const std::vector<std::pair<std::string, std::string>>& files,
   flock(dir_fd, LOCK_UN);
   close(dir_fd);
   return result;
-}
-
-std::string CutForMessage(std::string_view text) {
-  if (text.size() <= kSimTargetsMaxQuoted) return EscapeForDisplay(text);
-  return EscapeForDisplay(text.substr(0, kSimTargetsMaxQuoted)) + "...";
 }
 
 }  // namespace sim_targets

@@ -58,10 +58,6 @@ Status CheckTargets(const std::string& out,
 Status WriteSet(const std::vector<std::pair<std::string, std::string>>& files,
                 const std::vector<std::string>& stale);
 
-// `text` as it is quoted in simulate's messages: at most 40 bytes, then
-// "...", with control bytes and invalid UTF-8 escaped (EscapeForDisplay).
-std::string CutForMessage(std::string_view text);
-
 }  // namespace sim_targets
 }  // namespace imusysid
 

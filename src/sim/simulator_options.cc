@@ -13,6 +13,7 @@
 #include "imusysid/simulate.h"
 #include "src/sim/simulate_targets.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace {
@@ -196,8 +197,7 @@ StatusOr<SimulatorOptions> ScenarioOptions(std::string_view name) {
     return o;
   }
   std::ostringstream msg;
-  msg << "unknown scenario '" << sim_targets::CutForMessage(name)
-      << "'; valid names:";
+  msg << "unknown scenario '" << CutForMessage(name) << "'; valid names:";
   for (const auto& n : ScenarioNames()) msg << " " << n;
   return NotFoundError(msg.str());
 }

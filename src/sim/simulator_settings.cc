@@ -14,6 +14,7 @@
 #include "src/sim/simulate_targets.h"
 #include "src/sim/simulator_internal.h"
 #include "src/tools/format.h"
+#include "src/tools/safe_text.h"
 
 namespace imusysid {
 namespace internal {
@@ -171,9 +172,8 @@ Status BadValue(std::string_view name,
                 std::string_view value,
                 const char* expected) {
   std::ostringstream msg;
-  msg << "simulator setting '" << sim_targets::CutForMessage(name)
-      << "': bad value '" << sim_targets::CutForMessage(value) << "' (expected "
-      << expected << ")";
+  msg << "simulator setting '" << CutForMessage(name) << "': bad value '"
+      << CutForMessage(value) << "' (expected " << expected << ")";
   return InvalidArgumentError(msg.str());
 }
 
@@ -246,7 +246,7 @@ Status SetSimulatorSetting(SimulatorOptions* options,
     return Status::Ok();
   }
   std::ostringstream msg;
-  msg << "unknown simulator setting '" << sim_targets::CutForMessage(name)
+  msg << "unknown simulator setting '" << CutForMessage(name)
       << "'; valid names:";
   for (const SettingDef& def : SettingDefs()) msg << " " << def.name;
   return NotFoundError(msg.str());

@@ -107,4 +107,9 @@ std::string HexPrefix(std::string_view bytes, std::size_t count) {
   return out;
 }
 
+std::string CutForMessage(std::string_view text) {
+  if (text.size() <= kMaxQuotedBytes) return EscapeForDisplay(text);
+  return EscapeForDisplay(text.substr(0, kMaxQuotedBytes)) + "...";
+}
+
 }  // namespace imusysid

@@ -26,6 +26,15 @@ std::string EscapeForDisplay(std::string_view text);
 // too. Linear time.
 std::string EscapeForMarkup(std::string_view text, bool keep_line_breaks);
 
+// How much of a quoted field a message shows: a 10 MB cell is named, not
+// echoed.
+inline constexpr std::size_t kMaxQuotedBytes = 40;
+
+// `text` as EscapeForDisplay writes it, cut to its first kMaxQuotedBytes
+// bytes followed by "..." when longer: the one way a message quotes a field,
+// a flag's value or a name taken from input.
+std::string CutForMessage(std::string_view text);
+
 // True when `text` is valid UTF-8 (no overlong forms, surrogates or code
 // points beyond U+10FFFF).
 bool IsValidUtf8(std::string_view text);
