@@ -163,9 +163,9 @@ TEST(Cli, InspectFitAndExportProblemCutOneSegment) {
 }
 
 // Two recordings in one CSV (time restarts): inspect described the longest
-// while fit refused the file; both now use the longest, 11.416 - 61.092 s
-// of paper_test1.
-TEST(Cli, InspectAndFitCutOneSegmentOfASeveralRecordingCsv) {
+// and showed its fit segment while fit refused the file; inspect still
+// describes the longest, and says the fit segment is refused as fit does.
+TEST(Cli, InspectAndFitRefuseTheSegmentOfASeveralRecordingCsv) {
   std::ifstream in(PaperLog());
   std::string text((std::istreambuf_iterator<char>(in)),
                    std::istreambuf_iterator<char>());
@@ -182,14 +182,20 @@ TEST(Cli, InspectAndFitCutOneSegmentOfASeveralRecordingCsv) {
   }
   const std::string path =
       testing::WriteTempFile("two_recordings.csv", text + again);
-  ExpectOneSegment(path);
   const auto fit =
       RunCli("fit --estimator=lm --format=json --log='" + path + "'");
-  ASSERT_EQ(fit.exit_code, 0) << fit.err;
-  const auto f = testing::ParseJson(fit);
-  EXPECT_NEAR(f["segment"]["t_start_s"].get<double>(), 11.416, 1e-9);
-  EXPECT_NEAR(f["segment"]["t_end_s"].get<double>(), 61.092, 1e-9);
-  EXPECT_THAT(fit.err, HasSubstr("holds 2 recordings"));
+  EXPECT_EQ(fit.exit_code, 2);
+  EXPECT_THAT(fit.err, HasSubstr("t must increase strictly"));
+  const auto inspect = RunCli("inspect --format=json '" + path + "'");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.err;
+  const auto i = testing::ParseJson(inspect);
+  EXPECT_EQ(i["samples"].get<int>(), 17375);  // the longest recording
+  EXPECT_FALSE(i.contains("fit_segment")) << inspect.out;
+  ASSERT_FALSE(i["warnings"].empty());
+  EXPECT_THAT(i["warnings"].back().get<std::string>(),
+              HasSubstr("no fit segment: "));
+  EXPECT_THAT(i["warnings"].back().get<std::string>(),
+              HasSubstr("t must increase strictly"));
 }
 
 TEST(Cli, DisplacementReproducesThePaper) {

@@ -53,12 +53,15 @@ int RunInspect(const std::vector<std::string>& positional) {
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return ReportError(cmd, bytes.status());
   // Several recordings in one CSV: described as fit uses it (the longest).
+  // The planar fit segment is still the one `fit` cuts from the whole file.
   std::string sessions_note;
+  std::string whole;  // the file as read, when `bytes` became a piece of it
   const bool csv = DetectLogFormat(*bytes) == LogFormat::kCsv;
   if (csv) {
     OrderedPiece piece = LongestOrderedCsvPiece(*bytes, path);
     if (!piece.note.empty()) {
       sessions_note = piece.note;
+      whole = std::move(*bytes);
       *bytes = std::move(piece.text);
     }
   }
@@ -157,8 +160,8 @@ int RunInspect(const std::vector<std::string>& positional) {
     } else {
       warnings.push_back("segment detection: " + seg.status().message());
     }
-    StatusOr<IdentifySummary> pre =
-        Identify(IdentifyInput::LogBytes(*bytes, path), io);
+    StatusOr<IdentifySummary> pre = Identify(
+        IdentifyInput::LogBytes(whole.empty() ? *bytes : whole, path), io);
     if (pre.ok() && pre->preprocess.has_value()) {
       const ProblemData& d = *pre->data;
       j["gyro_bias_rad_s"] = pre->preprocess->gyro_bias_rad_s;

@@ -19,7 +19,6 @@
 #include "imusysid/segments.h"
 #include "src/pipeline/identify_internal.h"
 #include "src/tools/safe_text.h"
-#include "src/tools/sessions.h"
 
 namespace imusysid {
 namespace internal {
@@ -52,15 +51,6 @@ StatusOr<PlanarInput> DataFromLog(const IdentifyInput& input,
   StatusOr<std::string> bytes = InputBytes(input);
   if (!bytes.ok()) return bytes.status();
   out.bytes = std::move(bytes).value();
-  // Several recordings in one CSV: the longest ordered one, said so (as the
-  // 3-D models read it).
-  if (DetectLogFormat(out.bytes) == LogFormat::kCsv) {
-    OrderedPiece piece = LongestOrderedCsvPiece(out.bytes, input.source());
-    if (!piece.note.empty()) {
-      Note(options, piece.note);
-      out.bytes = std::move(piece.text);
-    }
-  }
   StatusOr<LogReadOptions> read =
       FitReadOptions(out.bytes, out.imu_instance, options);
   if (!read.ok()) return read.status();
