@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <memory>
 #include <utility>
+#include <vector>
 
 #include "benchmarks/bench_internal.h"
 #include "imusysid/identify.h"
-#include "imusysid/log_reader.h"
 
 namespace imusysid {
 namespace bench {
@@ -17,10 +17,18 @@ std::string Stem(const std::string& path) {
   return std::filesystem::path(path).stem().string();
 }
 
-// A log without a sidecar, read and preprocessed as `fit` reads it (the
-// library's entry point up to its data), its notes first.
-Status PrepareRealLog(const BenchConfig& config, PreparedLog* pl) {
+// The log read and preprocessed by the library's entry point up to its data
+// (IdentifyStage::kPreprocess, as `fit`, `inspect` and `export-problem` read
+// it): a log without a sidecar with the bench's reading flags, a simulated
+// one with BenchPreprocessOptions and the gyro's velocity. Its notes first.
+StatusOr<IdentifySummary> IdentifyPreparedLog(const BenchConfig& config,
+                                              PreparedLog* pl) {
   IdentifyOptions options = config.real_logs;
+  if (pl->truth.known) {
+    options = IdentifyOptions();
+    options.preprocess = BenchPreprocessOptions(pl->truth);
+    options.velocity_auto = false;
+  }
   options.stop_after = IdentifyStage::kPreprocess;
   options.keep_log = true;
   options.on_note = [pl](const std::string& note) {
@@ -29,12 +37,23 @@ Status PrepareRealLog(const BenchConfig& config, PreparedLog* pl) {
   options.on_progress = nullptr;
   StatusOr<IdentifySummary> summary =
       Identify(IdentifyInput::LogFile(pl->path), options);
-  if (!summary.ok()) return summary.status();
-  pl->plane = summary->context.plane;
-  pl->velocity = summary->context.velocity;
-  pl->log = summary->log;
-  pl->data = summary->data;
-  return Status::Ok();
+  const Truth& truth = pl->truth;
+  if (!summary.ok() && truth.known &&
+      summary.status().code() == StatusCode::kFailedPrecondition &&
+      std::isfinite(truth.reference_t_s) &&
+      std::isfinite(truth.maneuver_end_t_s)) {
+    // No maneuver detected (hover_only): fit the window the truth names, so
+    // the estimators' identifiability diagnostics are exercised.
+    options.preprocess.t_start = truth.reference_t_s;
+    options.preprocess.t_end = truth.maneuver_end_t_s;
+    pl->preprocess.notes.clear();
+    summary = Identify(IdentifyInput::LogFile(pl->path), options);
+    if (summary.ok()) {
+      pl->preprocess.notes.push_back(
+          "no maneuver detected; fitted the truth sidecar's window");
+    }
+  }
+  return summary;
 }
 
 // Reads the log at `path` and its sidecar, and preprocesses it into `pl`; the
@@ -50,24 +69,20 @@ void PrepareLog(const BenchConfig& config,
     return;
   }
   pl->truth = *truth;
-  if (!pl->truth.known) {
-    pl->status = PrepareRealLog(config, pl);
+  StatusOr<IdentifySummary> summary = IdentifyPreparedLog(config, pl);
+  if (!summary.ok()) {
+    pl->status = summary.status();
     return;
   }
-  StatusOr<FlightLog> log = ReadFlightLog(pl->path);
-  if (!log.ok()) {
-    pl->status = log.status();
-    return;
+  if (summary->preprocess.has_value()) {
+    std::vector<std::string> notes = std::move(pl->preprocess.notes);
+    pl->preprocess = std::move(*summary->preprocess);
+    pl->preprocess.notes = std::move(notes);
   }
-  pl->log = std::make_shared<const FlightLog>(std::move(*log));
-  StatusOr<PreprocessResult> pre = PreprocessForBench(*pl->log, pl->truth);
-  if (!pre.ok()) {
-    pl->status = pre.status();
-    return;
-  }
-  pl->data = std::make_shared<const ProblemData>(std::move(pre->data));
-  pl->preprocess = std::move(*pre);
-  pl->preprocess.data = ProblemData();
+  pl->plane = summary->context.plane;
+  pl->velocity = summary->context.velocity;
+  pl->log = summary->log;
+  pl->data = summary->data;
 }
 
 }  // namespace

@@ -34,7 +34,9 @@ StatusOr<ProblemData> ExactRegressorProblem(const SimulatedFlight& flight);
 
 // Preprocess(log, BenchPreprocessOptions(truth)); when that finds no
 // maneuver and the truth names the reference instant and the maneuver's end,
-// the fit segment is that window instead (hover_only), with a note.
+// the fit segment is that window instead (hover_only), with a note. For a
+// flight simulated in memory (Monte Carlo); a log file is prepared by
+// PrepareLogs through Identify, with the same options and window.
 StatusOr<PreprocessResult> PreprocessForBench(const FlightLog& log,
                                               const Truth& truth);
 
@@ -51,9 +53,10 @@ struct PreparedLog {
   std::string velocity = "gyro";
 };
 
-// Reads, finds the sidecar of and preprocesses every configured log, on
-// config.threads workers. A log that fails keeps its status; the others are
-// unaffected.
+// Reads, finds the sidecar of and preprocesses every configured log through
+// Identify (IdentifyStage::kPreprocess: the segment `fit` and `inspect`
+// report), on config.threads workers. A log that fails keeps its status; the
+// others are unaffected.
 std::vector<PreparedLog> PrepareLogs(const BenchConfig& config);
 
 // The log named `name` (file stem or sidecar scenario), or nullptr.

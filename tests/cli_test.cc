@@ -2,6 +2,7 @@
 // scripts depend on, exit codes, --help, and errors that name the problem.
 
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -117,6 +118,84 @@ TEST(Cli, InspectDescribesTheBundledLog) {
   // The simulator's y-gyro bias is 0.01 rad/s; the still segment has ~350
   // samples of 0.0067 rad/s noise, so the mean is good to ~4e-4 (1σ).
   EXPECT_NEAR(j["gyro_bias_rad_s"].get<double>(), 0.01, 2e-3);
+}
+
+// inspect's fit segment, fit's segment and export-problem's samples of
+// `path`: one segment, the one Identify cuts, whatever the command.
+void ExpectOneSegment(const std::string& path) {
+  SCOPED_TRACE(path);
+  const std::string log = "'" + path + "'";
+  const auto inspect = RunCli("inspect --format=json " + log);
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.err;
+  const auto i = testing::ParseJson(inspect);
+  ASSERT_TRUE(i.contains("fit_segment")) << inspect.out;
+  const auto& seg = i["fit_segment"];
+  const auto fit = RunCli("fit --estimator=lm --format=json --log=" + log);
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const auto f = testing::ParseJson(fit);
+  EXPECT_EQ(seg["t_start_s"].get<double>(),
+            f["segment"]["t_start_s"].get<double>());
+  EXPECT_EQ(seg["t_end_s"].get<double>(),
+            f["segment"]["t_end_s"].get<double>());
+  EXPECT_EQ(seg["samples"].get<int>(), f["segment"]["samples"].get<int>());
+  EXPECT_EQ(seg["plane"], f["plane"]);
+  EXPECT_EQ(seg["velocity"], f["velocity"]);
+  const auto exported = RunCli("export-problem --log=" + log);
+  ASSERT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_THAT(
+      exported.out,
+      HasSubstr(
+          "\n# t_start_s: " + FormatShortest(seg["t_start_s"].get<double>()) +
+          "\n# t_end_s: " + FormatShortest(seg["t_end_s"].get<double>()) +
+          "\n# samples: " + std::to_string(seg["samples"].get<int>()) + "\n"));
+}
+
+TEST(Cli, InspectFitAndExportProblemCutOneSegment) {
+  ExpectOneSegment(PaperLog());
+  if (!testing::RealDataAvailable()) GTEST_SKIP() << "no ../shared/data/real";
+  const std::string real = testing::RealDataDir();
+  // A ULog and a DataFlash log with a maneuver, the log's own velocity.
+  ExpectOneSegment(real + "/pyulog__sample.ulg");
+  ExpectOneSegment(real + "/dronekit-la-testdata__log171.bin");
+  // No maneuver: fit falls back to the longest gap-free stretch (20.488 -
+  // 26.823 s); inspect and export-problem used to report no segment at all.
+  ExpectOneSegment(real + "/pyulog__sample_log_small.ulg");
+}
+
+// Two recordings in one CSV (time restarts): inspect described the longest
+// and showed its fit segment while fit refused the file; inspect still
+// describes the longest, and says the fit segment is refused as fit does.
+TEST(Cli, InspectAndFitRefuseTheSegmentOfASeveralRecordingCsv) {
+  std::ifstream in(PaperLog());
+  std::string text((std::istreambuf_iterator<char>(in)),
+                   std::istreambuf_iterator<char>());
+  ASSERT_FALSE(text.empty());
+  // A short second recording: the header-less rows of the first 2 s again.
+  std::string again;
+  std::size_t pos = text.find("\nt,");
+  ASSERT_NE(pos, std::string::npos);
+  pos = text.find('\n', pos + 1) + 1;
+  for (int row = 0; row < 500; ++row) {
+    const std::size_t end = text.find('\n', pos);
+    again += text.substr(pos, end + 1 - pos);
+    pos = end + 1;
+  }
+  const std::string path =
+      testing::WriteTempFile("two_recordings.csv", text + again);
+  const auto fit =
+      RunCli("fit --estimator=lm --format=json --log='" + path + "'");
+  EXPECT_EQ(fit.exit_code, 2);
+  EXPECT_THAT(fit.err, HasSubstr("t must increase strictly"));
+  const auto inspect = RunCli("inspect --format=json '" + path + "'");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.err;
+  const auto i = testing::ParseJson(inspect);
+  EXPECT_EQ(i["samples"].get<int>(), 17375);  // the longest recording
+  EXPECT_FALSE(i.contains("fit_segment")) << inspect.out;
+  ASSERT_FALSE(i["warnings"].empty());
+  EXPECT_THAT(i["warnings"].back().get<std::string>(),
+              HasSubstr("no fit segment: "));
+  EXPECT_THAT(i["warnings"].back().get<std::string>(),
+              HasSubstr("t must increase strictly"));
 }
 
 TEST(Cli, DisplacementReproducesThePaper) {

@@ -68,8 +68,10 @@ class IdentifyInput {
 };
 
 // How far Identify goes: the 3-D windows alone (what `inspect` lists), the
-// planar data ready to fit (IdentifySummary::data, for a caller that fits
-// them many ways: the benchmarks), or the whole fit.
+// planar data ready to fit (IdentifySummary::data and ::preprocess: the fit
+// segment `inspect` describes, `export-problem` writes and the benchmarks fit
+// many ways), or the whole fit. Every stage reads and cuts a log as the fit
+// does, so one log has one segment and one set of windows everywhere.
 enum class IdentifyStage { kWindows, kPreprocess, kFit };
 
 // The IMU instance the default picks: instance 0 for the planar models, and
@@ -176,6 +178,10 @@ struct IdentifySummary {
   double quadratic_wind_e = std::numeric_limits<double>::quiet_NaN();
   // IdentifyStage::kWindows: the windows of the first instance.
   std::optional<Preprocess3dResult> windows;
+  // IdentifyStage::kPreprocess, a planar log: what the preprocessing found
+  // (segments, gyro bias, rate, excitation, notes), its samples moved to
+  // `data`.
+  std::optional<PreprocessResult> preprocess;
 
   std::optional<IdentifyEmit> emit;
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "imusysid/identify.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/problem_io.h"
 #include "src/cli/common.h"
@@ -28,25 +29,33 @@ int RunExportProblem(const std::vector<std::string>& positional) {
 
   Status same = CheckOutputIsNotInput("--out", FLAGS_out, {path});
   if (!same.ok()) return ReportError(cmd, same);
-  StatusOr<FlightLog> log = ReadLogFromFlags(path);
-  if (!log.ok()) return ReportError(cmd, log.status());
-  StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
-  if (!po.ok()) return ReportError(cmd, po.status());
-  StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
+  // The samples `fit` would fit: the library's reading and preprocessing,
+  // stopped before the model.
+  IdentifyOptions io;
+  Status flags = LogOptionsFromFlags(/*all_imus=*/false, &io);
+  if (!flags.ok()) return ReportError(cmd, flags);
+  io.allow_damaged = true;
+  io.stop_after = IdentifyStage::kPreprocess;
+  io.on_note = [](const std::string& n) { std::cerr << "note: " << n << "\n"; };
+  StatusOr<IdentifySummary> pre = Identify(IdentifyInput::LogFile(path), io);
   if (!pre.ok()) return ReportError(cmd, pre.status());
-  for (const auto& note : pre->notes) std::cerr << "note: " << note << "\n";
+  if (!pre->preprocess.has_value()) {
+    return ReportError(
+        cmd,
+        InternalError("export-problem: no planar data for '" + path + "'"));
+  }
 
-  const ProblemData& data = pre->data;
+  const ProblemData& data = *pre->data;
   ProblemMetadata metadata = {
       {"source", path},
-      {"plane", PlaneToString(po->plane)},
-      {"velocity", VelocitySourceToString(po->velocity_source)},
+      {"plane", pre->context.plane},
+      {"velocity", pre->context.velocity},
       {"t_start_s", FormatShortest(data.t_s.front())},
       {"t_end_s", FormatShortest(data.t_s.back())},
       {"samples", std::to_string(data.size())},
-      {"cutoff_hz", FormatShortest(po->cutoff_hz)},
-      {"gyro_bias_rad_s", FormatShortest(pre->gyro_bias_rad_s)},
-      {"sample_rate_hz", FormatShortest(pre->sample_rate_hz)},
+      {"cutoff_hz", FormatShortest(io.preprocess.cutoff_hz)},
+      {"gyro_bias_rad_s", FormatShortest(pre->preprocess->gyro_bias_rad_s)},
+      {"sample_rate_hz", FormatShortest(pre->preprocess->sample_rate_hz)},
       {"model", FirstModelUsingDataVelocity(true)},
   };
   StatusOr<std::string> text = FormatProblemCsv(data, metadata);

@@ -53,12 +53,15 @@ int RunInspect(const std::vector<std::string>& positional) {
   StatusOr<std::string> bytes = ReadFileToString(path);
   if (!bytes.ok()) return ReportError(cmd, bytes.status());
   // Several recordings in one CSV: described as fit uses it (the longest).
+  // The planar fit segment is still the one `fit` cuts from the whole file.
   std::string sessions_note;
+  std::string whole;  // the file as read, when `bytes` became a piece of it
   const bool csv = DetectLogFormat(*bytes) == LogFormat::kCsv;
   if (csv) {
     OrderedPiece piece = LongestOrderedCsvPiece(*bytes, path);
     if (!piece.note.empty()) {
       sessions_note = piece.note;
+      whole = std::move(*bytes);
       *bytes = std::move(piece.text);
     }
   }
@@ -134,9 +137,18 @@ int RunInspect(const std::vector<std::string>& positional) {
 
   StatusOr<Segments> seg = FailedPreconditionError("the log could not be read");
   if (log.ok()) {
-    StatusOr<PreprocessOptions> po = PreprocessOptionsFromFlags(*log);
-    if (!po.ok()) return ReportError(cmd, po.status());
-    seg = DetectSegments(*log, *po);
+    // The fit segment is the library's, read and cut as `fit` cuts it (the
+    // velocity rule, the fallback segment of a log without a maneuver, the
+    // gates); the damage is listed above, not refused.
+    IdentifyOptions io;
+    Status flags = LogOptionsFromFlags(/*all_imus=*/true, &io);
+    if (!flags.ok()) return ReportError(cmd, flags);
+    // A CSV holds one IMU: "all" is that one.
+    if (io.imu == kAllImuInstances) io.imu = kDefaultImu;
+    io.allow_damaged = true;
+    io.stop_after = IdentifyStage::kPreprocess;
+    io.on_note = [&notes](const std::string& n) { notes.push_back(n); };
+    seg = DetectSegments(*log, io.preprocess);
     if (seg.ok()) {
       j["segments"] = {{"still", Interval(seg->still)},
                        {"motors_on_s", Instant(seg->motors_on)},
@@ -148,23 +160,22 @@ int RunInspect(const std::vector<std::string>& positional) {
     } else {
       warnings.push_back("segment detection: " + seg.status().message());
     }
-    StatusOr<PreprocessResult> pre = Preprocess(*log, *po);
-    if (pre.ok()) {
-      const ProblemData& d = pre->data;
-      j["gyro_bias_rad_s"] = pre->gyro_bias_rad_s;
-      j["fit_segment"] = {
-          {"t_start_s", d.t_s.front()},
-          {"t_end_s", d.t_s.back()},
-          {"samples", d.size()},
-          {"plane", PlaneToString(po->plane)},
-          {"velocity", VelocitySourceToString(po->velocity_source)}};
-      const Excitation& e = pre->excitation;
+    StatusOr<IdentifySummary> pre = Identify(
+        IdentifyInput::LogBytes(whole.empty() ? *bytes : whole, path), io);
+    if (pre.ok() && pre->preprocess.has_value()) {
+      const ProblemData& d = *pre->data;
+      j["gyro_bias_rad_s"] = pre->preprocess->gyro_bias_rad_s;
+      j["fit_segment"] = {{"t_start_s", d.t_s.front()},
+                          {"t_end_s", d.t_s.back()},
+                          {"samples", d.size()},
+                          {"plane", pre->context.plane},
+                          {"velocity", pre->context.velocity}};
+      const Excitation& e = pre->preprocess->excitation;
       j["excitation"] = {{"rms_omega_rad_s", e.rms_omega},
                          {"rms_omega_dot_rad_s2", e.rms_omega_dot},
                          {"rms_v_m_s", e.rms_v},
                          {"max_abs_pitch_deg", e.max_abs_pitch_deg},
                          {"duration_s", e.duration_s}};
-      for (const auto& n : pre->notes) notes.push_back(n);
     } else {
       warnings.push_back("no fit segment: " + pre.status().message());
     }

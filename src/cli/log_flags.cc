@@ -172,16 +172,6 @@ StatusOr<std::optional<Frame>> FrameFromFlag() {
   return std::optional<Frame>(*frame);
 }
 
-StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log) {
-  bool velocity_auto = false;
-  StatusOr<PreprocessOptions> o = PreprocessOptionsFromFlags(&velocity_auto);
-  if (o.ok() && velocity_auto) {
-    o->velocity_source =
-        HasLogVelocity(log) ? VelocitySource::kLog : VelocitySource::kGyro;
-  }
-  return o;
-}
-
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(bool* velocity_auto) {
   PreprocessOptions o;
   StatusOr<Plane> plane = PlaneFromString(FLAGS_plane);

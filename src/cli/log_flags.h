@@ -1,6 +1,6 @@
 // Flags and helpers shared by the commands that read a flight log (inspect,
 // fit, export-problem, convert): reading any supported format and turning the
-// preprocessing flags into PreprocessOptions.
+// reading and preprocessing flags into IdentifyOptions.
 
 #ifndef IMUSYSID_SRC_CLI_LOG_FLAGS_H_
 #define IMUSYSID_SRC_CLI_LOG_FLAGS_H_
@@ -62,12 +62,9 @@ StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
                                           FlightLog log);
 
 // PreprocessOptions from --t_start, --t_end, --cutoff_hz, --plane,
-// --velocity, --gyro_bias. --velocity=auto picks the log's own velocity when
-// `log` has the canonical velocity and yaw channels, else the gyro
-// (equation 7).
-StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(const FlightLog& log);
-// The same before the log is read: *velocity_auto says --velocity=auto was
-// asked for (the choice is then the reader's, HasLogVelocity).
+// --velocity, --gyro_bias. *velocity_auto says --velocity=auto was asked
+// for: the choice is then Identify's (IdentifyOptions::velocity_auto), made
+// once the log is read.
 StatusOr<PreprocessOptions> PreprocessOptionsFromFlags(bool* velocity_auto);
 
 // IdentifyOptions' reading and planar preprocessing from --imu, --frame,

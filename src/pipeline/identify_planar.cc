@@ -3,6 +3,7 @@
 // once, fitted with each estimator asked for.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +34,8 @@ struct PlanarInput {
   std::string bytes;   // the log's bytes (for its parameters), if any
   std::shared_ptr<const FlightLog> log;  // as read, with keep_log
   int imu_instance = 0;
+  // The preprocessing's findings, its data moved to `data` (a log only).
+  std::optional<PreprocessResult> preprocess;
 };
 
 StatusOr<PlanarInput> DataFromLog(const IdentifyInput& input,
@@ -102,6 +105,8 @@ StatusOr<PlanarInput> DataFromLog(const IdentifyInput& input,
   context->plane = PlaneToString(po.plane);
   context->velocity = VelocitySourceToString(po.velocity_source);
   out.data = std::make_shared<ProblemData>(std::move(pre->data));
+  pre->data = ProblemData();
+  out.preprocess = std::move(pre).value();
   return out;
 }
 
@@ -190,7 +195,7 @@ StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
           ? DataFromProblemFile(input, options, &context)
       : input.kind() == IdentifyInput::Kind::kProblemData
           ? StatusOr<PlanarInput>(
-                PlanarInput{input.data(), "", "", "", nullptr, 0})
+                PlanarInput{input.data(), "", "", "", nullptr, 0, {}})
           : DataFromLog(input, options, &context);
   if (!loaded.ok()) return loaded.status();
   std::shared_ptr<const ProblemData> data = loaded->data;
@@ -218,6 +223,7 @@ StatusOr<IdentifySummary> IdentifyPlanar(const IdentifyInput& input,
   summary.log = loaded->log;
   if (options.stop_after == IdentifyStage::kPreprocess) {
     summary.data = std::move(data);
+    summary.preprocess = std::move(loaded->preprocess);
     return summary;
   }
   // Only models that read the data's velocity use the autopilot's (the
