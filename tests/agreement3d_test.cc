@@ -1,16 +1,16 @@
-// The agreement test of pieces of one flight (src/report/agreement3d.h) at
+// The agreement test of pieces of one flight (src/analyse/agreement3d.h) at
 // its thresholds, on hand-made estimates: the chi-square just inside and
 // just outside its p = 0.001 value, the 5 mm least difference just inside
 // and just outside, and the critical values against the table's.
 
-#include "src/report/agreement3d.h"
+#include "src/analyse/agreement3d.h"
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "src/report/change3d.h"
+#include "src/analyse/change3d.h"
 
 namespace imusysid {
 namespace internal {
@@ -80,7 +80,7 @@ TEST(Agreement3d, WeightsByVarianceAndSkipsWhatCannotBeJudged) {
   EXPECT_FALSE(one.disagree);
 }
 
-// The change scan's decision (src/report/change3d.h): the best split's
+// The change scan's decision (src/analyse/change3d.h): the best split's
 // p-value times the splits tried against 0.001, and the largest difference
 // of a judged axis against 5 mm, each just inside and just outside.
 TEST(ChangeScan3d, DecidesJustInsideAndOutside) {

@@ -16,10 +16,10 @@
 #include "imusysid/pool3d.h"
 #include "imusysid/problem_data.h"
 #include "imusysid/rigid3d.h"
-#include "src/report/agreement3d.h"
-#include "src/report/change3d.h"
+#include "src/analyse/agreement3d.h"
+#include "src/analyse/change3d.h"
 #include "src/report/parameter_file.h"
-#include "src/report/uncertainty3d.h"
+#include "src/analyse/uncertainty3d.h"
 #include "src/tools/format.h"
 
 namespace imusysid {

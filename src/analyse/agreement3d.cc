@@ -1,12 +1,12 @@
-#include "src/report/agreement3d.h"
+#include "src/analyse/agreement3d.h"
 
 #include <cmath>
 #include <limits>
 
 #include "Eigen/LU"
 #include "Eigen/QR"
-#include "imusysid/pool3d.h"
-#include "src/report/uncertainty3d.h"
+#include "src/analyse/uncertainty3d.h"
+#include "src/numerics/chi_square.h"
 
 namespace imusysid {
 namespace internal {
@@ -138,18 +138,6 @@ AgreementTest Agreement(const std::vector<PieceEstimate>& pieces, int axis) {
   t.disagree = t.chi_square > t.critical &&
                t.worst_difference_m > kAgreementMinDifferenceM;
   return t;
-}
-
-// The chi-square whose upper tail on `dof` degrees of freedom is `alpha`
-// (bisection on ChiSquareUpperTail, to 1e-9 relative).
-double ChiSquareCritical(double alpha, int dof) {
-  double lo = 0.0, hi = 1.0;
-  while (ChiSquareUpperTail(hi, dof) > alpha) hi *= 2;
-  for (int k = 0; k < 200 && hi - lo > 1e-9 * hi; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (ChiSquareUpperTail(mid, dof) > alpha ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
 }
 
 }  // namespace internal

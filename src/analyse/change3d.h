@@ -4,8 +4,8 @@
 // the split whose sides differ most significantly kept. Internal:
 // Rigid3dReport's change scan.
 
-#ifndef IMUSYSID_SRC_REPORT_CHANGE3D_H_
-#define IMUSYSID_SRC_REPORT_CHANGE3D_H_
+#ifndef IMUSYSID_SRC_ANALYSE_CHANGE3D_H_
+#define IMUSYSID_SRC_ANALYSE_CHANGE3D_H_
 
 #include <string_view>
 
@@ -55,4 +55,4 @@ ChangeScan ScanForChange(std::string_view model_name,
 }  // namespace internal
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_REPORT_CHANGE3D_H_
+#endif  // IMUSYSID_SRC_ANALYSE_CHANGE3D_H_

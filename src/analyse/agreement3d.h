@@ -3,8 +3,8 @@
 // from the least-squares factor of its samples, and a chi-square test of
 // their spread. Internal: Rigid3dReport's window and halves gates.
 
-#ifndef IMUSYSID_SRC_REPORT_AGREEMENT3D_H_
-#define IMUSYSID_SRC_REPORT_AGREEMENT3D_H_
+#ifndef IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_
+#define IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_
 
 #include <cstddef>
 #include <string_view>
@@ -78,10 +78,7 @@ struct AgreementTest {
 };
 AgreementTest Agreement(const std::vector<PieceEstimate>& pieces, int axis);
 
-// The chi-square whose upper tail on `dof` degrees of freedom is `alpha`.
-double ChiSquareCritical(double alpha, int dof);
-
 }  // namespace internal
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_REPORT_AGREEMENT3D_H_
+#endif  // IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_
