@@ -7,6 +7,7 @@
 #define IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_
 
 #include <cstddef>
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -60,6 +61,19 @@ std::vector<PieceEstimate> EstimatePieces(std::string_view model_name,
                                           const std::vector<Piece>& pieces,
                                           const Eigen::Vector3d& statistical,
                                           const Model* fitted_model = nullptr);
+
+// The inverse-variance weighted mean of the values `use` marks (weights
+// 1/σ², σ finite and positive where marked), with the information Σ 1/σ²
+// and the count: what a flight's pieces (Agreement) and flights pooled
+// (PoolFlights) test their spread about. Mean NaN when none is marked.
+struct InverseVarianceMean {
+  double mean = std::numeric_limits<double>::quiet_NaN();
+  double information = 0.0;
+  int count = 0;
+};
+InverseVarianceMean WeightedMean(const std::vector<double>& value,
+                                 const std::vector<double>& sigma,
+                                 const std::vector<bool>& use);
 
 // The chi-square of the pieces' spread about their inverse-variance mean
 // on one axis, over the pieces with a finite position and a finite positive

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "Eigen/QR"
-#include "src/numerics/chi_square.h"
 #include "src/analyse/agreement3d.h"
 #include "src/analyse/uncertainty3d.h"
+#include "src/numerics/chi_square.h"
 
 namespace imusysid {
 namespace internal {
