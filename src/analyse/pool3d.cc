@@ -35,7 +35,10 @@ std::string PoolMm(double metres) {
 // mean, χ² = Σ (v_f − v̄)²/σ_f² on flights − 1 dof and its p-value, and each
 // flight's deviation over its own 1σ, (v_f − v̄)/sqrt(σ_f² − σ̄²) (v̄ holds
 // v_f, hence the smaller variance). Entries with `entered` false are
-// skipped; deviations NaN for them or when fewer than two entered.
+// skipped; deviations NaN for them or when fewer than two entered. The mean
+// is the one a flight's pieces are tested about (internal::WeightedMean,
+// agreement3d.h); each term is written d²/σ² here and (|d|/σ)² there, as
+// before they shared it, so that neither result moves by a rounding.
 struct FlightsAgreement {
   double mean = kPoolNaN;
   double chi_square = kPoolNaN;
