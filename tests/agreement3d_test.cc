@@ -1,16 +1,17 @@
-// The agreement test of pieces of one flight (src/report/agreement3d.h) at
+// The agreement test of pieces of one flight (src/analyse/agreement3d.h) at
 // its thresholds, on hand-made estimates: the chi-square just inside and
 // just outside its p = 0.001 value, the 5 mm least difference just inside
-// and just outside, and the critical values against the table's.
+// and just outside, and the weighted mean the pieces and a pool of flights
+// share.
 
-#include "src/report/agreement3d.h"
+#include "src/analyse/agreement3d.h"
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
 #include "gtest/gtest.h"
-#include "src/report/change3d.h"
+#include "src/analyse/change3d.h"
 
 namespace imusysid {
 namespace internal {
@@ -23,11 +24,15 @@ PieceEstimate At(double x, double sigma) {
   return e;
 }
 
-TEST(Agreement3d, CriticalValuesAreTheTables) {
-  // χ²₁ and χ²₂ at p = 0.001: 10.828 and 13.816 (2 ln 1000 exactly).
-  EXPECT_NEAR(ChiSquareCritical(1e-3, 1), 10.8276, 1e-4);
-  EXPECT_NEAR(ChiSquareCritical(1e-3, 2), 2 * std::log(1000.0), 1e-7);
-  EXPECT_NEAR(ChiSquareCritical(1e-3, 5), 20.515, 1e-3);
+// The inverse-variance mean over the marked entries only: (1 mm at σ 1,
+// 4 mm at σ 2) weigh 1 and 1/4, so the mean is (1 + 1)/1.25 = 1.6 mm.
+TEST(Agreement3d, WeightedMeanIsInverseVarianceOverTheMarked) {
+  const InverseVarianceMean m =
+      WeightedMean({1.0, 4.0, 100.0}, {1.0, 2.0, 1.0}, {true, true, false});
+  EXPECT_EQ(m.count, 2);
+  EXPECT_DOUBLE_EQ(m.information, 1.25);
+  EXPECT_DOUBLE_EQ(m.mean, 1.6);
+  EXPECT_TRUE(std::isnan(WeightedMean({1.0}, {1.0}, {false}).mean));
 }
 
 // Two pieces of σ̂ 3 mm: χ² = d²/18e-6, so the p = 0.001 boundary is at
@@ -80,7 +85,7 @@ TEST(Agreement3d, WeightsByVarianceAndSkipsWhatCannotBeJudged) {
   EXPECT_FALSE(one.disagree);
 }
 
-// The change scan's decision (src/report/change3d.h): the best split's
+// The change scan's decision (src/analyse/change3d.h): the best split's
 // p-value times the splits tried against 0.001, and the largest difference
 // of a judged axis against 5 mm, each just inside and just outside.
 TEST(ChangeScan3d, DecidesJustInsideAndOutside) {

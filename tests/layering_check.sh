@@ -44,6 +44,30 @@ allowed='src/numerics/[a-z0-9_]+\.h' check \
   "src/numerics includes only the user API (not extend/), Eigen and itself" \
   'src/|estimators/|benchmarks/|tests/|imusysid/extend/|ceres/|gflags/|nlohmann/' \
   $numerics
+# The stages run one way: read -> preprocess -> calibrate -> fit -> analyse
+# -> report, and src/pipeline orchestrates them. src/analyse (sigma, the
+# gates, the pieces' agreement, the change scan, flights pooled) stands on
+# the public and extension APIs, the numerics, the tool helpers and itself.
+analyse=$(find src/analyse -name '*.cc' -o -name '*.h')
+allowed='src/(analyse|numerics|tools)/[a-z0-9_]+\.h' check \
+  "src/analyse includes only public headers, the extension API, src/numerics, src/tools and itself" \
+  'src/|estimators/|benchmarks/|tests/|ceres/|gflags/' $analyse
+# src/report formats what the stages return: it includes nothing that fits
+# or orchestrates (src/pipeline, src/calibration, the analyse stage beyond
+# the limits it prints, the estimators, the Problem and Estimator
+# interfaces), and calls none of their entry points.
+report=$(find src/report -name '*.cc' -o -name '*.h')
+allowed='src/analyse/change3d_limits\.h' check \
+  "src/report formats only: no src/pipeline, src/calibration, src/analyse (but its limits), estimators or the fit's interfaces" \
+  'src/(pipeline|calibration|analyse|preprocess|track)/|estimators/|imusysid/extend/(estimator|problem|registry)\.h|ceres/' \
+  $report
+hits=$(grep -HnE '(^|[^A-Za-z0-9_:.>])(internal::)?(Identify|IdentifyFlights|PoolFlights|Rigid3dReport|AnalysePosition3d|CompareInstances|JackknifePositionStderr|InBandResidual|FinalizeResult|Preprocess3d|Preprocess3dImuOnly|Calibrate3d|Estimate|EstimateOrName|SolveJoint|ScanForChange|EstimatePieces)\(' \
+  $report | grep -vE '^[^:]*:[0-9]+:[[:space:]]*//' || true)
+if [ -n "$hits" ]; then
+  echo "layering: src/report calls a fit, an estimator, the analysis or the pipeline (it formats their results only):"
+  echo "$hits" | sed 's/^/  /'
+  bad=1
+fi
 check "benchmark binaries include nothing from the CLI or the tests" \
   'src/cli/|tests/' $bench_bin
 check "tests include nothing from the CLI" 'src/cli/' $tests

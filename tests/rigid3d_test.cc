@@ -25,8 +25,8 @@
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
-#include "src/report/agreement3d.h"
-#include "src/report/uncertainty3d.h"
+#include "src/analyse/agreement3d.h"
+#include "src/analyse/uncertainty3d.h"
 #include "tests/test_util.h"
 
 namespace imusysid {

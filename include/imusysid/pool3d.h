@@ -164,7 +164,8 @@ std::vector<PooledImuPosition3d> PoolFlights(
     const std::vector<FlightImus>& flights, const PoolOptions& options = {});
 
 // The upper tail of the chi-square distribution with `dof` ≥ 1 degrees of
-// freedom at x ≥ 0 (closed forms for integer dof); NaN otherwise.
+// freedom at x ≥ 0 (closed forms for integer dof); NaN otherwise. (The
+// numerics' own, src/numerics/chi_square.h.)
 double ChiSquareUpperTail(double x, int dof);
 
 struct FlightsSummary {

@@ -1,7 +1,8 @@
-// Preprocess3d composed of the 3-D stages: windows → gyro check →
-// conditioning (src/preprocess) → calibration of the delay and the wind
-// (calibration3d.h) → the data at them → the position's sensitivity to the
-// choices the flight cannot settle (sensitivity3d.h).
+// Preprocess3d (preprocess3d.h): the calibration's composition of the 3-D
+// stages. It fits, so it lives here and not in src/preprocess: windows →
+// gyro check → conditioning (src/preprocess) → calibration of the delay and
+// the wind (calibration3d.h) → the data at them → the position's
+// sensitivity to the choices the flight cannot settle (sensitivity3d.h).
 
 #include "imusysid/preprocess3d.h"
 #include "src/calibration/calibration3d.h"

@@ -18,6 +18,7 @@
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
+#include "src/analyse/position3d.h"
 #include "src/pipeline/identify_internal.h"
 #include "src/tools/sessions.h"
 
@@ -57,26 +58,15 @@ StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
   StatusOr<EstimateResult> result =
       EstimateOrName(estimator, problem, options.estimator);
   if (!result.ok()) return result.status();
-  Rigid3dReportOptions report_options = options.report3d;
-  report_options.fitted_model = &problem.model();
-  if (result->IsUsable()) {
-    StatusOr<Eigen::Vector3d> jackknife =
-        JackknifePositionStderr(problem,
-                                estimator,
-                                options.estimator,
-                                *result,
-                                report_options.jackknife_blocks);
-    if (jackknife.ok()) report_options.jackknife_stderr_m = *jackknife;
-    // The rigid model's residual in the lever-arm band (the IMU-only one
-    // integrates across the whole span: its residual keeps the drift the
-    // band would remove, so it is judged over the whole spectrum).
-    if (problem.model().linear_structure() != nullptr) {
-      StatusOr<BandResidual3d> band = InBandResidual(
-          problem.model(), *result, pre, report_options.band_low_hz);
-      if (band.ok()) report_options.in_band = *band;
-    }
-  }
-  return Rigid3dReport(*result, pre, instance, report_options);
+  // The analyse stage: σ̂ with the jackknife, the in-band residual, the
+  // gates, the pieces' agreement and the change scan.
+  return AnalysePosition3d(problem,
+                           estimator,
+                           options.estimator,
+                           *result,
+                           pre,
+                           instance,
+                           options.report3d);
 }
 
 }  // namespace

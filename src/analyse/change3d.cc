@@ -1,4 +1,4 @@
-#include "src/report/change3d.h"
+#include "src/analyse/change3d.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "Eigen/QR"
-#include "imusysid/pool3d.h"
-#include "src/report/agreement3d.h"
-#include "src/report/uncertainty3d.h"
+#include "src/analyse/agreement3d.h"
+#include "src/analyse/uncertainty3d.h"
+#include "src/numerics/chi_square.h"
 
 namespace imusysid {
 namespace internal {

@@ -3,10 +3,11 @@
 // from the least-squares factor of its samples, and a chi-square test of
 // their spread. Internal: Rigid3dReport's window and halves gates.
 
-#ifndef IMUSYSID_SRC_REPORT_AGREEMENT3D_H_
-#define IMUSYSID_SRC_REPORT_AGREEMENT3D_H_
+#ifndef IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_
+#define IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_
 
 #include <cstddef>
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -61,6 +62,19 @@ std::vector<PieceEstimate> EstimatePieces(std::string_view model_name,
                                           const Eigen::Vector3d& statistical,
                                           const Model* fitted_model = nullptr);
 
+// The inverse-variance weighted mean of the values `use` marks (weights
+// 1/σ², σ finite and positive where marked), with the information Σ 1/σ²
+// and the count: what a flight's pieces (Agreement) and flights pooled
+// (PoolFlights) test their spread about. Mean NaN when none is marked.
+struct InverseVarianceMean {
+  double mean = std::numeric_limits<double>::quiet_NaN();
+  double information = 0.0;
+  int count = 0;
+};
+InverseVarianceMean WeightedMean(const std::vector<double>& value,
+                                 const std::vector<double>& sigma,
+                                 const std::vector<bool>& use);
+
 // The chi-square of the pieces' spread about their inverse-variance mean
 // on one axis, over the pieces with a finite position and a finite positive
 // σ̂ (dof = their number − 1; 0 when fewer than two), its value at
@@ -78,10 +92,7 @@ struct AgreementTest {
 };
 AgreementTest Agreement(const std::vector<PieceEstimate>& pieces, int axis);
 
-// The chi-square whose upper tail on `dof` degrees of freedom is `alpha`.
-double ChiSquareCritical(double alpha, int dof);
-
 }  // namespace internal
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_REPORT_AGREEMENT3D_H_
+#endif  // IMUSYSID_SRC_ANALYSE_AGREEMENT3D_H_

@@ -4,8 +4,8 @@
 // the split whose sides differ most significantly kept. Internal:
 // Rigid3dReport's change scan.
 
-#ifndef IMUSYSID_SRC_REPORT_CHANGE3D_H_
-#define IMUSYSID_SRC_REPORT_CHANGE3D_H_
+#ifndef IMUSYSID_SRC_ANALYSE_CHANGE3D_H_
+#define IMUSYSID_SRC_ANALYSE_CHANGE3D_H_
 
 #include <string_view>
 
@@ -13,6 +13,7 @@
 #include "imusysid/extend/model.h"
 #include "imusysid/problem_data.h"
 #include "imusysid/rigid3d_report.h"
+#include "src/analyse/change3d_limits.h"
 
 namespace imusysid {
 namespace internal {
@@ -27,12 +28,6 @@ inline constexpr int kChangeMinSideBlocks = 4;
 // side that barely excites an axis moves it by far more than its jackknife
 // of a few blocks shows.
 inline constexpr double kChangeMaxSideStderrM = 0.005;
-// The test's level over all splits tried (Bonferroni), and the least
-// difference on some axis that counts as a move: a significant difference
-// smaller than that is below what a lever-arm correction can use.
-inline constexpr double kChangeAlpha = 1e-3;
-inline constexpr double kChangeMinDifferenceM = 0.005;
-
 // The scan's result is the report's (rigid3d_report.h).
 using ChangeScan = PositionChange3d;
 
@@ -55,4 +50,4 @@ ChangeScan ScanForChange(std::string_view model_name,
 }  // namespace internal
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_REPORT_CHANGE3D_H_
+#endif  // IMUSYSID_SRC_ANALYSE_CHANGE3D_H_

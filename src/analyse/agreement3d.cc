@@ -1,12 +1,12 @@
-#include "src/report/agreement3d.h"
+#include "src/analyse/agreement3d.h"
 
 #include <cmath>
 #include <limits>
 
 #include "Eigen/LU"
 #include "Eigen/QR"
-#include "imusysid/pool3d.h"
-#include "src/report/uncertainty3d.h"
+#include "src/analyse/uncertainty3d.h"
+#include "src/numerics/chi_square.h"
 
 namespace imusysid {
 namespace internal {
@@ -103,23 +103,39 @@ std::vector<PieceEstimate> EstimatePieces(std::string_view model,
   return out;
 }
 
+InverseVarianceMean WeightedMean(const std::vector<double>& value,
+                                 const std::vector<double>& sigma,
+                                 const std::vector<bool>& use) {
+  InverseVarianceMean out;
+  double weighted_sum = 0.0;
+  for (std::size_t k = 0; k < value.size(); ++k) {
+    if (!use[k]) continue;
+    const double w = 1.0 / (sigma[k] * sigma[k]);
+    out.information += w;
+    weighted_sum += w * value[k];
+    ++out.count;
+  }
+  if (out.count > 0) out.mean = weighted_sum / out.information;
+  return out;
+}
+
 AgreementTest Agreement(const std::vector<PieceEstimate>& pieces, int axis) {
   AgreementTest t;
-  double weights = 0.0, weighted = 0.0;
-  int used = 0;
   auto usable = [axis](const PieceEstimate& e) {
     return std::isfinite(e.position_m[axis]) &&
            std::isfinite(e.stderr_m[axis]) && e.stderr_m[axis] > 0;
   };
+  std::vector<double> value, sigma;
+  std::vector<bool> use;
   for (const PieceEstimate& e : pieces) {
-    if (!usable(e)) continue;
-    const double w = 1.0 / (e.stderr_m[axis] * e.stderr_m[axis]);
-    weights += w;
-    weighted += w * e.position_m[axis];
-    ++used;
+    value.push_back(e.position_m[axis]);
+    sigma.push_back(e.stderr_m[axis]);
+    use.push_back(usable(e));
   }
+  const InverseVarianceMean mean = WeightedMean(value, sigma, use);
+  const int used = mean.count;
   if (used < 2) return t;
-  t.mean_m = weighted / weights;
+  t.mean_m = mean.mean;
   t.dof = used - 1;
   t.critical = ChiSquareCritical(kAgreementAlpha, t.dof);
   double worst_z = -1.0;
@@ -138,18 +154,6 @@ AgreementTest Agreement(const std::vector<PieceEstimate>& pieces, int axis) {
   t.disagree = t.chi_square > t.critical &&
                t.worst_difference_m > kAgreementMinDifferenceM;
   return t;
-}
-
-// The chi-square whose upper tail on `dof` degrees of freedom is `alpha`
-// (bisection on ChiSquareUpperTail, to 1e-9 relative).
-double ChiSquareCritical(double alpha, int dof) {
-  double lo = 0.0, hi = 1.0;
-  while (ChiSquareUpperTail(hi, dof) > alpha) hi *= 2;
-  for (int k = 0; k < 200 && hi - lo > 1e-9 * hi; ++k) {
-    const double mid = 0.5 * (lo + hi);
-    (ChiSquareUpperTail(mid, dof) > alpha ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
 }
 
 }  // namespace internal

@@ -2,7 +2,7 @@
 // least-squares factors where the model is linear outright (rigid3d), else by
 // refitting the model with each block's residuals left out (rigid3d_imu).
 
-#include "src/report/uncertainty3d.h"
+#include "src/analyse/uncertainty3d.h"
 
 #include <cmath>
 #include <limits>

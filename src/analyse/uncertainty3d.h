@@ -2,8 +2,8 @@
 // rigid3d_report.h): the least-squares factor of a block of samples, for
 // models linear in their coefficients outright. Internal.
 
-#ifndef IMUSYSID_SRC_REPORT_UNCERTAINTY3D_H_
-#define IMUSYSID_SRC_REPORT_UNCERTAINTY3D_H_
+#ifndef IMUSYSID_SRC_ANALYSE_UNCERTAINTY3D_H_
+#define IMUSYSID_SRC_ANALYSE_UNCERTAINTY3D_H_
 
 #include <cstddef>
 #include <string_view>
@@ -48,4 +48,4 @@ Eigen::Vector3d JackknifeOfBlockFactors(
 }  // namespace internal
 }  // namespace imusysid
 
-#endif  // IMUSYSID_SRC_REPORT_UNCERTAINTY3D_H_
+#endif  // IMUSYSID_SRC_ANALYSE_UNCERTAINTY3D_H_
