@@ -37,5 +37,26 @@ TEST(ChiSquareCritical, IsTheTables) {
   EXPECT_NEAR(ChiSquareCritical(1e-3, 5), 20.515, 1e-3);
 }
 
+// To the last bits, as the tracker's thresholds need them: dof 2 inverts in
+// closed form, x = −2 ln α; dof 1 and 3 land where their closed-form tails
+// (erfc, and erfc plus the density term) give back α. The tracker's
+// small α (a false alarm per hour of 0.5 s blocks) included.
+TEST(ChiSquareCritical, InvertsTheTailToTheLastBits) {
+  for (double alpha : {0.05, 1e-3, 1.7e-6, 1e-9}) {
+    EXPECT_NEAR(ChiSquareCritical(alpha, 2),
+                -2.0 * std::log(alpha),
+                4e-15 * -2.0 * std::log(alpha))
+        << alpha;
+    for (int dof : {1, 3}) {
+      const double x = ChiSquareCritical(alpha, dof);
+      EXPECT_NEAR(ChiSquareUpperTail(x, dof), alpha, 1e-13 * alpha)
+          << dof << " " << alpha;
+    }
+  }
+  EXPECT_TRUE(std::isnan(ChiSquareCritical(0.0, 3)));
+  EXPECT_TRUE(std::isnan(ChiSquareCritical(1.0, 3)));
+  EXPECT_TRUE(std::isnan(ChiSquareCritical(0.05, 0)));
+}
+
 }  // namespace
 }  // namespace imusysid

@@ -33,10 +33,16 @@ double ChiSquareUpperTail(double x, int dof) {
 }
 
 double ChiSquareCritical(double alpha, int dof) {
+  if (dof < 1 || !(alpha > 0.0 && alpha < 1.0)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   double lo = 0.0, hi = 1.0;
   while (ChiSquareUpperTail(hi, dof) > alpha) hi *= 2;
-  for (int k = 0; k < 200 && hi - lo > 1e-9 * hi; ++k) {
+  // Bisection to the last bit: the midpoint stops moving when lo and hi are
+  // neighbouring doubles (about 60 steps from a power-of-two bracket).
+  for (int k = 0; k < 2000; ++k) {
     const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
     (ChiSquareUpperTail(mid, dof) > alpha ? lo : hi) = mid;
   }
   return 0.5 * (lo + hi);

@@ -7,43 +7,18 @@
 
 #include "Eigen/Eigenvalues"
 #include "imusysid/parameters.h"
+#include "src/numerics/chi_square.h"
 #include "src/track/track3d_internal.h"
 
 namespace imusysid {
 namespace track3d_internal {
-namespace {
-
-// chi-square with 3 degrees of freedom: upper quantile for tail α.
-// The chi-square distribution with 1, 2 or 3 degrees of freedom.
-double ChiSquareCdf(int dof, double x) {
-  if (x <= 0.0) return 0.0;
-  if (dof == 1) return std::erf(std::sqrt(0.5 * x));
-  if (dof == 2) return 1.0 - std::exp(-0.5 * x);
-  return std::erf(std::sqrt(0.5 * x)) -
-         std::sqrt(2.0 * x / kPi) * std::exp(-0.5 * x);
-}
-double ChiSquareQuantile(int dof, double upper_tail) {
-  double lo = 0.0, hi = 1000.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    if (1.0 - ChiSquareCdf(dof, mid) > upper_tail) {
-      lo = mid;
-    } else {
-      hi = mid;
-    }
-  }
-  return 0.5 * (lo + hi);
-}
-
-}  // namespace
-
 void Pipeline::SetChangeThresholds() {
   // Bonferroni over the candidates of one test; one test per block.
   const double alpha =
       o.block_s / o.mean_time_between_false_alarms_s / o.change_candidates;
-  threshold = ChiSquareQuantile(3, alpha);
+  threshold = ChiSquareCritical(alpha, 3);
   for (int dof = 1; dof <= 3; ++dof) {
-    thresholds[dof] = ChiSquareQuantile(dof, alpha);
+    thresholds[dof] = ChiSquareCritical(alpha, dof);
   }
 }
 
