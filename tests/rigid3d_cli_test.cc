@@ -368,6 +368,23 @@ TEST(Rigid3dCli, AnImuInstanceTheCsvLacksIsRefused) {
   EXPECT_EQ(j["instance"], 0);
 }
 
+// The commands that read one log (track, convert, inspect) refuse --imu=2
+// on that CSV as fit does, and take --imu=0, the instance it holds.
+TEST(Rigid3dCli, EveryCommandRefusesAnImuInstanceTheCsvLacks) {
+  const std::string& f = FigureEight();
+  const std::string dir = testing::MakeTempDir();
+  for (const std::string& command : {std::string("track --format=json"),
+                                     "convert --out=" + dir + "/c.csv",
+                                     std::string("inspect --format=json")}) {
+    const auto lacks = RunCli(command + " --log=" + f + " --imu=2");
+    EXPECT_EQ(lacks.exit_code, 2) << command << "\n" << lacks.err;
+    EXPECT_THAT(lacks.err, HasSubstr("holds IMU instance 0 only")) << command;
+    EXPECT_TRUE(lacks.out.empty()) << command;
+    const auto holds = RunCli(command + " --log=" + f + " --imu=0");
+    EXPECT_EQ(holds.exit_code, 0) << command << "\n" << holds.err;
+  }
+}
+
 TEST(Rigid3dCli, InspectListsTheWindowsFitUses) {
   const auto r = RunCli("inspect " + FigureEight() + " --format=json");
   ASSERT_EQ(r.exit_code, 0) << r.err;

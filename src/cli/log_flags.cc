@@ -9,6 +9,7 @@
 #include "imusysid/log_reader.h"
 #include "imusysid/segments.h"
 #include "src/cli/common.h"
+#include "src/pipeline/identify_internal.h"
 
 DEFINE_string(log,
               "",
@@ -96,7 +97,15 @@ StatusOr<FlightLog> ParseLogFromFlags(std::string_view bytes,
         "--imu=all applies to fit --model=rigid3d; pick one instance (0, 1 "
         "or 2) here");
   }
-  return ParseLogFromFlags(bytes, path, *imu);
+  StatusOr<FlightLog> log = ParseLogFromFlags(bytes, path, *imu);
+  // A CSV holds one IMU: --imu naming another instance is refused as fit
+  // refuses it (read as asked, one IMU's data would carry another's label).
+  if (log.ok() && FlagWasSet("imu") &&
+      DetectLogFormat(bytes) == LogFormat::kCsv) {
+    Status held = internal::CheckCsvImuInstance(*log, path, *imu);
+    if (!held.ok()) return held;
+  }
+  return log;
 }
 
 namespace {
@@ -141,6 +150,9 @@ StatusOr<FlightLog> FinishCsvLogFromFlags(std::string_view bytes,
       LogReadOptionsFromFlags(bytes, *imu == kAllImus ? 0 : *imu);
   if (!options.ok()) return options.status();
   IMUSYSID_RETURN_IF_ERROR(FinishCsvLog(bytes, path, *options, &log));
+  if (FlagWasSet("imu") && *imu != kAllImus) {
+    IMUSYSID_RETURN_IF_ERROR(internal::CheckCsvImuInstance(log, path, *imu));
+  }
   return log;
 }
 
