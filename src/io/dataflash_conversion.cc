@@ -42,7 +42,6 @@ using internal::AddChannels;
 using internal::DataFlashVehicle;
 using internal::FinishImu;
 using internal::ImuSeries;
-using internal::kPi;
 using internal::MessageSeconds;
 using internal::SourceSignal;
 

@@ -14,13 +14,12 @@
 #include "imusysid/dataflash.h"
 #include "imusysid/log.h"
 #include "imusysid/log_reader.h"
+#include "imusysid/parameters.h"
 #include "imusysid/status.h"
 #include "imusysid/ulog.h"
 
 namespace imusysid {
 namespace internal {
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 // The median of the steps between successive times (the upper middle one for
 // an even count); 0 with fewer than two times.
