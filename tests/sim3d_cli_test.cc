@@ -150,7 +150,7 @@ TEST(Simulate3dCli, RejectsPlanarSettingsAndBadRates) {
   EXPECT_FALSE(missing.good());
 }
 
-bool Exists(const std::string& path) {
+bool PathExists(const std::string& path) {
   struct stat st;
   return lstat(path.c_str(), &st) == 0;
 }
@@ -188,7 +188,7 @@ TEST(Simulate3dCli, OutOnADeviceOrFifoIsRefusedBeforeAnyWork) {
   const std::vector<std::string> siblings = {
       "/dev/null.truth.json", "/dev/null.imu2.csv", "/dev/null.imu3.csv"};
   std::vector<bool> existed;
-  for (const std::string& path : siblings) existed.push_back(Exists(path));
+  for (const std::string& path : siblings) existed.push_back(PathExists(path));
   const std::string dir = testing::MakeTempDir();
   ASSERT_EQ(symlink("/dev/null", (dir + "/L.csv").c_str()), 0);
   ASSERT_EQ(mkfifo((dir + "/P.csv").c_str(), 0600), 0);
@@ -217,14 +217,14 @@ TEST(Simulate3dCli, OutOnADeviceOrFifoIsRefusedBeforeAnyWork) {
                   .err,
               HasSubstr("it is not a regular file but a FIFO"));
   for (std::size_t k = 0; k < siblings.size(); ++k) {
-    EXPECT_EQ(Exists(siblings[k]), existed[k]) << siblings[k];
+    EXPECT_EQ(PathExists(siblings[k]), existed[k]) << siblings[k];
     if (!existed[k]) std::remove(siblings[k].c_str());
   }
   for (const char* name :
        {"/L.truth.json", "/L.imu2.csv", "/P.truth.json", "/P.imu2.csv"}) {
-    EXPECT_FALSE(Exists(dir + name)) << name;
+    EXPECT_FALSE(PathExists(dir + name)) << name;
   }
-  EXPECT_FALSE(Exists("-.truth.json"));
+  EXPECT_FALSE(PathExists("-.truth.json"));
 }
 
 TEST(Simulate3dCli, APlanarRunRemovesTheImuLogsOfA3dRunWithTheSameOut) {
@@ -235,8 +235,8 @@ TEST(Simulate3dCli, APlanarRunRemovesTheImuLogsOfA3dRunWithTheSameOut) {
       "--out=" +
       out);
   ASSERT_EQ(three_d.exit_code, 0) << three_d.err;
-  ASSERT_TRUE(Exists(dir + "/F.imu2.csv"));
-  ASSERT_TRUE(Exists(dir + "/F.imu3.csv"));
+  ASSERT_TRUE(PathExists(dir + "/F.imu2.csv"));
+  ASSERT_TRUE(PathExists(dir + "/F.imu3.csv"));
   // A sibling that is a link goes (the link, not its target); names
   // simulate never writes for F.csv stay.
   std::ofstream(dir + "/kept.csv") << "mine\n";
@@ -247,8 +247,8 @@ TEST(Simulate3dCli, APlanarRunRemovesTheImuLogsOfA3dRunWithTheSameOut) {
 
   const auto planar = RunCli(std::string(kShortPlanar) + "--out=" + out);
   ASSERT_EQ(planar.exit_code, 0) << planar.err;
-  EXPECT_FALSE(Exists(dir + "/F.imu2.csv"));
-  EXPECT_FALSE(Exists(dir + "/F.imu3.csv"));
+  EXPECT_FALSE(PathExists(dir + "/F.imu2.csv"));
+  EXPECT_FALSE(PathExists(dir + "/F.imu3.csv"));
   EXPECT_EQ(Slurp(dir + "/kept.csv"), "mine\n");
   EXPECT_EQ(Slurp(dir + "/F.imu4.csv"), "mine\n");
   EXPECT_EQ(Slurp(dir + "/F.notes.txt"), "mine\n");
