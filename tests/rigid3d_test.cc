@@ -24,9 +24,9 @@
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
-#include "src/preprocess/preprocess3d_internal.h"
 #include "src/analyse/agreement3d.h"
 #include "src/analyse/uncertainty3d.h"
+#include "src/preprocess/preprocess3d_internal.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
