@@ -204,9 +204,9 @@ StatusOr<Preprocess3dResult> Condition3d(const FlightLog& log,
 // roll/pitch/yaw, and vn..vd or vel_n..vel_d), when no airborne flight is
 // found (a bench or ground log), or when no window survives the exclusions;
 // InvalidArgument for bad options. Not a preprocessing stage, whatever its
-// name (kept: public API): it fits, so it is the calibration's composition
-// of preprocess → calibrate (src/calibration/prepare3d.cc), which the
-// pipeline and the tracker call; Condition3d is the preprocessing alone.
+// name (kept: public API): it fits, so it is the pipeline's composition of
+// preprocess → calibrate (src/pipeline/prepare3d.cc), which Identify and the
+// tracker call; Condition3d is the preprocessing alone.
 StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                           const Preprocess3dOptions& options);
 

@@ -1,8 +1,10 @@
-// Preprocess3d (preprocess3d.h): the calibration's composition of the 3-D
-// stages. It fits, so it lives here and not in src/preprocess: windows →
-// gyro check → conditioning (src/preprocess) → calibration of the delay and
-// the wind (calibration3d.h) → the data at them → the position's
+// Preprocess3d (preprocess3d.h): the pipeline's composition of the 3-D
+// stages up to the fit: windows → gyro check → conditioning (src/preprocess,
+// which fits nothing) → calibration of the delay and the wind
+// (src/calibration/calibration3d.h) → the data at them → the position's
 // sensitivity to the choices the flight cannot settle (sensitivity3d.h).
+// It runs two stages, so it is orchestration and lives with Identify; the
+// tracker's one calibration calls it too.
 
 #include "imusysid/preprocess3d.h"
 #include "src/calibration/calibration3d.h"
