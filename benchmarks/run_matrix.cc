@@ -15,17 +15,11 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
+#include "src/numerics/quantile.h"
 
 namespace imusysid {
 namespace bench {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t m = v.size() / 2;
-  return v.size() % 2 == 1 ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 // Relative cost of a run, to start the long ones first (measured on
 // paper_test1: the GA family on the consistent model, whose every cost is an
@@ -109,7 +103,7 @@ void Execute(const BenchConfig& config,
     }
   }
   if (!run->wall_ms.empty()) {
-    run->wall_ms_median = Median(run->wall_ms);
+    run->wall_ms_median = Quantile(run->wall_ms, 0.5);
     run->wall_ms_min =
         *std::min_element(run->wall_ms.begin(), run->wall_ms.end());
     run->wall_ms_max =

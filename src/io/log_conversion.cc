@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "src/numerics/quantile.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -14,13 +15,6 @@ namespace {
 // inside the IMU span and still count as covering it (its end value is held):
 // estimator topics start a sample or two after the first IMU sample.
 constexpr double kCoverageIntervals = 2.0;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0;
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
 
 // Drops non-finite and non-increasing samples of a source signal, returning
 // how many were dropped.
@@ -115,7 +109,7 @@ Status CheckCountAndGaps(const ImuSeries& imu,
         std::to_string(options.min_samples) + " the fit needs");
   }
   if (options.max_gap_factor > 0 && imu.size() >= 2) {
-    const double median = MedianStep(imu.t);
+    const double median = UpperMedianInterval(imu.t);
     const double limit = options.max_gap_factor * median;
     for (std::size_t i = 1; i < imu.size(); ++i) {
       const double gap = imu.t[i] - imu.t[i - 1];
@@ -152,14 +146,6 @@ void MoveToFlu(ImuSeries imu, FlightLog* log) {
 }
 
 }  // namespace
-
-double MedianStep(const std::vector<double>& t) {
-  if (t.size() < 2) return 0;
-  std::vector<double> dt;
-  dt.reserve(t.size() - 1);
-  for (std::size_t i = 1; i < t.size(); ++i) dt.push_back(t[i] - t[i - 1]);
-  return Median(std::move(dt));
-}
 
 std::vector<double> Interpolate(const SourceSignal& signal,
                                 const std::vector<double>& times) {
@@ -207,7 +193,7 @@ void AddChannels(std::vector<SourceSignal> signals, FlightLog* log) {
                                  "source has fewer than 2 valid samples");
       continue;
     }
-    const double tolerance = kCoverageIntervals * MedianStep(signal.t);
+    const double tolerance = kCoverageIntervals * UpperMedianInterval(signal.t);
     if (signal.t.front() > first + tolerance ||
         signal.t.back() < last - tolerance) {
       log->metadata.emplace_back(

@@ -21,10 +21,6 @@
 namespace imusysid {
 namespace internal {
 
-// The median of the steps between successive times (the upper middle one for
-// an even count); 0 with fewer than two times.
-double MedianStep(const std::vector<double>& t);
-
 // IMU samples in the autopilot's FRD frame before the common checks.
 struct ImuSeries {
   std::vector<double> t, ax, ay, az, gx, gy, gz;

@@ -3,18 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "src/numerics/quantile.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
-namespace {
-
-double Median(std::vector<double> values) {
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
-
-}  // namespace
 
 Status CheckAccelerometer(const FlightLog& log, const SanityOptions& options) {
   const std::size_t n = log.size();
@@ -24,7 +16,7 @@ Status CheckAccelerometer(const FlightLog& log, const SanityOptions& options) {
     norm[i] = std::hypot(log.ax[i], log.ay[i], log.az[i]);
   }
   const double g = options.gravity;
-  const double median_norm = Median(std::move(norm));
+  const double median_norm = UpperMedian(std::move(norm));
   const std::string where = log.source + ": ";
   if (!(median_norm >= g / options.max_gravity_factor &&
         median_norm <= g * options.max_gravity_factor)) {
@@ -40,7 +32,7 @@ Status CheckAccelerometer(const FlightLog& log, const SanityOptions& options) {
         FormatNumber(median_norm, 4) + ", far from g = " + FormatNumber(g, 6) +
         " m/s^2 (at rest and in hover it is g)" + units);
   }
-  const double median_z = Median(std::move(z));
+  const double median_z = UpperMedian(std::move(z));
   if (median_z < -0.5 * g) {
     return FailedPreconditionError(
         where + "the z accelerometer's median is " + FormatNumber(median_z, 4) +

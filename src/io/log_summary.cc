@@ -12,13 +12,13 @@
 
 #include "imusysid/log_reader.h"
 #include "src/io/log_conversion.h"
+#include "src/numerics/quantile.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
 namespace {
 
 using internal::DataFlashVehicle;
-using internal::MedianStep;
 using internal::MessageSeconds;
 using internal::TopicSeconds;
 using internal::UlogVehicle;
@@ -103,7 +103,7 @@ TopicSummary Summarize(std::string name,
   if (!t.empty()) {
     topic.first_t_s = t.front();
     topic.last_t_s = t.back();
-    const double median = MedianStep(t);
+    const double median = UpperMedianInterval(t);
     topic.rate_hz = median > 0 ? 1 / median : 0;
   }
   return topic;

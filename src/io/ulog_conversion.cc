@@ -10,6 +10,7 @@
 
 #include "imusysid/log_reader.h"
 #include "src/io/log_conversion.h"
+#include "src/numerics/quantile.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -44,7 +45,6 @@ using internal::AddChannels;
 using internal::FinishImu;
 using internal::ImuSeries;
 using internal::Interpolate;
-using internal::MedianStep;
 using internal::SourceSignal;
 using internal::TopicSeconds;
 using internal::UlogVehicle;
@@ -196,7 +196,8 @@ Status ImuFromAccelGyro(const std::string& source,
   if (ta.empty() || tg.empty()) return Status::Ok();
   // Pair each gyro sample with the nearest accelerometer sample; pairs
   // further apart than one median interval are not the same instant.
-  const double tolerance = std::max(MedianStep(ta), MedianStep(tg));
+  const double tolerance =
+      std::max(UpperMedianInterval(ta), UpperMedianInterval(tg));
   std::size_t unpaired = 0;
   std::size_t j = 0;
   double max_offset = 0;

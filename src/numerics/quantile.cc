@@ -34,4 +34,18 @@ double MedianInterval(const std::vector<double>& t) {
   return Quantile(dt, 0.5);
 }
 
+double UpperMedian(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), values.begin() + mid, values.end());
+  return values[static_cast<std::size_t>(mid)];
+}
+
+double UpperMedianInterval(const std::vector<double>& t) {
+  if (t.size() < 2) return 0.0;
+  std::vector<double> dt(t.size() - 1);
+  for (std::size_t i = 1; i < t.size(); ++i) dt[i - 1] = t[i] - t[i - 1];
+  return UpperMedian(std::move(dt));
+}
+
 }  // namespace imusysid

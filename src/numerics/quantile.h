@@ -23,6 +23,15 @@ inline double Quantile(const std::vector<double>& x, double q) {
 // Median sample interval of t (0 for fewer than two samples).
 double MedianInterval(const std::vector<double>& t);
 
+// The upper median: the middle element, the upper of the two middle ones for
+// an even count, not interpolated, so it is one of the values (a rate or a
+// level that occurs in the log, for the readers' checks); 0 when empty.
+double UpperMedian(std::vector<double> values);
+
+// The upper median of the steps between successive times (0 for fewer than
+// two times): the rate the log readers report and check against.
+double UpperMedianInterval(const std::vector<double>& t);
+
 }  // namespace imusysid
 
 #endif  // IMUSYSID_SRC_NUMERICS_QUANTILE_H_

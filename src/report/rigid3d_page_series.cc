@@ -10,7 +10,7 @@
 
 #include "imusysid/extend/model.h"
 #include "imusysid/parameter_info.h"
-#include "src/io/log_conversion.h"
+#include "src/numerics/quantile.h"
 #include "src/report/rigid3d_page_internal.h"
 
 namespace imusysid {
@@ -29,7 +29,7 @@ Series FittedSeries(const IdentifySummary& summary, const ImuPosition3d& imu) {
     s.fx.push_back(m.f[0][k]);
     s.fy.push_back(m.f[1][k]);
   }
-  const double step = internal::MedianStep(s.t);
+  const double step = UpperMedianInterval(s.t);
   s.sample_rate_hz = step > 0 ? 1.0 / step : 0.0;
   std::size_t begin = 0;
   for (std::size_t i = 1; i <= s.t.size(); ++i) {
