@@ -133,8 +133,11 @@ const std::string* TenMinuteUlog(int profile) {
 
 // `fit --log=F.ulg --model=rigid3d` with no other flags, from the file
 // image: parsed once, every instance that can be fitted fitted (the 1 Hz
-// ones refused on their rate), calibration, jackknife, report. Target for
-// the default profile: under 1 s on one core.
+// ones refused on their rate), calibration, jackknife, report. Second
+// argument: IdentifyOptions::num_threads (fit's --threads, 2 by default),
+// the instances after the first fitted side by side; one thread against
+// two, in wall time (UseRealTime). Target for the default profile: under
+// 1 s on one core.
 void BM_Rigid3dTenMinuteUlog(benchmark::State& state) {
   const std::string* image = TenMinuteUlog(static_cast<int>(state.range(0)));
   if (image->empty()) {
@@ -143,6 +146,7 @@ void BM_Rigid3dTenMinuteUlog(benchmark::State& state) {
   }
   IdentifyOptions options;
   options.model = kRigid3dModelName;
+  options.num_threads = static_cast<int>(state.range(1));
   std::size_t fitted = 0;
   for (auto _ : state) {
     StatusOr<IdentifySummary> summary =
@@ -158,9 +162,12 @@ void BM_Rigid3dTenMinuteUlog(benchmark::State& state) {
   state.counters["file_mb"] = static_cast<double>(image->size()) / 1e6;
 }
 BENCHMARK(BM_Rigid3dTenMinuteUlog)
-    ->Arg(0)
-    ->Arg(1)
-    ->Arg(2)
+    ->Args({0, 1})
+    ->Args({1, 1})
+    ->Args({1, 2})
+    ->Args({2, 1})
+    ->Args({2, 2})
+    ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
 void BM_Rigid3dReadOneLog(benchmark::State& state) {

@@ -140,6 +140,53 @@ TEST(Identify, ThreeImusShareTheFlightsDelayAndWind) {
   }
 }
 
+// The instances after the first are fitted side by side with num_threads
+// 2: the summary, the notes and the progress lines, in their order, are
+// those of one thread, bit for bit.
+TEST(Identify, InstancesSideBySideGiveWhatOneThreadGives) {
+  Sim3dLogOptions lo;
+  lo.dataflash_imu_rate_hz = 100.0;  // three instances, kept cheap
+  const std::string bytes =
+      FormatSimulated3dDataFlash(FigureEightOptions(), FigureEight(), lo)
+          .value();
+  std::string json[2];
+  std::vector<std::string> said[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    std::vector<std::string>& lines = said[threads - 1];
+    IdentifyOptions options = Rigid3d();
+    options.num_threads = threads;
+    options.on_note = [&lines](const std::string& n) { lines.push_back(n); };
+    options.on_progress = [&lines](const std::string& p) {
+      lines.push_back("progress: " + p);
+    };
+    StatusOr<IdentifySummary> s =
+        Identify(IdentifyInput::LogBytes(bytes, "f.bin"), options);
+    ASSERT_TRUE(s.ok()) << s.status().ToString();
+    ASSERT_EQ(s->imus.size(), 3u);
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(s->imus[static_cast<std::size_t>(i)].instance, i);
+    }
+    json[threads - 1] = IdentifySummaryToJson(*s, false).dump();
+  }
+  EXPECT_EQ(json[0], json[1]);
+  EXPECT_EQ(said[0], said[1]);
+  // Three "fitting ..." lines, IMU 0, 1, 2 in that order.
+  std::string order;
+  for (const std::string& line : said[1]) {
+    const std::size_t at = line.find("(IMU ");
+    if (line.rfind("progress: fitting", 0) == 0 && at != std::string::npos) {
+      order += line[at + 5];
+    }
+  }
+  EXPECT_EQ(order, "012");
+  IdentifyOptions none = Rigid3d();
+  none.num_threads = 0;
+  StatusOr<IdentifySummary> refused =
+      Identify(IdentifyInput::LogBytes(bytes, "f.bin"), none);
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_THAT(refused.status().message(), HasSubstr("num_threads = 0"));
+}
+
 TEST(Identify, WindowsStageListsTheWindowsWithoutFitting) {
   IdentifyOptions options = Rigid3d();
   options.stop_after = IdentifyStage::kWindows;

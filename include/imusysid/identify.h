@@ -120,6 +120,13 @@ struct IdentifyOptions {
   EmitFormat emit = EmitFormat::kNone;
 
   IdentifyStage stop_after = IdentifyStage::kFit;
+  // Threads a 3-D fit may use: the IMU instances after the first (which
+  // finds the delay and the wind they share) are fitted side by side on up
+  // to this many. The results, notes and their order do not depend on it;
+  // configure_problem is then called from those threads, so it must be
+  // thread-safe (on_note and on_progress are called on the caller's thread
+  // only). Checked ≥ 1 by Identify.
+  int num_threads = 1;
   // Keep the planar log as read (IdentifySummary::log), for a caller that
   // draws the whole flight; off, the log is freed before the fit.
   bool keep_log = false;

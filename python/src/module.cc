@@ -190,6 +190,7 @@ IdentifyOptions ToIdentifyOptions(const CallOptions& c) {
   if (c.max_time_s > 0.0) eo.max_wall_time_s = c.max_time_s;
   eo.record_trace = c.trace;
   eo.ga.num_threads = c.threads;
+  io.num_threads = c.threads;
   eo.covariance = ValueOrThrow(CovarianceTypeFromString(c.covariance));
   eo.named = c.named;
   ThrowIfError(eo.Validate());

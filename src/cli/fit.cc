@@ -98,7 +98,11 @@ DEFINE_string(initial,
               "",
               "Start point for lm: comma-separated values in parameter order "
               "(default: centre of the bounds).");
-DEFINE_int32(threads, 2, "Threads evaluating the GA population.");
+DEFINE_int32(threads,
+             2,
+             "Threads: the GA population's evaluation, and a 3-D fit's IMU "
+             "instances after the first, fitted side by side (the output "
+             "does not depend on it).");
 DEFINE_double(max_time_s, 0, "Wall-time limit per estimator, s; 0: none.");
 DEFINE_string(covariance,
               "hac",
@@ -398,6 +402,7 @@ int RunFit(const std::vector<std::string>& positional) {
   if (!report_flag.ok()) return ReportError(cmd, report_flag);
 
   io.estimator = *options;
+  io.num_threads = FLAGS_threads;
   if (FLAGS_estimator == "all") {
     io.all_estimators = true;
   } else if (FlagWasSet("estimator") || !three_d) {

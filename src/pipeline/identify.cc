@@ -185,6 +185,11 @@ Status ImuInstanceNotHeldError(std::string_view bytes,
 
 StatusOr<IdentifySummary> Identify(const IdentifyInput& input,
                                    const IdentifyOptions& options) {
+  if (options.num_threads < 1) {
+    return InvalidArgumentError(
+        "num_threads = " + std::to_string(options.num_threads) +
+        "; required >= 1");
+  }
   if (input.kind() == IdentifyInput::Kind::kProblemData &&
       input.data() == nullptr) {
     return InvalidArgumentError("Identify: the input data are null");

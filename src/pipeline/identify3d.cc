@@ -4,12 +4,16 @@
 // lacks the estimator's channels, the per-axis report and the comparison
 // between instances.
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -36,6 +40,18 @@ std::vector<int> Instances(std::string_view bytes, int imu) {
   }
   return {imu};
 }
+
+// What one instance's fit gives: its report and data, or that the log
+// holds no further instance; and, for an instance fitted beside another on
+// a worker thread, its notes and progress lines (second: true for
+// progress), replayed in instance order so the output does not depend on
+// the number of threads.
+struct InstanceOutcome {
+  bool ended = false;
+  std::optional<ImuPosition3d> report;
+  std::shared_ptr<const ProblemData> data;
+  std::vector<std::pair<std::string, bool>> messages;
+};
 
 // The fit of one instance's data with `estimator`, judged axis by axis.
 StatusOr<ImuPosition3d> FitInstance(const Preprocess3dResult& pre,
@@ -132,15 +148,19 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   const bool several = instances.size() > 1;
   bool delay_at_limit = false;
   double longest_delay_searched_s = std::numeric_limits<double>::quiet_NaN();
-  bool log_ended = false;
   Status first_failure = Status::Ok();
-  auto fit_instance = [&](int instance) -> Status {
+  // `model` is the caller's copy of the model name (the fallback may
+  // change it); notes and progress go through `opts`.
+  auto fit_instance = [&](int instance,
+                          const IdentifyOptions& opts,
+                          std::string& model,
+                          InstanceOutcome* out) -> Status {
     // The instance the fit is reported as: a CSV's own (CsvImuInstance).
     int label = instance;
     Preprocess3dResult pre;
     std::string damage;
     if (input.is_log()) {
-      StatusOr<LogReadOptions> read = FitReadOptions(bytes, instance, options);
+      StatusOr<LogReadOptions> read = FitReadOptions(bytes, instance, opts);
       if (!read.ok()) return read.status();
       StatusOr<FlightLog> log =
           parsed.has_value() ? parsed->Instance(*read)
@@ -148,26 +168,26 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       if (!log.ok()) {
         // A further instance the log does not hold ends the list.
         if (instance > 0 && several) {
-          log_ended = true;
+          out->ended = true;
           return Status::Ok();
         }
         // One asked for by name that the log lacks: what it holds.
-        if (options.imu >= 0 && parsed.has_value()) {
+        if (opts.imu >= 0 && parsed.has_value()) {
           return ImuInstanceNotHeldError(
-              bytes, &*parsed, input.source(), instance, options, log.status());
+              bytes, &*parsed, input.source(), instance, opts, log.status());
         }
         return log.status();
       }
       if (!parsed.has_value()) {
         // A CSV is the one IMU it says it is, under that instance's name.
         IMUSYSID_RETURN_IF_ERROR(
-            CheckCsvImuInstance(*log, input.source(), options.imu));
+            CheckCsvImuInstance(*log, input.source(), opts.imu));
         label = CsvImuInstance(*log);
       }
-      if (options.stop_after == IdentifyStage::kWindows) {
+      if (opts.stop_after == IdentifyStage::kWindows) {
         StatusOr<Preprocess3dResult> windows = SelectWindows3d(*log, po);
         if (!windows.ok()) return windows.status();
-        summary.model = model_name;
+        summary.model = model;
         summary.windows = std::move(windows).value();
         return Status::Ok();
       }
@@ -176,22 +196,19 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       // 1 Hz log looks like to the other checks.
       IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(*log, po));
       IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
-      if (!options.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
+      if (!opts.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
       damage = DamageSummary(*log);
       // Without the estimator's attitude and velocity, the model declared
       // for that case.
-      StatusOr<ModelDescription> description =
-          BuiltinModels().Describe(model_name);
+      StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
       if (!description.ok()) return description.status();
       if (description->needs_estimator_channels &&
           !HasEstimatorChannels(*log) &&
           !description->without_estimator_channels.empty()) {
-        model_name = description->without_estimator_channels;
-        StatusOr<ModelDescription> fallback =
-            BuiltinModels().Describe(model_name);
-        Note(options,
-             "the log has no attitude and velocity estimate: model " +
-                 model_name +
+        model = description->without_estimator_channels;
+        StatusOr<ModelDescription> fallback = BuiltinModels().Describe(model);
+        Note(opts,
+             "the log has no attitude and velocity estimate: model " + model +
                  (fallback.ok() ? " (" + fallback->inputs + ")" : ""));
         description = std::move(fallback);
         if (!description.ok()) return description.status();
@@ -206,20 +223,20 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       IMUSYSID_RETURN_IF_ERROR(pre.data.Validate());
       if (pre.data.motion.empty()) {
         return InvalidArgumentError(
-            input.source() + ": model " + model_name +
+            input.source() + ": model " + model +
             " needs ProblemData::motion (the 3-D motion), and the data have "
             "none");
       }
     }
     if (estimator_name.empty()) {
-      StatusOr<ModelDescription> d = BuiltinModels().Describe(model_name);
+      StatusOr<ModelDescription> d = BuiltinModels().Describe(model);
       if (!d.ok()) return d.status();
       estimator_name = d->default_estimator;
     }
     if (summary.imus.empty()) {
       delay_at_limit = pre.delay_at_limit;
       longest_delay_searched_s = pre.longest_delay_searched_s;
-      for (const auto& note : pre.notes) Note(options, note);
+      for (const auto& note : pre.notes) Note(opts, note);
       // One estimator publishes for every IMU: its delay is the log's, and
       // so is the flight's wind.
       po.estimator_delay_s = pre.estimator_delay_s;
@@ -245,31 +262,110 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     auto owner = std::make_shared<const Preprocess3dResult>(std::move(pre));
     std::shared_ptr<const ProblemData> data(owner, &owner->data);
     StatusOr<ImuPosition3d> report = FitInstance(
-        *owner, data, model_name, **estimator, estimator_name, label, options);
+        *owner, data, model, **estimator, estimator_name, label, opts);
     if (!report.ok()) return report.status();
     // The first fitted instance's data, for a caller that refines the fit
     // (or draws it): an instance whose fit failed leaves none behind.
-    if (summary.data == nullptr) summary.data = data;
+    out->data = data;
     if (!damage.empty()) report->warnings.push_back("damaged_log: " + damage);
-    summary.imus.push_back(std::move(report).value());
+    out->report = std::move(report).value();
     return Status::Ok();
   };
-  for (int instance : instances) {
-    Status status = fit_instance(instance);
+  // One instance's outcome taken in instance order, as one thread takes
+  // it: kEnd ends the list, kReturn returns `returned` (a status, or the
+  // summary where that is ok).
+  enum class Next { kGoOn, kEnd, kReturn };
+  Status returned = Status::Ok();
+  auto take =
+      [&](int instance, const Status& status, InstanceOutcome* o) -> Next {
+    for (const auto& [text, progress] : o->messages) {
+      if (progress) {
+        Progress(options, text);
+      } else {
+        Note(options, text);
+      }
+    }
     // The windows stage reads the first instance alone, as before.
     if (options.stop_after == IdentifyStage::kWindows) {
-      if (!status.ok()) return status;
-      if (summary.windows.has_value()) return summary;
+      if (!status.ok() || summary.windows.has_value()) {
+        returned = status;
+        return Next::kReturn;
+      }
     }
-    if (log_ended) break;
-    if (status.ok()) continue;
+    if (o->ended) return Next::kEnd;
+    if (status.ok()) {
+      if (summary.data == nullptr) summary.data = o->data;
+      if (o->report.has_value()) summary.imus.push_back(std::move(*o->report));
+      return Next::kGoOn;
+    }
     // Options and names are wrong for every instance alike.
     if (!several || status.code() == StatusCode::kInvalidArgument ||
         status.code() == StatusCode::kNotFound) {
-      return status;
+      returned = status;
+      return Next::kReturn;
     }
     if (first_failure.ok()) first_failure = status;
     summary.skipped_imus.push_back({instance, status.message()});
+    return Next::kGoOn;
+  };
+  // Until one instance is fitted, one at a time: the first fitted sets the
+  // delay and the wind the others share. The rest, which read only what it
+  // set, side by side on up to options.num_threads threads (each
+  // instance's work is the same on any thread, so the result is too).
+  std::size_t i = 0;
+  Next next = Next::kGoOn;
+  for (; i < instances.size() && summary.imus.empty(); ++i) {
+    InstanceOutcome o;
+    const Status status = fit_instance(instances[i], options, model_name, &o);
+    next = take(instances[i], status, &o);
+    if (next != Next::kGoOn) break;
+  }
+  if (next == Next::kGoOn && i < instances.size()) {
+    const std::size_t rest = instances.size() - i;
+    std::vector<InstanceOutcome> outcomes(rest);
+    std::vector<Status> statuses(rest, Status::Ok());
+    std::vector<std::string> models(rest, model_name);
+    std::atomic<std::size_t> claimed{0};
+    auto work = [&] {
+      for (std::size_t k = claimed++; k < rest; k = claimed++) {
+        InstanceOutcome* o = &outcomes[k];
+        IdentifyOptions buffered = options;
+        buffered.on_note = [o](const std::string& text) {
+          o->messages.emplace_back(text, false);
+        };
+        buffered.on_progress = [o](const std::string& text) {
+          o->messages.emplace_back(text, true);
+        };
+        statuses[k] = fit_instance(instances[i + k], buffered, models[k], o);
+      }
+    };
+    const bool side_by_side = options.stop_after == IdentifyStage::kFit &&
+                              rest > 1 && options.num_threads > 1;
+    std::vector<std::thread> helpers;
+    if (side_by_side) {
+      const std::size_t extra =
+          std::min<std::size_t>(rest,
+                                static_cast<std::size_t>(options.num_threads)) -
+          1;
+      for (std::size_t h = 0; h < extra; ++h) {
+        // A thread the system cannot start leaves its share to this one.
+        try {
+          helpers.emplace_back(work);
+        } catch (const std::system_error&) {
+          break;
+        }
+      }
+    }
+    work();
+    for (std::thread& helper : helpers) helper.join();
+    for (std::size_t k = 0; k < rest; ++k) {
+      next = take(instances[i + k], statuses[k], &outcomes[k]);
+      if (next != Next::kGoOn) break;
+    }
+  }
+  if (next == Next::kReturn) {
+    if (!returned.ok()) return returned;
+    return summary;
   }
   // None fitted: the first instance's reason is the answer.
   if (summary.imus.empty()) return first_failure;
