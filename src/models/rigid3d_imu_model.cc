@@ -123,15 +123,13 @@ bool Rigid3dImuModel::Evaluate(const double* x,
   if (!AllFinite(x, kNumRigid3dParameters)) return false;
   double q[kQ];
   for (int j = 0; j < kQ; ++j) q[j] = x[kNonlinearParameter[j]];
-  Eigen::MatrixXd a;
-  Eigen::VectorXd target;
-  std::vector<Eigen::MatrixXd> d_a;
-  Eigen::MatrixXd d_target;
-  if (!LinearSystem(q,
-                    &a,
-                    &target,
-                    jacobian != nullptr ? &d_a : nullptr,
-                    jacobian != nullptr ? &d_target : nullptr)) {
+  // Scratch kept per thread: a fit evaluates thousands of times, and fresh
+  // buffers of this size (megabytes) were returned to the system and
+  // faulted back in on every call. ∂A/∂q is zero, so it is not formed.
+  thread_local Eigen::MatrixXd a;
+  thread_local Eigen::VectorXd target;
+  thread_local Eigen::MatrixXd d_target;
+  if (!FillSystem(q, &a, &target, jacobian != nullptr ? &d_target : nullptr)) {
     return false;
   }
   Eigen::Matrix<double, kM, 1> c;
@@ -205,8 +203,19 @@ bool Rigid3dImuModel::LinearSystem(const double* p,
                                    std::vector<Eigen::MatrixXd>* d_a,
                                    Eigen::MatrixXd* d_target) const {
   CHECK(p != nullptr) << "rigid3d_imu has nonlinear parameters";
-  Eigen::VectorXd drag;
-  Eigen::MatrixXd d_drag;
+  if (!FillSystem(p, a, target, d_target)) return false;
+  if (d_a != nullptr) {
+    d_a->assign(kQ, Eigen::MatrixXd::Zero(2 * num_fitted_, kM));
+  }
+  return true;
+}
+
+bool Rigid3dImuModel::FillSystem(const double* p,
+                                 Eigen::MatrixXd* a,
+                                 Eigen::VectorXd* target,
+                                 Eigen::MatrixXd* d_target) const {
+  thread_local Eigen::VectorXd drag;  // scratch, as in Evaluate
+  thread_local Eigen::MatrixXd d_drag;
   if (!Drag(p, &drag, d_target != nullptr ? &d_drag : nullptr)) return false;
   const ProblemData& d = data();
   const Motion3d& m = d.motion;
@@ -227,9 +236,6 @@ bool Rigid3dImuModel::LinearSystem(const double* p,
     (*target)[row] = m.f[0][i] - drag[row];
     (*target)[num_fitted_ + row] = m.f[1][i] - drag[num_fitted_ + row];
     ++row;
-  }
-  if (d_a != nullptr) {
-    d_a->assign(kQ, Eigen::MatrixXd::Zero(rows, kM));
   }
   if (d_target != nullptr) *d_target = -d_drag;
   return a->allFinite() && target->allFinite();

@@ -70,6 +70,11 @@ class Rigid3dImuModel : public Model, public LinearStructure {
                 double* residuals,
                 const std::vector<int>* columns,
                 double* jacobian) const;
+  // LinearSystem without ∂A/∂q, which is zero (Evaluate does not form it).
+  bool FillSystem(const double* p,
+                  Eigen::MatrixXd* a,
+                  Eigen::VectorXd* target,
+                  Eigen::MatrixXd* d_target) const;
   // The drag D (x, y rows) at every fitted sample for the nonlinear
   // parameters q = (μ, k, w_N, w_E), and with `d_drag` its derivatives
   // (2·fitted × 4, x rows then y rows). False where not finite.
