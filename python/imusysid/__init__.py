@@ -37,7 +37,8 @@ Error.__module__ = __name__
 # Options identify and fit take as keywords, with what each sets.
 _ESTIMATOR_OPTIONS = {
     "seed": "noise seed of every stochastic estimator (int)",
-    "threads": "threads evaluating the GA population (int)",
+    "threads": ("threads: the GA population's evaluation, and a 3-D fit's "
+                "IMU instances after the first, side by side (int)"),
     "max_time_s": "wall-time limit per estimator, s; 0: none",
     "covariance": "standard errors: 'hac' or 'white'",
     "use_measured_fz": "integrate velocity with the measured z force",
