@@ -57,7 +57,7 @@ DEFINE_string(logs,
 DEFINE_string(models, "", ::imusysid::cli::ModelsFlagHelp());
 DEFINE_string(estimators,
               "",
-              "Comma-separated estimators (default: every estimator "
+              "Comma-separated estimators, or all (default: every estimator "
               "that supports each model, or the preset's choice).");
 DEFINE_int32(repeats, 1, "Timed repetitions of each run.");
 DEFINE_int32(seeds,
@@ -126,7 +126,14 @@ int RunBench(const std::vector<std::string>& positional) {
   if (FlagWasSet("logs")) config.logs = bench::SplitList(FLAGS_logs);
   if (FlagWasSet("models")) config.models = bench::SplitList(FLAGS_models);
   if (FlagWasSet("estimators")) {
-    config.estimators = bench::SplitList(FLAGS_estimators);
+    // "all": every estimator that supports each model, the presets'
+    // per-model choices included.
+    if (FLAGS_estimators == "all") {
+      config.estimators.clear();
+      config.model_estimators.clear();
+    } else {
+      config.estimators = bench::SplitList(FLAGS_estimators);
+    }
   }
   config.repeats = FLAGS_repeats;
   if (FLAGS_seeds >= 0) config.seeds = FLAGS_seeds;
