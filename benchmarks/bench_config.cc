@@ -7,6 +7,7 @@
 
 #include "imusysid/extend/model.h"
 #include "imusysid/extend/registry.h"
+#include "imusysid/rigid3d.h"
 
 namespace imusysid {
 namespace bench {
@@ -71,6 +72,16 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
     // log them, truth known. ci3d: two scenarios, one IMU, a 20 s
     // manoeuvre (seconds on two cores); 3d: the four with every IMU.
     c.models = BenchMotion3dModelNames();
+    // rigid3d_imu integrates its own attitude: every cost is an O(n) pass,
+    // which makes the GA family take minutes per log (137 s for ga+lm on
+    // the ci3d figure-eight) and lm twice varpro's time: varpro alone on
+    // it, and the Monte Carlo on rigid3d.
+    for (const std::string& model : c.models) {
+      if (model != kRigid3dModelName) {
+        c.model_estimators.push_back({model, {"varpro"}});
+      }
+    }
+    c.monte_carlo_models3d = {kRigid3dModelName};
     if (preset == "ci3d") {
       c.scenarios3d = {"figure8_3d", "pitch_laps_3d"};
       c.maneuver3d_s = 20.0;

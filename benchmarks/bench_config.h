@@ -52,6 +52,9 @@ struct BenchConfig {
   std::vector<std::string> formats3d = {"ulog", "dataflash"};
   double maneuver3d_s = 0.0;  // manoeuvre length, s; 0: the scenario's own
   int imus3d = 0;             // IMUs flown; 0: the scenario's three
+  // The 3-D models the Monte Carlo flies; empty: every 3-D model in
+  // `models`.
+  std::vector<std::string> monte_carlo_models3d;
   // How a log without a truth sidecar is read and preprocessed: through the
   // library's entry point up to IdentifyStage::kPreprocess, as `fit` reads
   // it (`imusysid bench` passes fit's own --imu/--frame/--t_start/...).

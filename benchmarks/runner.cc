@@ -1,5 +1,6 @@
 #include "benchmarks/runner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -67,7 +68,14 @@ Status RunBench3dPart(const BenchConfig& config,
   }
   report->runs3d = RunLogs3d(config, models, logs);
   if (config.seeds >= 2 && !config.scenarios3d.empty()) {
-    report->monte_carlo3d = RunMonteCarlo3d(config, models);
+    std::vector<std::string> mc_models;
+    for (const std::string& model : config.monte_carlo_models3d) {
+      if (std::find(models.begin(), models.end(), model) != models.end()) {
+        mc_models.push_back(model);
+      }
+    }
+    report->monte_carlo3d = RunMonteCarlo3d(
+        config, config.monte_carlo_models3d.empty() ? models : mc_models);
   }
   return Status::Ok();
 }

@@ -34,7 +34,13 @@ const char* PresetFlagHelp() {
       JoinNames(ModelsUsingDataVelocity(true), ", ", " and ") +
       " model's estimators plus " +
       JoinNames(ModelsUsingDataVelocity(false), ", ", " and ") +
-      " varpro and lm, 10 Monte Carlo seeds).");
+      " varpro and lm, 10 Monte Carlo seeds); ci3d (the 3-D models on "
+      "simulated figure8_3d and pitch_laps_3d flights, one IMU, a 20 s "
+      "manoeuvre, each written as PX4 ULog and ArduPilot DataFlash, truth "
+      "known: seconds) or 3d (figure8_3d, pitch_laps_3d, roll_laps_3d and "
+      "yaw_sweeps_3d, three IMUs, both formats). rigid3d runs every "
+      "estimator, rigid3d_imu varpro; --seeds=K adds the 3-D Monte Carlo "
+      "(rigid3d).");
   return help->c_str();
 }
 
@@ -124,7 +130,10 @@ int RunBench(const std::vector<std::string>& positional) {
   if (!preset.ok()) return ReportError(cmd, preset.status());
   bench::BenchConfig config = *preset;
   if (FlagWasSet("logs")) config.logs = bench::SplitList(FLAGS_logs);
-  if (FlagWasSet("models")) config.models = bench::SplitList(FLAGS_models);
+  if (FlagWasSet("models")) {
+    config.models = bench::SplitList(FLAGS_models);
+    config.monte_carlo_models3d.clear();
+  }
   if (FlagWasSet("estimators")) {
     // "all": every estimator that supports each model, the presets'
     // per-model choices included.
@@ -242,10 +251,10 @@ const Command& BenchCommand() {
       "bench",
       "Run models x estimators x logs (and Monte Carlo seeds) and compare "
       "accuracy and runtime.",
-      "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
+      "imusysid bench [--preset=paper|ci|ci3d|3d] [--logs=A.csv,B.ulg,C.bin] "
       "[--models=" +
           JoinNames(bench::BenchModelNames(), ",", ",") +
-          "] [--estimators=NAMES] [--repeats=N] "
+          "] [--estimators=NAMES|all] [--repeats=N] "
           "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
           "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
@@ -263,7 +272,19 @@ const Command& BenchCommand() {
       "figure and the scaling table. Logs without a truth sidecar\n(real "
       "CSV, ULog, DataFlash) are read and preprocessed as fit does, with "
       "--imu, --frame,\n--t_start, --t_end, --plane, --velocity, --cutoff_hz "
-      "and --gyro_bias applied to each.",
+      "and --gyro_bias applied to each.\n"
+      "The 3-D models (--models=rigid3d,rigid3d_imu, --preset=ci3d|3d) fit "
+      "each log through\nthe same entry point as fit --model=rigid3d, every "
+      "IMU instance: per run (log x model\nx estimator x IMU) the position, "
+      "its stderr, the error against a NAME.truth.json\nbeside the log "
+      "(written by simulate; per axis, in the IMU's own axes; null without\n"
+      "one), the decision per axis and its reason, misalignment, delay, "
+      "evaluations and\ntime. Logs without truth (real flights) give the "
+      "same rows without errors. With\n--seeds=K the 3-D presets' scenarios "
+      "are flown K times (seeds --seed, --seed+1, ...)\nand tabled per "
+      "estimator x scenario x format x axis: bias, spread, 2-sigma "
+      "coverage,\nstderr/spread, time. --out adds results3d.csv, "
+      "monte_carlo3d.csv and report.md.",
       WithLogFlags({"preset",
                     "logs",
                     "models",
