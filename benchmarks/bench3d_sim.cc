@@ -10,6 +10,7 @@
 
 #include "benchmarks/bench_internal.h"
 #include "imusysid/extend/model.h"
+#include "imusysid/extend/registry.h"
 #include "imusysid/models.h"
 
 namespace imusysid {
@@ -219,17 +220,16 @@ std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
     }
   });
   // In the order the models, scenarios and formats were configured, the
-  // estimators by name within each.
+  // estimators in registry order within each.
   std::vector<MonteCarlo3dRecord> records;
   for (const std::string& model : models) {
     for (const std::string& scenario : config.scenarios3d) {
       for (const std::string& format : config.formats3d) {
-        for (const auto& entry : samples) {
-          if (std::get<0>(entry.first) != model ||
-              std::get<2>(entry.first) != scenario ||
-              std::get<3>(entry.first) != format) {
-            continue;
-          }
+        for (const std::string& name : BuiltinEstimators().Names()) {
+          const auto entry_it =
+              samples.find(Seed3dKey{model, name, scenario, format});
+          if (entry_it == samples.end()) continue;
+          const auto& entry = *entry_it;
           for (int axis = 0; axis < 3; ++axis) {
             records.push_back(Summarize3d(entry.first, entry.second, axis));
           }

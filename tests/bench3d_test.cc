@@ -167,6 +167,34 @@ TEST(Bench3d, AMalformedSidecarIsTheLogsErrorNotAMissingTruth) {
   EXPECT_FALSE(none->known);
 }
 
+// Real flights (no truth) in the same rows: values and decisions, no
+// errors; a log with no flight is bad input (exit 2) and the others are
+// still reported.
+TEST(Bench3d, RealLogsGiveDecisionsWithoutErrors) {
+  if (!testing::RealDataAvailable()) GTEST_SKIP() << "no ../shared";
+  const std::string real = testing::RealDataDir();
+  const auto r = testing::RunCli(
+      "bench --models=rigid3d --estimators=linear --format=json --logs=" +
+      real + "/dronekit-la-testdata__log171.bin," + real +
+      "/pyulog__sample.ulg");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("no flight found"), std::string::npos) << r.err;
+  const json j = testing::ParseJson(r);
+  int fitted = 0;
+  for (const json& run : j["runs"]) {
+    EXPECT_TRUE(run["position_error_m"].is_null());
+    if (run["log"] != "dronekit-la-testdata__log171.bin") {
+      EXPECT_EQ(run["status"], "failure");
+      continue;
+    }
+    ++fitted;
+    EXPECT_EQ(run["format"], "dataflash");
+    EXPECT_EQ(run["decisions"].size(), 3u);
+    EXPECT_TRUE(run["fitted_position_frd_m"][0].is_number());
+  }
+  EXPECT_EQ(fitted, 3);  // its three IMU instances
+}
+
 // The command the test script runs: exit 0, the tables written, every
 // converged rigid3d run's given axes within kStderrMultiple σ̂ of the truth.
 TEST(Bench3d, Ci3dPresetWritesTablesWithinStderr) {

@@ -2,6 +2,7 @@
 // command line: presets, flags → BenchConfig, Markdown or JSON on stdout, and
 // with --out the result files, the figures and index.html.
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -240,6 +241,27 @@ int RunBench(const std::vector<std::string>& positional) {
     if (log.status.ok()) continue;
     std::cerr << "imusysid bench: error: " << log.status.message() << "\n";
     exit_code = ExitCodeFor(log.status);
+  }
+  // The same for a 3-D log that no model and estimator could fit.
+  std::vector<std::string> fitted3d;
+  std::vector<std::pair<std::string, Status>> failed3d;
+  for (const auto& run : report->runs3d) {
+    if (run.status.ok()) {
+      fitted3d.push_back(run.log_path + "\n" + run.log);
+    } else {
+      failed3d.emplace_back(run.log_path + "\n" + run.log, run.status);
+    }
+  }
+  std::vector<std::string> reported3d;
+  for (const auto& [key, status] : failed3d) {
+    if (std::find(fitted3d.begin(), fitted3d.end(), key) != fitted3d.end() ||
+        std::find(reported3d.begin(), reported3d.end(), key) !=
+            reported3d.end()) {
+      continue;
+    }
+    reported3d.push_back(key);
+    std::cerr << "imusysid bench: error: " << status.message() << "\n";
+    exit_code = ExitCodeFor(status);
   }
   return exit_code;
 }
