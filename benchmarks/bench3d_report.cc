@@ -275,6 +275,114 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
   return out.str();
 }
 
+std::vector<report::HtmlTable> Bench3dHtmlTables(
+    const std::vector<Run3dRecord>& runs,
+    const std::vector<MonteCarlo3dRecord>& records) {
+  std::vector<report::HtmlTable> tables;
+  auto exact = [](double v, double scale, int decimals) {
+    return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
+                                               FormatShortest(v))
+                            : report::HtmlCell("n/a");
+  };
+  if (!runs.empty()) {
+    report::HtmlTable t;
+    t.id = "runs3d";
+    t.caption =
+        "3-D runs: IMU position per axis in the IMU's own axes (mm; error = "
+        "fitted − truth, n/a without truth)";
+    t.header = {"log",
+                "model",
+                "estimator",
+                "IMU",
+                "axis",
+                "p",
+                "σ̂",
+                "error",
+                "decision",
+                "evals",
+                "fit ms",
+                "time ms",
+                "termination"};
+    for (const Run3dRecord& r : runs) {
+      const bool u = r.Usable();
+      for (int a = 0; a < 3; ++a) {
+        t.rows.push_back(
+            {r.log,
+             r.model,
+             r.estimator,
+             std::to_string(r.instance),
+             kBench3dAxes[a],
+             u ? exact(r.imu.position_m[a], 1000.0, 2) : report::HtmlCell("-"),
+             u ? exact(r.imu.stderr_m[a], 1000.0, 2) : report::HtmlCell("-"),
+             exact(r.error_m[a], 1000.0, 2),
+             u ? r.imu.decisions[a].reason : "-",
+             r.evaluations >= 0 ? std::to_string(r.evaluations) : "-",
+             exact(r.fit_time_s, 1000.0, 1),
+             exact(r.time_s, 1000.0, 1),
+             r.status.ok() ? r.termination
+                           : "failure: " + Cut3d(r.status.message(), 80)});
+      }
+    }
+    tables.push_back(std::move(t));
+  }
+  if (!records.empty()) {
+    report::HtmlTable t;
+    t.id = "monte_carlo3d";
+    t.caption =
+        "3-D Monte Carlo, IMU instance 0 (mm; cover = |error| <= 2σ̂; the "
+        "3-D bound is not computed yet)";
+    t.header = {"model",
+                "estimator",
+                "scenario",
+                "format",
+                "axis",
+                "fits",
+                "given",
+                "bias",
+                "spread",
+                "RMSE",
+                "σ̂",
+                "cover 2σ̂",
+                "σ̂/spread",
+                "time ms"};
+    for (const MonteCarlo3dRecord& r : records) {
+      t.rows.push_back(
+          {r.model,
+           r.estimator,
+           r.scenario,
+           r.format,
+           kBench3dAxes[r.axis],
+           std::to_string(r.usable) + "/" + std::to_string(r.seeds),
+           std::to_string(r.given),
+           exact(r.bias_m, 1000.0, 2),
+           exact(r.spread_m, 1000.0, 2),
+           exact(r.rmse_m, 1000.0, 2),
+           exact(r.mean_stderr_m, 1000.0, 2),
+           exact(r.coverage, 1.0, 2),
+           exact(r.stderr_over_spread, 1.0, 2),
+           exact(r.time_s, 1000.0, 1)});
+    }
+    tables.push_back(std::move(t));
+  }
+  return tables;
+}
+
+std::string Bench3dHtmlPage(const std::string& title,
+                            const std::vector<Run3dRecord>& runs,
+                            const std::vector<MonteCarlo3dRecord>& records) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta "
+          "charset=\"utf-8\">\n<title>"
+       << report::HtmlEscape(title) << "</title>\n<style>"
+       << report::HtmlStyle() << "</style>\n</head>\n<body>\n<h1>"
+       << report::HtmlEscape(title) << "</h1>\n";
+  for (const report::HtmlTable& t : Bench3dHtmlTables(runs, records)) {
+    html << report::HtmlTableToString(t);
+  }
+  html << "</body>\n</html>\n";
+  return html.str();
+}
+
 std::string Runs3dCsv(const std::vector<Run3dRecord>& runs) {
   std::ostringstream out;
   out << "log,format,scenario,model,estimator,instance,seed";

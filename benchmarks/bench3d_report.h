@@ -12,6 +12,7 @@
 #include "benchmarks/bench3d.h"
 #include "benchmarks/bench3d_sim.h"
 #include "nlohmann/json.hpp"
+#include "src/report/html.h"
 
 namespace imusysid {
 namespace bench {
@@ -23,6 +24,15 @@ nlohmann::ordered_json MonteCarlo3dToJson(const MonteCarlo3dRecord& record);
 std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs);
 std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                                  int seeds);
+
+// The same tables for the HTML pages: index.html beside the figures, and
+// report3d.html, written whatever gnuplot can draw.
+std::vector<report::HtmlTable> Bench3dHtmlTables(
+    const std::vector<Run3dRecord>& runs,
+    const std::vector<MonteCarlo3dRecord>& records);
+std::string Bench3dHtmlPage(const std::string& title,
+                            const std::vector<Run3dRecord>& runs,
+                            const std::vector<MonteCarlo3dRecord>& records);
 
 // One row per run (results3d.csv) and per Monte Carlo row
 // (monte_carlo3d.csv).

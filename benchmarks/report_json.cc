@@ -320,6 +320,12 @@ Status WriteOutputs(const BenchReport& report, const std::string& dir) {
     // The Markdown tables, as `bench` prints them, beside the data.
     IMUSYSID_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/report.md", FormatMarkdown(report)));
+    IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+        dir + "/report3d.html",
+        Bench3dHtmlPage(
+            "imusysid bench, 3-D models (" + report.config.preset + ")",
+            report.runs3d,
+            report.monte_carlo3d)));
   }
   if (!report.monte_carlo.empty() || !report.displacements.empty() ||
       !report.gbench.points.empty() || !report.monte_carlo3d.empty()) {

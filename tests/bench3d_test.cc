@@ -201,8 +201,11 @@ TEST(Bench3d, Ci3dPresetWritesTablesWithinStderr) {
   const std::string out = testing::MakeTempDir() + "/R";
   const auto r = testing::RunCli("bench --preset=ci3d --out=" + out);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  for (const char* file :
-       {"results.json", "results3d.csv", "report.md", "context.json"}) {
+  for (const char* file : {"results.json",
+                           "results3d.csv",
+                           "report.md",
+                           "report3d.html",
+                           "context.json"}) {
     EXPECT_TRUE(std::filesystem::exists(out + "/" + file)) << file;
   }
   std::ifstream in(out + "/results.json");
@@ -233,6 +236,10 @@ TEST(Bench3d, Ci3dPresetWritesTablesWithinStderr) {
                                    "pitch_laps_3d.bin"}));
   EXPECT_GE(checked, 20);
   EXPECT_NE(r.out.find("## 3-D runs"), std::string::npos);
+  std::ifstream page(out + "/report3d.html");
+  std::stringstream html;
+  html << page.rdbuf();
+  EXPECT_NE(html.str().find("<table id=\"runs3d\""), std::string::npos);
 }
 
 }  // namespace

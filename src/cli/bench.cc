@@ -233,6 +233,12 @@ int RunBench(const std::vector<std::string>& positional) {
     }
     std::cerr << "wrote " << FLAGS_out
               << "/{results.json,results.csv,traces.json,context.json}\n";
+    if (!report->runs3d.empty()) {
+      std::cerr << "wrote " << FLAGS_out
+                << "/{results3d.csv,report.md,report3d.html"
+                << (report->monte_carlo3d.empty() ? "" : ",monte_carlo3d.csv")
+                << "}\n";
+    }
   }
   // A log that could not be fitted at all is bad input, even though the
   // other logs' results were reported.
