@@ -311,8 +311,10 @@ const Command& BenchCommand() {
       "same rows without errors. With\n--seeds=K the 3-D presets' scenarios "
       "are flown K times (seeds --seed, --seed+1, ...)\nand tabled per "
       "estimator x scenario x format x axis: bias, spread, 2-sigma "
-      "coverage,\nstderr/spread, time. --out adds results3d.csv, "
-      "monte_carlo3d.csv and report.md.",
+      "coverage,\nstderr/spread, time. --logs with --preset=ci3d|3d adds "
+      "those logs (real\nflights) to the simulated ones in the same tables. "
+      "--out adds results3d.csv,\nmonte_carlo3d.csv, report.md and "
+      "report3d.html (the 3-D tables, also in index.html).",
       WithLogFlags({"preset",
                     "logs",
                     "models",
