@@ -100,8 +100,35 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
 StatusOr<Simulator3dOptions> BenchScenario3dOptions(const BenchConfig& config,
                                                     const std::string& scenario,
                                                     std::uint64_t seed) {
-  StatusOr<Simulator3dOptions> o = Scenario3dOptions(scenario);
+  const std::size_t slash = scenario.find('/');
+  const std::string base = scenario.substr(0, slash);
+  const std::string stress =
+      slash == std::string::npos ? std::string() : scenario.substr(slash + 1);
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions(base);
   if (!o.ok()) return o.status();
+  if (stress == "flexible_mount") {
+    o->flexible_mount.freq_hz = 12.0;
+    o->flexible_mount.amplitude_m = 0.001;
+  } else if (stress == "periodic_force") {
+    o->periodic_force.freq_hz = 0.5;
+    o->periodic_force.amplitude_mps2 = 0.2;
+  } else if (stress == "yaw_reset") {
+    o->estimator_glitch.t_s = 30.0;
+    o->estimator_glitch.yaw_deg = 15.0;
+  } else if (stress == "velocity_glitch") {
+    o->estimator_glitch.t_s = 30.0;
+    o->estimator_glitch.velocity_mps = 2.0;
+    o->estimator_glitch.velocity_duration_s = 0.5;
+  } else if (stress == "payload_change") {
+    o->payload_change.t_s = 30.0;
+    o->payload_change.mass_kg = 0.4;
+    o->payload_change.offset_frd_m = Eigen::Vector3d(0.05, 0.0, 0.0);
+  } else if (!stress.empty()) {
+    return InvalidArgumentError(
+        "bench: 3-D stress case '" + stress +
+        "'; valid: flexible_mount, periodic_force, yaw_reset, "
+        "velocity_glitch, payload_change");
+  }
   o->seed = seed;
   o->sensor_profile = "realistic";
   o->rate_hz = 1000.0;
@@ -127,6 +154,15 @@ StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
   if (!flight.ok()) {
     return flight.status().WithPrefix("bench: simulating " + scenario);
   }
+  // After a payload change the truth is the position relative to the new
+  // CoM (the fit sees the doublets flown after it).
+  Simulator3dOptions truth_options = *o;
+  for (std::size_t k = 0;
+       k < flight->p_after_frd_m.size() && k < truth_options.imus.size();
+       ++k) {
+    truth_options.imus[k].p_frd_m = flight->p_after_frd_m[k];
+  }
+  const Truth3d truth = Truth3dFromOptions(truth_options);
   std::vector<Log3d> logs;
   for (const std::string& format : config.formats3d) {
     const bool ulog = format == "ulog";
@@ -135,12 +171,16 @@ StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
                                       : FormatSimulated3dDataFlash(*o, *flight);
     if (!bytes.ok()) return bytes.status();
     Log3d log;
-    log.name = scenario + (ulog ? ".ulg" : ".bin");
+    std::string stem = scenario;
+    for (char& c : stem) {
+      if (c == '/') c = '-';
+    }
+    log.name = stem + (ulog ? ".ulg" : ".bin");
     log.bytes = std::move(bytes).value();
     log.format = format;
     log.scenario = scenario;
     log.seed = seed;
-    log.truth = Truth3dFromOptions(*o);
+    log.truth = truth;
     logs.push_back(std::move(log));
   }
   return logs;
@@ -150,12 +190,14 @@ StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
 
 StatusOr<std::vector<Log3d>> SimulateLogs3d(const BenchConfig& config,
                                             std::uint64_t seed) {
-  std::vector<StatusOr<std::vector<Log3d>>> flown(config.scenarios3d.size(),
+  std::vector<std::string> scenarios = config.scenarios3d;
+  scenarios.insert(
+      scenarios.end(), config.stress3d.begin(), config.stress3d.end());
+  std::vector<StatusOr<std::vector<Log3d>>> flown(scenarios.size(),
                                                   std::vector<Log3d>());
-  internal::ParallelFor(
-      config.scenarios3d.size(), config.threads, [&](std::size_t i) {
-        flown[i] = FlyScenario3d(config, config.scenarios3d[i], seed);
-      });
+  internal::ParallelFor(scenarios.size(), config.threads, [&](std::size_t i) {
+    flown[i] = FlyScenario3d(config, scenarios[i], seed);
+  });
   std::vector<Log3d> logs;
   for (auto& f : flown) {
     if (!f.ok()) return f.status();

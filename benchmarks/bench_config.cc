@@ -89,6 +89,13 @@ StatusOr<BenchConfig> PresetConfig(const std::string& preset,
     } else {
       c.scenarios3d = {
           "figure8_3d", "pitch_laps_3d", "roll_laps_3d", "yaw_sweeps_3d"};
+      for (const char* stress : {"flexible_mount",
+                                 "periodic_force",
+                                 "yaw_reset",
+                                 "velocity_glitch",
+                                 "payload_change"}) {
+        c.stress3d.push_back(std::string("figure8_3d/") + stress);
+      }
     }
   } else {
     return InvalidArgumentError("--preset='" + preset +

@@ -50,6 +50,10 @@ struct BenchConfig {
   // with seeds >= 2, flown again per seed for the 3-D Monte Carlo.
   std::vector<std::string> scenarios3d;
   std::vector<std::string> formats3d = {"ulog", "dataflash"};
+  // Stress cases, "SCENARIO/CASE" (bench3d_sim.h: flexible_mount,
+  // periodic_force, yaw_reset, velocity_glitch, payload_change): flown once
+  // each, in each format, tabled apart; not in the Monte Carlo.
+  std::vector<std::string> stress3d;
   double maneuver3d_s = 0.0;  // manoeuvre length, s; 0: the scenario's own
   int imus3d = 0;             // IMUs flown; 0: the scenario's three
   // The 3-D models the Monte Carlo flies; empty: every 3-D model in

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "benchmarks/bench3d_sim.h"
 #include "gtest/gtest.h"
 #include "imusysid/log.h"
 #include "imusysid/simulate3d.h"
@@ -165,6 +166,36 @@ TEST(Bench3d, AMalformedSidecarIsTheLogsErrorNotAMissingTruth) {
   const StatusOr<Truth3d> none = ReadTruth3dSidecar(dir + "/g.ulg");
   ASSERT_TRUE(none.ok());
   EXPECT_FALSE(none->known);
+}
+
+// The stress cases fly the effect asked for; after a payload change the
+// truth is the position relative to the new CoM; an unknown case is named.
+TEST(Bench3d, StressCasesAndThePayloadChangesTruth) {
+  BenchConfig c;
+  c.maneuver3d_s = 20.0;
+  c.imus3d = 1;
+  c.formats3d = {"ulog"};
+  StatusOr<Simulator3dOptions> glitch =
+      BenchScenario3dOptions(c, "figure8_3d/yaw_reset", 1);
+  ASSERT_TRUE(glitch.ok());
+  EXPECT_EQ(glitch->estimator_glitch.yaw_deg, 15.0);
+  StatusOr<Simulator3dOptions> bad =
+      BenchScenario3dOptions(c, "figure8_3d/no_such_case", 1);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.status().message().find("no_such_case"), std::string::npos);
+
+  c.stress3d = {"figure8_3d/payload_change"};
+  StatusOr<std::vector<Log3d>> logs = SimulateLogs3d(c, 1);
+  ASSERT_TRUE(logs.ok()) << logs.status().message();
+  ASSERT_EQ(logs->size(), 1u);
+  EXPECT_EQ((*logs)[0].name, "figure8_3d-payload_change.ulg");
+  // 0.4 kg at 5 cm forward on 1.636 kg: the CoM moves 0.98 cm forward.
+  const Eigen::Vector3d p = Simulator3dOptions::DefaultImus()[0].p_frd_m;
+  const double shift = 0.4 / (1.636 + 0.4) * 0.05;
+  ASSERT_EQ((*logs)[0].truth.position_imu_axes_m.size(), 1u);
+  EXPECT_NEAR(
+      (*logs)[0].truth.position_imu_axes_m[0].x(), p.x() - shift, 1e-12);
+  EXPECT_NEAR((*logs)[0].truth.position_imu_axes_m[0].y(), p.y(), 1e-12);
 }
 
 // Real flights (no truth) in the same rows: values and decisions, no
