@@ -15,14 +15,14 @@ using Json3d = nlohmann::ordered_json;
 constexpr const char* kBench3dAxes[3] = {"x", "y", "z"};
 
 // JSON has no NaN: null.
-Json3d Num3d(double v) {
+Json3d Bench3dJsonNum(double v) {
   if (!std::isfinite(v)) return nullptr;
   return v;
 }
 
 Json3d Vector3dJson(const Eigen::Vector3d& v) {
   Json3d a = Json3d::array();
-  for (int i = 0; i < 3; ++i) a.push_back(Num3d(v[i]));
+  for (int i = 0; i < 3; ++i) a.push_back(Bench3dJsonNum(v[i]));
   return a;
 }
 
@@ -92,8 +92,8 @@ Json3d Run3dToJson(const Run3dRecord& run) {
       run.truth_known ? Vector3dJson(run.error_m) : Json3d(nullptr);
   j["truth_position_frd_m"] =
       run.truth_known ? Vector3dJson(run.truth_position_m) : Json3d(nullptr);
-  j["time_s"] = Num3d(run.time_s);
-  j["fit_time_s"] = Num3d(run.fit_time_s);
+  j["time_s"] = Bench3dJsonNum(run.time_s);
+  j["fit_time_s"] = Bench3dJsonNum(run.fit_time_s);
   j["evaluations"] =
       run.evaluations >= 0 ? Json3d(run.evaluations) : Json3d(nullptr);
   j["iterations"] =
@@ -108,26 +108,28 @@ Json3d Run3dToJson(const Run3dRecord& run) {
            {"decision", imu.determined[a] ? "given" : "withheld"},
            {"reason", imu.decisions[a].reason},
            {"stderr_statistical_m",
-            Num3d(imu.decisions[a].stderr_statistical_m)},
+            Bench3dJsonNum(imu.decisions[a].stderr_statistical_m)},
            {"stderr_systematic_m",
-            Num3d(imu.decisions[a].stderr_systematic_m)}});
+            Bench3dJsonNum(imu.decisions[a].stderr_systematic_m)}});
     }
   }
   j["decisions"] = decisions;
   if (usable) {
-    j["misalignment_deg"] = {{"roll", Num3d(imu.misalignment_roll_deg)},
-                             {"pitch", Num3d(imu.misalignment_pitch_deg)}};
+    j["misalignment_deg"] = {
+        {"roll", Bench3dJsonNum(imu.misalignment_roll_deg)},
+        {"pitch", Bench3dJsonNum(imu.misalignment_pitch_deg)}};
   } else {
     j["misalignment_deg"] = nullptr;
   }
   j["misalignment_error_deg"] =
-      run.truth_known ? Json3d{{"roll", Num3d(run.misalignment_error_deg[0])},
-                               {"pitch", Num3d(run.misalignment_error_deg[1])}}
-                      : Json3d(nullptr);
-  j["estimator_delay_s"] = Num3d(run.estimator_delay_s);
+      run.truth_known
+          ? Json3d{{"roll", Bench3dJsonNum(run.misalignment_error_deg[0])},
+                   {"pitch", Bench3dJsonNum(run.misalignment_error_deg[1])}}
+          : Json3d(nullptr);
+  j["estimator_delay_s"] = Bench3dJsonNum(run.estimator_delay_s);
   j["delay_error_s"] =
-      run.truth_known ? Num3d(run.delay_error_s) : Json3d(nullptr);
-  j["rmse_m_s2"] = usable ? Num3d(imu.rmse) : Json3d(nullptr);
+      run.truth_known ? Bench3dJsonNum(run.delay_error_s) : Json3d(nullptr);
+  j["rmse_m_s2"] = usable ? Bench3dJsonNum(imu.rmse) : Json3d(nullptr);
   j["samples"] = usable ? Json3d(imu.samples) : Json3d(nullptr);
   j["seed"] = run.seed;
   if (!run.status.ok()) {
@@ -149,16 +151,16 @@ Json3d MonteCarlo3dToJson(const MonteCarlo3dRecord& r) {
                 {"usable", r.usable},
                 {"given", r.given},
                 {"converged", r.converged},
-                {"truth_m", Num3d(r.truth_m)},
-                {"bias_m", Num3d(r.bias_m)},
-                {"spread_m", Num3d(r.spread_m)},
-                {"rmse_m", Num3d(r.rmse_m)},
-                {"mean_stderr_m", Num3d(r.mean_stderr_m)},
-                {"coverage_2sigma", Num3d(r.coverage)},
-                {"stderr_over_spread", Num3d(r.stderr_over_spread)},
+                {"truth_m", Bench3dJsonNum(r.truth_m)},
+                {"bias_m", Bench3dJsonNum(r.bias_m)},
+                {"spread_m", Bench3dJsonNum(r.spread_m)},
+                {"rmse_m", Bench3dJsonNum(r.rmse_m)},
+                {"mean_stderr_m", Bench3dJsonNum(r.mean_stderr_m)},
+                {"coverage_2sigma", Bench3dJsonNum(r.coverage)},
+                {"stderr_over_spread", Bench3dJsonNum(r.stderr_over_spread)},
                 {"spread_over_bound", nullptr},
-                {"time_s", Num3d(r.time_s)},
-                {"fit_time_s", Num3d(r.fit_time_s)}};
+                {"time_s", Bench3dJsonNum(r.time_s)},
+                {"fit_time_s", Bench3dJsonNum(r.fit_time_s)}};
 }
 
 namespace {
