@@ -24,7 +24,7 @@ namespace bench {
 struct BenchConfig {
   std::string preset = "paper";
   std::vector<std::string> logs;    // log paths
-  std::vector<std::string> models;  // "paper", "consistent"
+  std::vector<std::string> models;  // "paper", "consistent", "rigid3d", ...
   // Estimator names; empty: every estimator that supports the model. Names
   // a model does not support are skipped for that model.
   std::vector<std::string> estimators;
@@ -45,6 +45,20 @@ struct BenchConfig {
   std::vector<std::size_t> scaling_sizes;
   double scaling_budget_s = 2.0;
   EstimatorOptions options;  // seed, GA/LM settings; GA threads set per run
+  // The 3-D models' simulated flights (bench3d_sim.h): each scenario flown
+  // once (seed options.seed) and written in each format, with its truth; and
+  // with seeds >= 2, flown again per seed for the 3-D Monte Carlo.
+  std::vector<std::string> scenarios3d;
+  std::vector<std::string> formats3d = {"ulog", "dataflash"};
+  // Stress cases, "SCENARIO/CASE" (bench3d_sim.h: flexible_mount,
+  // periodic_force, yaw_reset, velocity_glitch, payload_change): flown once
+  // each, in each format, tabled apart; not in the Monte Carlo.
+  std::vector<std::string> stress3d;
+  double maneuver3d_s = 0.0;  // manoeuvre length, s; 0: the scenario's own
+  int imus3d = 0;             // IMUs flown; 0: the scenario's three
+  // The 3-D models the Monte Carlo flies; empty: every 3-D model in
+  // `models`.
+  std::vector<std::string> monte_carlo_models3d;
   // How a log without a truth sidecar is read and preprocessed: through the
   // library's entry point up to IdentifyStage::kPreprocess, as `fit` reads
   // it (`imusysid bench` passes fit's own --imu/--frame/--t_start/...).
@@ -55,11 +69,12 @@ struct BenchConfig {
   std::function<void(const std::string&)> progress;
 };
 
-// The models bench runs: the planar ones (its logs and Monte Carlo
-// scenarios are planar flights; the 3-D models have rigid3d_benchmark).
+// The models bench runs: every registered model (the planar ones fit
+// planar logs, the 3-D ones 3-D logs: bench3d.h).
 std::vector<std::string> BenchModelNames();
 
-// The configuration of a preset ("ci" or "paper"), logs under data_dir.
+// The configuration of a preset ("paper", "ci", "ci3d" or "3d"), logs under
+// data_dir.
 StatusOr<BenchConfig> PresetConfig(const std::string& preset,
                                    const std::string& data_dir);
 

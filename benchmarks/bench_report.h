@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "benchmarks/bench3d.h"
+#include "benchmarks/bench3d_sim.h"
 #include "benchmarks/bench_config.h"
 #include "benchmarks/bench_context.h"
 #include "benchmarks/displacement_pairs.h"
@@ -35,6 +37,10 @@ struct BenchReport {
   // read them (`imusysid bench --scaling=...`); they feed the
   // runtime-versus-samples figure and the Markdown scaling table.
   GbenchScaling gbench;
+  // The 3-D models' runs (every log × model × estimator × fitted IMU) and
+  // Monte Carlo rows (bench3d.h, bench3d_sim.h).
+  std::vector<Run3dRecord> runs3d;
+  std::vector<MonteCarlo3dRecord> monte_carlo3d;
 };
 
 }  // namespace bench

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "benchmarks/bench3d_report.h"
 #include "benchmarks/bench_internal.h"
 #include "src/report/gnuplot.h"
 #include "src/report/html.h"
@@ -222,6 +223,9 @@ std::vector<report::HtmlTable> BenchTables(
                                          FormatShortest(p.wall_ms)),
                         p.source});
     }
+    tables.push_back(std::move(t));
+  }
+  for (auto& t : Bench3dHtmlTables(report.runs3d, report.monte_carlo3d)) {
     tables.push_back(std::move(t));
   }
   return tables;

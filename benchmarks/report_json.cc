@@ -7,7 +7,9 @@
 #include <sstream>
 #include <system_error>
 
+#include "benchmarks/bench3d_report.h"
 #include "benchmarks/bench_internal.h"
+#include "benchmarks/report_markdown.h"
 #include "imusysid/log.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/report.h"
@@ -153,6 +155,7 @@ Json GbenchToJson(const GbenchScaling& gbench) {
 std::string ResultsJson(const BenchReport& report) {
   Json arr = Json::array();
   for (const auto& run : report.runs) arr.push_back(RunToJson(run));
+  for (const auto& run : report.runs3d) arr.push_back(Run3dToJson(run));
   return arr.dump(2) + "\n";
 }
 
@@ -252,6 +255,8 @@ std::string ReportJson(const BenchReport& report) {
   j["context"] = ContextToJsonObject(report);
   Json runs = Json::array();
   for (const auto& run : report.runs) runs.push_back(RunToJson(run));
+  // The 3-D models' runs in the same list, one object per fitted IMU.
+  for (const auto& run : report.runs3d) runs.push_back(Run3dToJson(run));
   j["runs"] = runs;
   Json disp = Json::array();
   for (const auto& d : report.displacements)
@@ -269,6 +274,13 @@ std::string ReportJson(const BenchReport& report) {
   Json mc = Json::array();
   for (const auto& m : report.monte_carlo) mc.push_back(MonteCarloToJson(m));
   j["monte_carlo"] = mc;
+  if (!report.monte_carlo3d.empty()) {
+    Json mc3d = Json::array();
+    for (const auto& m : report.monte_carlo3d) {
+      mc3d.push_back(MonteCarlo3dToJson(m));
+    }
+    j["monte_carlo_3d"] = mc3d;
+  }
   Json scaling = Json::array();
   for (const auto& p : report.scaling) {
     scaling.push_back({{"model", p.model},
@@ -296,8 +308,27 @@ Status WriteOutputs(const BenchReport& report, const std::string& dir) {
       WriteFileAtomically(dir + "/traces.json", TracesJson(report)));
   IMUSYSID_RETURN_IF_ERROR(
       WriteFileAtomically(dir + "/context.json", ContextJson(report)));
+  if (!report.runs3d.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteFileAtomically(dir + "/results3d.csv", Runs3dCsv(report.runs3d)));
+  }
+  if (!report.monte_carlo3d.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+        dir + "/monte_carlo3d.csv", MonteCarlo3dCsv(report.monte_carlo3d)));
+  }
+  if (!report.runs3d.empty()) {
+    // The Markdown tables, as `bench` prints them, beside the data.
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteFileAtomically(dir + "/report.md", FormatMarkdown(report)));
+    IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+        dir + "/report3d.html",
+        Bench3dHtmlPage(
+            "imusysid bench, 3-D models (" + report.config.preset + ")",
+            report.runs3d,
+            report.monte_carlo3d)));
+  }
   if (!report.monte_carlo.empty() || !report.displacements.empty() ||
-      !report.gbench.points.empty()) {
+      !report.gbench.points.empty() || !report.monte_carlo3d.empty()) {
     IMUSYSID_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/report.json", ReportJson(report)));
   }

@@ -8,6 +8,7 @@
 #include <tuple>
 #include <vector>
 
+#include "benchmarks/bench3d_report.h"
 #include "benchmarks/bench_internal.h"
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameters.h"
@@ -435,7 +436,17 @@ std::string MonteCarloSection(const BenchReport& report) {
 }  // namespace
 
 std::string FormatMarkdown(const BenchReport& report) {
-  std::string out = HeaderSection(report) + RunsSection(report);
+  std::string out = HeaderSection(report);
+  if (!report.runs3d.empty()) {
+    out += Runs3dMarkdown(report.runs3d) +
+           MonteCarlo3dMarkdown(report.monte_carlo3d, report.config.seeds);
+    // Only 3-D models: no planar tables.
+    if (report.runs.empty()) {
+      return out + "total " +
+             internal::FormatSeconds(report.context.total_wall_s) + "\n";
+    }
+  }
+  out += RunsSection(report);
   if (report.has_pair) {
     out += TableISection(report) + DisplacementSection(report);
   }

@@ -2,6 +2,7 @@
 // command line: presets, flags → BenchConfig, Markdown or JSON on stdout, and
 // with --out the result files, the figures and index.html.
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -34,7 +35,13 @@ const char* PresetFlagHelp() {
       JoinNames(ModelsUsingDataVelocity(true), ", ", " and ") +
       " model's estimators plus " +
       JoinNames(ModelsUsingDataVelocity(false), ", ", " and ") +
-      " varpro and lm, 10 Monte Carlo seeds).");
+      " varpro and lm, 10 Monte Carlo seeds); ci3d (the 3-D models on "
+      "simulated figure8_3d and pitch_laps_3d flights, one IMU, a 20 s "
+      "manoeuvre, each written as PX4 ULog and ArduPilot DataFlash, truth "
+      "known: seconds) or 3d (figure8_3d, pitch_laps_3d, roll_laps_3d and "
+      "yaw_sweeps_3d, three IMUs, both formats). rigid3d runs every "
+      "estimator, rigid3d_imu varpro; --seeds=K adds the 3-D Monte Carlo "
+      "(rigid3d).");
   return help->c_str();
 }
 
@@ -57,7 +64,7 @@ DEFINE_string(logs,
 DEFINE_string(models, "", ::imusysid::cli::ModelsFlagHelp());
 DEFINE_string(estimators,
               "",
-              "Comma-separated estimators (default: every estimator "
+              "Comma-separated estimators, or all (default: every estimator "
               "that supports each model, or the preset's choice).");
 DEFINE_int32(repeats, 1, "Timed repetitions of each run.");
 DEFINE_int32(seeds,
@@ -124,9 +131,19 @@ int RunBench(const std::vector<std::string>& positional) {
   if (!preset.ok()) return ReportError(cmd, preset.status());
   bench::BenchConfig config = *preset;
   if (FlagWasSet("logs")) config.logs = bench::SplitList(FLAGS_logs);
-  if (FlagWasSet("models")) config.models = bench::SplitList(FLAGS_models);
+  if (FlagWasSet("models")) {
+    config.models = bench::SplitList(FLAGS_models);
+    config.monte_carlo_models3d.clear();
+  }
   if (FlagWasSet("estimators")) {
-    config.estimators = bench::SplitList(FLAGS_estimators);
+    // "all": every estimator that supports each model, the presets'
+    // per-model choices included.
+    if (FLAGS_estimators == "all") {
+      config.estimators.clear();
+      config.model_estimators.clear();
+    } else {
+      config.estimators = bench::SplitList(FLAGS_estimators);
+    }
   }
   config.repeats = FLAGS_repeats;
   if (FLAGS_seeds >= 0) config.seeds = FLAGS_seeds;
@@ -216,6 +233,12 @@ int RunBench(const std::vector<std::string>& positional) {
     }
     std::cerr << "wrote " << FLAGS_out
               << "/{results.json,results.csv,traces.json,context.json}\n";
+    if (!report->runs3d.empty()) {
+      std::cerr << "wrote " << FLAGS_out
+                << "/{results3d.csv,report.md,report3d.html"
+                << (report->monte_carlo3d.empty() ? "" : ",monte_carlo3d.csv")
+                << "}\n";
+    }
   }
   // A log that could not be fitted at all is bad input, even though the
   // other logs' results were reported.
@@ -224,6 +247,27 @@ int RunBench(const std::vector<std::string>& positional) {
     if (log.status.ok()) continue;
     std::cerr << "imusysid bench: error: " << log.status.message() << "\n";
     exit_code = ExitCodeFor(log.status);
+  }
+  // The same for a 3-D log that no model and estimator could fit.
+  std::vector<std::string> fitted3d;
+  std::vector<std::pair<std::string, Status>> failed3d;
+  for (const auto& run : report->runs3d) {
+    if (run.status.ok()) {
+      fitted3d.push_back(run.log_path + "\n" + run.log);
+    } else {
+      failed3d.emplace_back(run.log_path + "\n" + run.log, run.status);
+    }
+  }
+  std::vector<std::string> reported3d;
+  for (const auto& [key, status] : failed3d) {
+    if (std::find(fitted3d.begin(), fitted3d.end(), key) != fitted3d.end() ||
+        std::find(reported3d.begin(), reported3d.end(), key) !=
+            reported3d.end()) {
+      continue;
+    }
+    reported3d.push_back(key);
+    std::cerr << "imusysid bench: error: " << status.message() << "\n";
+    exit_code = ExitCodeFor(status);
   }
   return exit_code;
 }
@@ -235,10 +279,10 @@ const Command& BenchCommand() {
       "bench",
       "Run models x estimators x logs (and Monte Carlo seeds) and compare "
       "accuracy and runtime.",
-      "imusysid bench [--preset=paper|ci] [--logs=A.csv,B.csv] "
+      "imusysid bench [--preset=paper|ci|ci3d|3d] [--logs=A.csv,B.ulg,C.bin] "
       "[--models=" +
           JoinNames(bench::BenchModelNames(), ",", ",") +
-          "] [--estimators=NAMES] [--repeats=N] "
+          "] [--estimators=NAMES|all] [--repeats=N] "
           "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
           "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
@@ -256,7 +300,21 @@ const Command& BenchCommand() {
       "figure and the scaling table. Logs without a truth sidecar\n(real "
       "CSV, ULog, DataFlash) are read and preprocessed as fit does, with "
       "--imu, --frame,\n--t_start, --t_end, --plane, --velocity, --cutoff_hz "
-      "and --gyro_bias applied to each.",
+      "and --gyro_bias applied to each.\n"
+      "The 3-D models (--models=rigid3d,rigid3d_imu, --preset=ci3d|3d) fit "
+      "each log through\nthe same entry point as fit --model=rigid3d, every "
+      "IMU instance: per run (log x model\nx estimator x IMU) the position, "
+      "its stderr, the error against a NAME.truth.json\nbeside the log "
+      "(written by simulate; per axis, in the IMU's own axes; null without\n"
+      "one), the decision per axis and its reason, misalignment, delay, "
+      "evaluations and\ntime. Logs without truth (real flights) give the "
+      "same rows without errors. With\n--seeds=K the 3-D presets' scenarios "
+      "are flown K times (seeds --seed, --seed+1, ...)\nand tabled per "
+      "estimator x scenario x format x axis: bias, spread, 2-sigma "
+      "coverage,\nstderr/spread, time. --logs with --preset=ci3d|3d adds "
+      "those logs (real\nflights) to the simulated ones in the same tables. "
+      "--out adds results3d.csv,\nmonte_carlo3d.csv, report.md and "
+      "report3d.html (the 3-D tables, also in index.html).",
       WithLogFlags({"preset",
                     "logs",
                     "models",

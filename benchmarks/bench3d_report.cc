@@ -1,0 +1,467 @@
+#include "benchmarks/bench3d_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "src/tools/format.h"
+
+namespace imusysid {
+namespace bench {
+namespace {
+
+using Json3d = nlohmann::ordered_json;
+
+constexpr const char* kBench3dAxes[3] = {"x", "y", "z"};
+
+// JSON has no NaN: null.
+Json3d Bench3dJsonNum(double v) {
+  if (!std::isfinite(v)) return nullptr;
+  return v;
+}
+
+Json3d Vector3dJson(const Eigen::Vector3d& v) {
+  Json3d a = Json3d::array();
+  for (int i = 0; i < 3; ++i) a.push_back(Bench3dJsonNum(v[i]));
+  return a;
+}
+
+std::string Cell3d(double v, int decimals) {
+  return std::isfinite(v) ? FormatFixed(v, decimals) : "n/a";
+}
+
+std::string Mm3d(double m) { return Cell3d(1000.0 * m, 2); }
+
+std::string Table3d(const std::vector<std::string>& header,
+                    const std::vector<std::vector<std::string>>& rows) {
+  std::ostringstream out;
+  auto emit = [&](const std::vector<std::string>& row) {
+    out << "|";
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      out << " " << (i < row.size() ? row[i] : "") << " |";
+    }
+    out << "\n";
+  };
+  emit(header);
+  out << "|";
+  for (std::size_t i = 0; i < header.size(); ++i) out << " --- |";
+  out << "\n";
+  for (const auto& row : rows) emit(row);
+  return out.str();
+}
+
+std::string Cut3d(const std::string& text, std::size_t n) {
+  return text.size() <= n ? text : text.substr(0, n) + "…";
+}
+
+// Each axis's decision in one cell: "x given, y stderr, z given".
+std::string Decisions3d(const Run3dRecord& run) {
+  if (!run.Usable()) return "-";
+  std::string s;
+  for (int a = 0; a < 3; ++a) {
+    if (a > 0) s += ", ";
+    s += std::string(kBench3dAxes[a]) + " " + run.imu.decisions[a].reason;
+  }
+  return s;
+}
+
+}  // namespace
+
+Json3d Run3dToJson(const Run3dRecord& run) {
+  const ImuPosition3d& imu = run.imu;
+  const bool usable = run.Usable();
+  Json3d j;
+  j["model"] = run.model;
+  j["estimator"] = run.estimator;
+  j["log"] = run.log;
+  if (!run.log_path.empty()) j["log_path"] = run.log_path;
+  j["format"] = run.format;
+  j["scenario"] = run.scenario.empty() ? Json3d(nullptr) : Json3d(run.scenario);
+  j["instance"] = run.instance;
+  // Given axes only, as `fit` prints them; every axis in fitted_*.
+  Eigen::Vector3d given = Eigen::Vector3d::Constant(kNaN);
+  for (int a = 0; a < 3; ++a) {
+    if (usable && imu.determined[a]) given[a] = imu.position_m[a];
+  }
+  j["imu_position_frd_m"] = usable ? Vector3dJson(given) : Json3d(nullptr);
+  j["imu_position_frd_stderr_m"] =
+      usable ? Vector3dJson(imu.stderr_m) : Json3d(nullptr);
+  j["fitted_position_frd_m"] =
+      usable ? Vector3dJson(imu.position_m) : Json3d(nullptr);
+  j["position_error_m"] =
+      run.truth_known ? Vector3dJson(run.error_m) : Json3d(nullptr);
+  j["truth_position_frd_m"] =
+      run.truth_known ? Vector3dJson(run.truth_position_m) : Json3d(nullptr);
+  j["time_s"] = Bench3dJsonNum(run.time_s);
+  j["fit_time_s"] = Bench3dJsonNum(run.fit_time_s);
+  j["evaluations"] =
+      run.evaluations >= 0 ? Json3d(run.evaluations) : Json3d(nullptr);
+  j["iterations"] =
+      run.iterations >= 0 ? Json3d(run.iterations) : Json3d(nullptr);
+  j["termination"] =
+      run.termination.empty() ? Json3d(nullptr) : Json3d(run.termination);
+  Json3d decisions = Json3d::array();
+  if (usable) {
+    for (int a = 0; a < 3; ++a) {
+      decisions.push_back(
+          {{"axis", kBench3dAxes[a]},
+           {"decision", imu.determined[a] ? "given" : "withheld"},
+           {"reason", imu.decisions[a].reason},
+           {"stderr_statistical_m",
+            Bench3dJsonNum(imu.decisions[a].stderr_statistical_m)},
+           {"stderr_systematic_m",
+            Bench3dJsonNum(imu.decisions[a].stderr_systematic_m)}});
+    }
+  }
+  j["decisions"] = decisions;
+  if (usable) {
+    j["misalignment_deg"] = {
+        {"roll", Bench3dJsonNum(imu.misalignment_roll_deg)},
+        {"pitch", Bench3dJsonNum(imu.misalignment_pitch_deg)}};
+  } else {
+    j["misalignment_deg"] = nullptr;
+  }
+  j["misalignment_error_deg"] =
+      run.truth_known
+          ? Json3d{{"roll", Bench3dJsonNum(run.misalignment_error_deg[0])},
+                   {"pitch", Bench3dJsonNum(run.misalignment_error_deg[1])}}
+          : Json3d(nullptr);
+  j["estimator_delay_s"] = Bench3dJsonNum(run.estimator_delay_s);
+  j["delay_error_s"] =
+      run.truth_known ? Bench3dJsonNum(run.delay_error_s) : Json3d(nullptr);
+  j["rmse_m_s2"] = usable ? Bench3dJsonNum(imu.rmse) : Json3d(nullptr);
+  j["samples"] = usable ? Json3d(imu.samples) : Json3d(nullptr);
+  j["seed"] = run.seed;
+  if (!run.status.ok()) {
+    j["status"] = "failure";
+    j["message"] = run.status.message();
+  }
+  if (!run.skipped.empty()) j["skipped_imus"] = run.skipped;
+  return j;
+}
+
+Json3d MonteCarlo3dToJson(const MonteCarlo3dRecord& r) {
+  return Json3d{{"model", r.model},
+                {"estimator", r.estimator},
+                {"scenario", r.scenario},
+                {"format", r.format},
+                {"instance", 0},
+                {"axis", kBench3dAxes[r.axis]},
+                {"seeds", r.seeds},
+                {"usable", r.usable},
+                {"given", r.given},
+                {"converged", r.converged},
+                {"truth_m", Bench3dJsonNum(r.truth_m)},
+                {"bias_m", Bench3dJsonNum(r.bias_m)},
+                {"spread_m", Bench3dJsonNum(r.spread_m)},
+                {"rmse_m", Bench3dJsonNum(r.rmse_m)},
+                {"mean_stderr_m", Bench3dJsonNum(r.mean_stderr_m)},
+                {"coverage_2sigma", Bench3dJsonNum(r.coverage)},
+                {"stderr_over_spread", Bench3dJsonNum(r.stderr_over_spread)},
+                {"spread_over_bound", nullptr},
+                {"time_s", Bench3dJsonNum(r.time_s)},
+                {"fit_time_s", Bench3dJsonNum(r.fit_time_s)}};
+}
+
+namespace {
+
+// The runs as one table under `title`.
+std::string Runs3dTable(const std::string& title,
+                        const std::string& intro,
+                        const std::vector<Run3dRecord>& runs) {
+  if (runs.empty()) return "";
+  std::ostringstream out;
+  out << "## " << title << "\n\n" << intro << "\n\n";
+  std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> notes;
+  for (const Run3dRecord& run : runs) {
+    const bool u = run.Usable();
+    const ImuPosition3d& imu = run.imu;
+    auto pos = [&](int a) { return u ? Mm3d(imu.position_m[a]) : "-"; };
+    auto sd = [&](int a) { return u ? Mm3d(imu.stderr_m[a]) : "-"; };
+    rows.push_back(
+        {run.log,
+         run.model,
+         run.estimator,
+         std::to_string(run.instance),
+         pos(0) + " / " + pos(1) + " / " + pos(2),
+         sd(0) + " / " + sd(1) + " / " + sd(2),
+         Mm3d(run.error_m[0]) + " / " + Mm3d(run.error_m[1]) + " / " +
+             Mm3d(run.error_m[2]),
+         Decisions3d(run),
+         u ? Cell3d(imu.misalignment_roll_deg, 2) + " / " +
+                 Cell3d(imu.misalignment_pitch_deg, 2)
+           : "-",
+         Cell3d(1000.0 * run.estimator_delay_s, 1),
+         run.evaluations >= 0 ? std::to_string(run.evaluations) : "-",
+         Cell3d(1000.0 * run.fit_time_s, 1),
+         Cell3d(1000.0 * run.time_s, 1),
+         run.status.ok() ? (run.termination.empty() ? "-" : run.termination)
+                         : "failure: " + Cut3d(run.status.message(), 60)});
+    for (const std::string& s : run.skipped) {
+      const std::string note = run.log + ": " + Cut3d(s, 120);
+      if (std::find(notes.begin(), notes.end(), note) == notes.end()) {
+        notes.push_back(note);
+      }
+    }
+  }
+  out << Table3d({"log",
+                  "model",
+                  "estimator",
+                  "IMU",
+                  "p x / y / z mm",
+                  "σ̂ mm",
+                  "err mm",
+                  "decision",
+                  "roll / pitch deg",
+                  "delay ms",
+                  "evals",
+                  "fit ms",
+                  "time ms",
+                  "termination"},
+                 rows)
+      << "\n";
+  if (!notes.empty()) {
+    out << "Not fitted:\n\n";
+    for (const std::string& n : notes) out << "- " << n << "\n";
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
+  std::vector<Run3dRecord> plain;
+  std::vector<Run3dRecord> stress;
+  for (const Run3dRecord& r : runs) {
+    (r.scenario.find('/') == std::string::npos ? plain : stress).push_back(r);
+  }
+  return Runs3dTable(
+             "3-D runs: IMU position per axis",
+             "Position, σ̂ and error (fitted − truth, every axis given or "
+             "withheld) in mm, in the IMU's own axes; n/a without a truth "
+             "sidecar (real logs). time = the whole Identify call on the "
+             "log (read, preprocess, every instance); fit = the solve "
+             "alone.",
+             plain) +
+         Runs3dTable("3-D stress cases (outside the fitted models)",
+                     "The same on flights with an effect the models know "
+                     "nothing of (docs/simulator-3d.md, \"Stress effects\"): "
+                     "an honest fit withholds what it gets wrong.",
+                     stress);
+}
+
+std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
+                                 int seeds) {
+  if (records.empty()) return "";
+  std::ostringstream out;
+  out << "## 3-D Monte Carlo (" << seeds << " seeds, IMU instance 0)\n\n"
+      << "Per axis of the IMU's own axes, over the seeds: bias = mean "
+         "error, spread = standard deviation of the fitted values, cover = "
+         "fraction with |error| <= 2σ̂, σ̂/spread = mean σ̂ over the "
+         "spread (1: σ̂ as large as the scatter; the systematic part of σ̂ "
+         "makes it larger). The 3-D Cramér–Rao bound is not computed yet "
+         "(spread/bound: n/a). given = seeds whose axis was given.\n\n";
+  std::vector<std::vector<std::string>> rows;
+  for (const MonteCarlo3dRecord& r : records) {
+    rows.push_back({r.model,
+                    r.estimator,
+                    r.scenario,
+                    r.format,
+                    kBench3dAxes[r.axis],
+                    std::to_string(r.usable) + "/" + std::to_string(r.seeds),
+                    std::to_string(r.given),
+                    Mm3d(r.bias_m),
+                    Mm3d(r.spread_m),
+                    Mm3d(r.rmse_m),
+                    Mm3d(r.mean_stderr_m),
+                    Cell3d(r.coverage, 2),
+                    Cell3d(r.stderr_over_spread, 2),
+                    "n/a",
+                    Cell3d(1000.0 * r.time_s, 1)});
+  }
+  out << Table3d({"model",
+                  "estimator",
+                  "scenario",
+                  "format",
+                  "axis",
+                  "fits",
+                  "given",
+                  "bias mm",
+                  "spread mm",
+                  "RMSE mm",
+                  "σ̂ mm",
+                  "cover 2σ̂",
+                  "σ̂/spread",
+                  "spread/bound",
+                  "time ms"},
+                 rows)
+      << "\n";
+  return out.str();
+}
+
+std::vector<report::HtmlTable> Bench3dHtmlTables(
+    const std::vector<Run3dRecord>& runs,
+    const std::vector<MonteCarlo3dRecord>& records) {
+  std::vector<report::HtmlTable> tables;
+  auto exact = [](double v, double scale, int decimals) {
+    return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
+                                               FormatShortest(v))
+                            : report::HtmlCell("n/a");
+  };
+  if (!runs.empty()) {
+    report::HtmlTable t;
+    t.id = "runs3d";
+    t.caption =
+        "3-D runs: IMU position per axis in the IMU's own axes (mm; error = "
+        "fitted − truth, n/a without truth)";
+    t.header = {"log",
+                "model",
+                "estimator",
+                "IMU",
+                "axis",
+                "p",
+                "σ̂",
+                "error",
+                "decision",
+                "evals",
+                "fit ms",
+                "time ms",
+                "termination"};
+    for (const Run3dRecord& r : runs) {
+      const bool u = r.Usable();
+      for (int a = 0; a < 3; ++a) {
+        t.rows.push_back(
+            {r.log,
+             r.model,
+             r.estimator,
+             std::to_string(r.instance),
+             kBench3dAxes[a],
+             u ? exact(r.imu.position_m[a], 1000.0, 2) : report::HtmlCell("-"),
+             u ? exact(r.imu.stderr_m[a], 1000.0, 2) : report::HtmlCell("-"),
+             exact(r.error_m[a], 1000.0, 2),
+             u ? r.imu.decisions[a].reason : "-",
+             r.evaluations >= 0 ? std::to_string(r.evaluations) : "-",
+             exact(r.fit_time_s, 1000.0, 1),
+             exact(r.time_s, 1000.0, 1),
+             r.status.ok() ? r.termination
+                           : "failure: " + Cut3d(r.status.message(), 80)});
+      }
+    }
+    tables.push_back(std::move(t));
+  }
+  if (!records.empty()) {
+    report::HtmlTable t;
+    t.id = "monte_carlo3d";
+    t.caption =
+        "3-D Monte Carlo, IMU instance 0 (mm; cover = |error| <= 2σ̂; the "
+        "3-D bound is not computed yet)";
+    t.header = {"model",
+                "estimator",
+                "scenario",
+                "format",
+                "axis",
+                "fits",
+                "given",
+                "bias",
+                "spread",
+                "RMSE",
+                "σ̂",
+                "cover 2σ̂",
+                "σ̂/spread",
+                "time ms"};
+    for (const MonteCarlo3dRecord& r : records) {
+      t.rows.push_back(
+          {r.model,
+           r.estimator,
+           r.scenario,
+           r.format,
+           kBench3dAxes[r.axis],
+           std::to_string(r.usable) + "/" + std::to_string(r.seeds),
+           std::to_string(r.given),
+           exact(r.bias_m, 1000.0, 2),
+           exact(r.spread_m, 1000.0, 2),
+           exact(r.rmse_m, 1000.0, 2),
+           exact(r.mean_stderr_m, 1000.0, 2),
+           exact(r.coverage, 1.0, 2),
+           exact(r.stderr_over_spread, 1.0, 2),
+           exact(r.time_s, 1000.0, 1)});
+    }
+    tables.push_back(std::move(t));
+  }
+  return tables;
+}
+
+std::string Bench3dHtmlPage(const std::string& title,
+                            const std::vector<Run3dRecord>& runs,
+                            const std::vector<MonteCarlo3dRecord>& records) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta "
+          "charset=\"utf-8\">\n<title>"
+       << report::HtmlEscape(title) << "</title>\n<style>"
+       << report::HtmlStyle() << "</style>\n</head>\n<body>\n<h1>"
+       << report::HtmlEscape(title) << "</h1>\n";
+  for (const report::HtmlTable& t : Bench3dHtmlTables(runs, records)) {
+    html << report::HtmlTableToString(t);
+  }
+  html << "</body>\n</html>\n";
+  return html.str();
+}
+
+std::string Runs3dCsv(const std::vector<Run3dRecord>& runs) {
+  std::ostringstream out;
+  out << "log,format,scenario,model,estimator,instance,seed";
+  for (const char* what : {"p", "stderr", "error", "truth"}) {
+    for (const char* a : kBench3dAxes) out << "," << what << "_" << a << "_m";
+  }
+  for (const char* a : kBench3dAxes) out << ",reason_" << a;
+  out << ",roll_deg,pitch_deg,delay_s,evaluations,termination,fit_time_s,"
+         "time_s,status\n";
+  auto num = [](double v) {
+    return std::isfinite(v) ? FormatShortest(v) : std::string();
+  };
+  for (const Run3dRecord& r : runs) {
+    const bool u = r.Usable();
+    out << r.log << "," << r.format << "," << r.scenario << "," << r.model
+        << "," << r.estimator << "," << r.instance << "," << r.seed;
+    for (int a = 0; a < 3; ++a)
+      out << "," << (u ? num(r.imu.position_m[a]) : "");
+    for (int a = 0; a < 3; ++a) out << "," << (u ? num(r.imu.stderr_m[a]) : "");
+    for (int a = 0; a < 3; ++a) out << "," << num(r.error_m[a]);
+    for (int a = 0; a < 3; ++a) out << "," << num(r.truth_position_m[a]);
+    for (int a = 0; a < 3; ++a) {
+      out << "," << (u ? r.imu.decisions[a].reason : "");
+    }
+    out << "," << (u ? num(r.imu.misalignment_roll_deg) : "") << ","
+        << (u ? num(r.imu.misalignment_pitch_deg) : "") << ","
+        << num(r.estimator_delay_s) << ","
+        << (r.evaluations >= 0 ? std::to_string(r.evaluations) : "") << ","
+        << r.termination << "," << num(r.fit_time_s) << "," << num(r.time_s)
+        << "," << (r.status.ok() ? "ok" : "failure") << "\n";
+  }
+  return out.str();
+}
+
+std::string MonteCarlo3dCsv(const std::vector<MonteCarlo3dRecord>& records) {
+  std::ostringstream out;
+  out << "model,estimator,scenario,format,axis,seeds,usable,given,converged,"
+         "truth_m,bias_m,spread_m,rmse_m,mean_stderr_m,coverage_2sigma,"
+         "stderr_over_spread,time_s,fit_time_s\n";
+  auto num = [](double v) {
+    return std::isfinite(v) ? FormatShortest(v) : std::string();
+  };
+  for (const MonteCarlo3dRecord& r : records) {
+    out << r.model << "," << r.estimator << "," << r.scenario << "," << r.format
+        << "," << kBench3dAxes[r.axis] << "," << r.seeds << "," << r.usable
+        << "," << r.given << "," << r.converged << "," << num(r.truth_m) << ","
+        << num(r.bias_m) << "," << num(r.spread_m) << "," << num(r.rmse_m)
+        << "," << num(r.mean_stderr_m) << "," << num(r.coverage) << ","
+        << num(r.stderr_over_spread) << "," << num(r.time_s) << ","
+        << num(r.fit_time_s) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace bench
+}  // namespace imusysid

@@ -1,0 +1,286 @@
+#include "benchmarks/bench3d_sim.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <tuple>
+#include <utility>
+
+#include "benchmarks/bench_internal.h"
+#include "imusysid/extend/model.h"
+#include "imusysid/extend/registry.h"
+#include "imusysid/models.h"
+
+namespace imusysid {
+namespace bench {
+namespace {
+
+double Bench3dMedian(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 == 1 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// One seed's flight fitted by one (model, estimator) on one format.
+struct Seed3dSample {
+  bool usable = false;
+  bool converged = false;
+  Eigen::Vector3d error_m = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d fitted_m = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d stderr_m = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d truth_m = Eigen::Vector3d::Constant(kNaN);
+  std::array<bool, 3> given = {false, false, false};
+  double time_s = kNaN;
+  double fit_time_s = kNaN;
+};
+
+using Seed3dKey =
+    std::tuple<std::string, std::string, std::string, std::string>;
+
+MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
+                               const std::vector<Seed3dSample>& samples,
+                               int axis) {
+  MonteCarlo3dRecord r;
+  std::tie(r.model, r.estimator, r.scenario, r.format) = key;
+  r.axis = axis;
+  r.seeds = static_cast<int>(samples.size());
+  std::vector<double> errors, values, stderrs, times, fit_times;
+  int covered = 0;
+  for (const Seed3dSample& s : samples) {
+    if (std::isfinite(s.time_s)) times.push_back(s.time_s);
+    if (std::isfinite(s.fit_time_s)) fit_times.push_back(s.fit_time_s);
+    if (!s.usable || !std::isfinite(s.error_m[axis])) continue;
+    ++r.usable;
+    if (s.given[axis]) ++r.given;
+    if (s.converged) ++r.converged;
+    r.truth_m = s.truth_m[axis];
+    errors.push_back(s.error_m[axis]);
+    values.push_back(s.fitted_m[axis]);
+    if (std::isfinite(s.stderr_m[axis])) {
+      stderrs.push_back(s.stderr_m[axis]);
+      if (std::abs(s.error_m[axis]) <= 2.0 * s.stderr_m[axis]) ++covered;
+    }
+  }
+  r.time_s = Bench3dMedian(times);
+  r.fit_time_s = Bench3dMedian(fit_times);
+  const std::size_t n = errors.size();
+  if (n == 0) return r;
+  double sum = 0.0, sq = 0.0;
+  for (double e : errors) {
+    sum += e;
+    sq += e * e;
+  }
+  r.bias_m = sum / n;
+  r.rmse_m = std::sqrt(sq / n);
+  if (n >= 2) {
+    double mean = 0.0;
+    for (double v : values) mean += v;
+    mean /= n;
+    double var = 0.0;
+    for (double v : values) var += (v - mean) * (v - mean);
+    r.spread_m = std::sqrt(var / (n - 1));
+  }
+  if (!stderrs.empty()) {
+    double s = 0.0;
+    for (double v : stderrs) s += v;
+    r.mean_stderr_m = s / stderrs.size();
+    r.coverage = static_cast<double>(covered) / stderrs.size();
+    if (std::isfinite(r.spread_m) && r.spread_m > 0.0) {
+      r.stderr_over_spread = r.mean_stderr_m / r.spread_m;
+    }
+  }
+  return r;
+}
+
+}  // namespace
+
+StatusOr<Simulator3dOptions> BenchScenario3dOptions(const BenchConfig& config,
+                                                    const std::string& scenario,
+                                                    std::uint64_t seed) {
+  const std::size_t slash = scenario.find('/');
+  const std::string base = scenario.substr(0, slash);
+  const std::string stress =
+      slash == std::string::npos ? std::string() : scenario.substr(slash + 1);
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions(base);
+  if (!o.ok()) return o.status();
+  if (stress == "flexible_mount") {
+    o->flexible_mount.freq_hz = 12.0;
+    o->flexible_mount.amplitude_m = 0.001;
+  } else if (stress == "periodic_force") {
+    o->periodic_force.freq_hz = 0.5;
+    o->periodic_force.amplitude_mps2 = 0.2;
+  } else if (stress == "yaw_reset") {
+    o->estimator_glitch.t_s = 30.0;
+    o->estimator_glitch.yaw_deg = 15.0;
+  } else if (stress == "velocity_glitch") {
+    o->estimator_glitch.t_s = 30.0;
+    o->estimator_glitch.velocity_mps = 2.0;
+    o->estimator_glitch.velocity_duration_s = 0.5;
+  } else if (stress == "payload_change") {
+    o->payload_change.t_s = 30.0;
+    o->payload_change.mass_kg = 0.4;
+    o->payload_change.offset_frd_m = Eigen::Vector3d(0.05, 0.0, 0.0);
+  } else if (!stress.empty()) {
+    return InvalidArgumentError(
+        "bench: 3-D stress case '" + stress +
+        "'; valid: flexible_mount, periodic_force, yaw_reset, "
+        "velocity_glitch, payload_change");
+  }
+  o->seed = seed;
+  o->sensor_profile = "realistic";
+  o->rate_hz = 1000.0;
+  if (config.maneuver3d_s > 0.0) o->maneuver_s = config.maneuver3d_s;
+  if (config.imus3d > 0 &&
+      static_cast<std::size_t>(config.imus3d) < o->imus.size()) {
+    o->imus.resize(static_cast<std::size_t>(config.imus3d));
+  }
+  IMUSYSID_RETURN_IF_ERROR(o->Validate());
+  return o;
+}
+
+namespace {
+
+// `scenario` flown at `seed`, one Log3d per format.
+StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
+                                           const std::string& scenario,
+                                           std::uint64_t seed) {
+  StatusOr<Simulator3dOptions> o =
+      BenchScenario3dOptions(config, scenario, seed);
+  if (!o.ok()) return o.status();
+  StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
+  if (!flight.ok()) {
+    return flight.status().WithPrefix("bench: simulating " + scenario);
+  }
+  // After a payload change the truth is the position relative to the new
+  // CoM (the fit sees the doublets flown after it).
+  Simulator3dOptions truth_options = *o;
+  for (std::size_t k = 0;
+       k < flight->p_after_frd_m.size() && k < truth_options.imus.size();
+       ++k) {
+    truth_options.imus[k].p_frd_m = flight->p_after_frd_m[k];
+  }
+  const Truth3d truth = Truth3dFromOptions(truth_options);
+  std::vector<Log3d> logs;
+  for (const std::string& format : config.formats3d) {
+    const bool ulog = format == "ulog";
+    StatusOr<std::string> bytes = ulog
+                                      ? FormatSimulated3dUlog(*o, *flight)
+                                      : FormatSimulated3dDataFlash(*o, *flight);
+    if (!bytes.ok()) return bytes.status();
+    Log3d log;
+    std::string stem = scenario;
+    for (char& c : stem) {
+      if (c == '/') c = '-';
+    }
+    log.name = stem + (ulog ? ".ulg" : ".bin");
+    log.bytes = std::move(bytes).value();
+    log.format = format;
+    log.scenario = scenario;
+    log.seed = seed;
+    log.truth = truth;
+    logs.push_back(std::move(log));
+  }
+  return logs;
+}
+
+}  // namespace
+
+StatusOr<std::vector<Log3d>> SimulateLogs3d(const BenchConfig& config,
+                                            std::uint64_t seed) {
+  std::vector<std::string> scenarios = config.scenarios3d;
+  scenarios.insert(
+      scenarios.end(), config.stress3d.begin(), config.stress3d.end());
+  std::vector<StatusOr<std::vector<Log3d>>> flown(scenarios.size(),
+                                                  std::vector<Log3d>());
+  internal::ParallelFor(scenarios.size(), config.threads, [&](std::size_t i) {
+    flown[i] = FlyScenario3d(config, scenarios[i], seed);
+  });
+  std::vector<Log3d> logs;
+  for (auto& f : flown) {
+    if (!f.ok()) return f.status();
+    for (auto& log : *f) logs.push_back(std::move(log));
+  }
+  return logs;
+}
+
+std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
+    const BenchConfig& config, const std::vector<std::string>& models) {
+  const std::size_t seeds = static_cast<std::size_t>(std::max(0, config.seeds));
+  const std::size_t tasks = config.scenarios3d.size() * seeds;
+  std::mutex mutex;
+  std::map<Seed3dKey, std::vector<Seed3dSample>> samples;
+  std::size_t finished = 0;
+  internal::ParallelFor(tasks, config.threads, [&](std::size_t t) {
+    const std::string& scenario = config.scenarios3d[t / seeds];
+    const std::uint64_t seed = config.options.seed + t % seeds;
+    StatusOr<std::vector<Log3d>> logs = FlyScenario3d(config, scenario, seed);
+    std::vector<std::pair<Seed3dKey, Seed3dSample>> mine;
+    if (logs.ok()) {
+      for (const Log3d& log : *logs) {
+        for (const std::string& model : models) {
+          StatusOr<ModelDescription> d = BuiltinModels().Describe(model);
+          const std::string first = d.ok() ? d->default_estimator : "linear";
+          std::shared_ptr<const Model> built;
+          std::vector<Run3dRecord> first_runs =
+              FitLog3d(config, log, model, first, &built);
+          std::vector<std::string> names = EstimatorsFor(
+              model, built.get(), config.estimators, config.model_estimators);
+          for (const std::string& name : names) {
+            std::vector<Run3dRecord> runs =
+                name == first ? first_runs
+                              : FitLog3d(config, log, model, name, nullptr);
+            Seed3dSample s;
+            for (const Run3dRecord& r : runs) {
+              s.time_s = r.time_s;
+              if (r.instance != 0 || !r.Usable()) continue;
+              s.usable = r.truth_known;
+              s.converged = r.Converged();
+              s.error_m = r.error_m;
+              s.fitted_m = r.imu.position_m;
+              s.stderr_m = r.imu.stderr_m;
+              s.truth_m = r.truth_position_m;
+              s.given = r.imu.determined;
+              s.fit_time_s = r.fit_time_s;
+            }
+            mine.push_back({{model, name, scenario, log.format}, s});
+          }
+        }
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex);
+    for (auto& m : mine) samples[m.first].push_back(m.second);
+    ++finished;
+    if (config.progress) {
+      config.progress(
+          "[3-D Monte Carlo " + std::to_string(finished) + "/" +
+          std::to_string(tasks) + "] " + scenario + " seed " +
+          std::to_string(seed) +
+          (logs.ok() ? "" : " (failed: " + logs.status().message() + ")"));
+    }
+  });
+  // In the order the models, scenarios and formats were configured, the
+  // estimators in registry order within each.
+  std::vector<MonteCarlo3dRecord> records;
+  for (const std::string& model : models) {
+    for (const std::string& scenario : config.scenarios3d) {
+      for (const std::string& format : config.formats3d) {
+        for (const std::string& name : BuiltinEstimators().Names()) {
+          const auto entry_it =
+              samples.find(Seed3dKey{model, name, scenario, format});
+          if (entry_it == samples.end()) continue;
+          const auto& entry = *entry_it;
+          for (int axis = 0; axis < 3; ++axis) {
+            records.push_back(Summarize3d(entry.first, entry.second, axis));
+          }
+        }
+      }
+    }
+  }
+  return records;
+}
+
+}  // namespace bench
+}  // namespace imusysid
