@@ -170,6 +170,64 @@ BENCHMARK(BM_Rigid3dTenMinuteUlog)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
+// The IMU-only fallback at an ArduPilot log's scale: two IMUs logged at
+// 50 Hz for 320 s (16 000 samples each; in a smoke run the scenario's own
+// flight) in a DataFlash image (not timed), fitted with rigid3d_imu, the
+// model `fit` falls back to when the log lacks the EKF's attitude and
+// velocity (named here, so the log's ATT and XKF1 go unread: the same
+// fit). Argument: IdentifyOptions::num_threads. Target: 1.5 s.
+const std::string* ImuOnlyDataFlash() {
+  static const std::string* const image = [] {
+    auto* bytes = new std::string;
+    StatusOr<Simulator3dOptions> o = Scenario3dOptions("figure8_3d");
+    if (!o.ok()) return bytes;
+    if (!SmokeRun()) {
+      o->maneuver_s = 320.0 - (o->motors_off_start_s + o->idle_s + o->hover_s +
+                               o->landing_s + o->motors_off_end_s);
+    }
+    o->imus.resize(2);
+    o->sensor_profile = "realistic";  // as `simulate` writes logs
+    StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
+    if (!flight.ok()) return bytes;
+    Sim3dLogOptions log_options;
+    log_options.dataflash_imu_rate_hz = 50.0;
+    StatusOr<std::string> bin =
+        FormatSimulated3dDataFlash(*o, *flight, log_options);
+    if (bin.ok()) *bytes = std::move(bin).value();
+    return bytes;
+  }();
+  return image;
+}
+
+void BM_Rigid3dImuOnlyFallback(benchmark::State& state) {
+  const std::string* image = ImuOnlyDataFlash();
+  if (image->empty()) {
+    state.SkipWithError("simulation failed");
+    return;
+  }
+  IdentifyOptions options;
+  options.model = "rigid3d_imu";
+  options.num_threads = static_cast<int>(state.range(0));
+  std::size_t samples = 0;
+  for (auto _ : state) {
+    StatusOr<IdentifySummary> summary =
+        Identify(IdentifyInput::LogBytes(*image, "imu_only.bin"), options);
+    if (!summary.ok() || summary->imus.empty()) {
+      state.SkipWithError(summary.ok() ? "nothing fitted"
+                                       : summary.status().ToString().c_str());
+      return;
+    }
+    samples = 0;
+    for (const ImuPosition3d& imu : summary->imus) samples += imu.samples;
+  }
+  state.counters["fitted_samples"] = static_cast<double>(samples);
+}
+BENCHMARK(BM_Rigid3dImuOnlyFallback)
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
 void BM_Rigid3dReadOneLog(benchmark::State& state) {
   const std::vector<std::string>* logs = Logs();
   if (logs->empty()) {
