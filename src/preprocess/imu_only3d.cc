@@ -38,9 +38,10 @@ StatusOr<Preprocess3dResult> Preprocess3dImuOnly(
     return FailedPreconditionError(
         log.source +
         ": without the autopilot's attitude the IMU-only model integrates "
-        "the gyro from rest, and this log has no still stretch at its start "
-        "(log from before take-off, or log the estimator's attitude and "
-        "velocity)");
+        "the gyro from rest, and no still stretch was found at its start "
+        "(still: before the motors-on edge in the accelerometer's "
+        "vibration, which the log starts after or does not show; log from "
+        "before take-off, or log the estimator's attitude and velocity)");
   }
   const std::size_t s0 = static_cast<std::size_t>(
       std::lower_bound(t.begin(), t.end(), segments->still.t0) - t.begin());
