@@ -580,6 +580,36 @@ TEST(PoolFlights, TheTiltAgreementThresholdIsOneInAThousand) {
   }
 }
 
+// A flight's tilt enters the pool where the flight enters any position
+// axis: one kept out of x alone (its delay at the limit there) still
+// shares its tilt; one kept out of every axis does not.
+TEST(PoolFlights, ATiltEntersWithAnyPositionAxis) {
+  auto tilted = [](const std::string& source,
+                   const std::array<std::string, 3>& reasons) {
+    ImuPosition3d r = MadeUpFit(0, {10, 20, 30}, {1, 1, 1}, 0.0, reasons);
+    r.parameters = Eigen::VectorXd::Zero(kNumRigid3dParameters);
+    r.shared_covariance.setZero();
+    r.shared_covariance.diagonal() << 1e-6, 1e-6, 1e-6, 1e-6, 1e-6;
+    return OneFlight(source, r);
+  };
+  const std::array<std::string, 3> given = {"given", "given", "given"};
+  const std::array<std::string, 3> x_out = {"delay_at_limit", "given", "given"};
+  const std::array<std::string, 3> all_out = {
+      "delay_at_limit", "delay_at_limit", "delay_at_limit"};
+  const PooledImuPosition3d one_axis_out =
+      PoolFlights({tilted("A.ulg", given), tilted("B.ulg", x_out)}).at(0);
+  EXPECT_EQ(one_axis_out.axes[0].flights, 1);
+  EXPECT_EQ(one_axis_out.axes[1].flights, 2);
+  EXPECT_EQ(one_axis_out.misalignment.reason, "given");
+  EXPECT_EQ(one_axis_out.misalignment.flights, 2);
+  ASSERT_EQ(one_axis_out.misalignment.flights_own.size(), 2u);
+  EXPECT_TRUE(one_axis_out.misalignment.flights_own[1].entered);
+  const PooledImuPosition3d every_axis_out =
+      PoolFlights({tilted("A.ulg", given), tilted("B.ulg", all_out)}).at(0);
+  EXPECT_EQ(every_axis_out.misalignment.flights, 1);
+  EXPECT_FALSE(every_axis_out.misalignment.flights_own[1].entered);
+}
+
 // --- The command line, on simulated flights of one vehicle ---
 
 using testing::RunCli;
