@@ -253,6 +253,88 @@ TEST(PoolFlights, GatesOtherThanStderrKeepAFlightOut) {
   EXPECT_THAT(none.advice, HasSubstr("B.ulg: delay_at_limit"));
 }
 
+// A flight is named as disagreeing when its own two-sided p-value,
+// erfc(|z|/√2) with z its deviation over sqrt(σ² − σ̄²), is below 0.001:
+// |z| = 3.2905. Three flights of σ̂ 1 mm at 0, 0 and d: the mean is d/3,
+// σ̄² = 1/3, and the third's z = (2d/3)/sqrt(2/3) = d sqrt(2/3), while the
+// pool's χ² = z² on 2 dof (p = exp(−z²/2) ≈ 0.004 here) still agrees.
+TEST(PoolFlights, AFlightIsNamedJustBeyondItsOwnOneInAThousand) {
+  for (const double z : {3.28, 3.30}) {
+    const double d = z / std::sqrt(2.0 / 3.0);
+    const std::vector<FlightImus> flights = {
+        OneFlight("A.ulg", MadeUpFit(0, {0, 0, 0}, {1, 1, 1})),
+        OneFlight("B.ulg", MadeUpFit(0, {0, 0, 0}, {1, 1, 1})),
+        OneFlight("C.ulg", MadeUpFit(0, {d, 0, 0}, {1, 1, 1}))};
+    const PooledImuPosition3d p = PoolFlights(flights).at(0);
+    EXPECT_EQ(p.axes[0].reason, "given") << z;
+    EXPECT_NEAR(p.flights[2].axes[0].deviation_sigmas, z, 1e-9);
+    EXPECT_NEAR(p.flights[0].axes[0].deviation_sigmas,
+                -(d / 3) / std::sqrt(2.0 / 3.0),
+                1e-9);
+    EXPECT_EQ(p.flights[2].axes[0].disagrees, z > 3.2905) << z;
+    EXPECT_FALSE(p.flights[0].axes[0].disagrees);
+  }
+}
+
+// The pool's σ̂ gate judges the whole σ̂, the systematic part included:
+// two flights of 1 mm statistical and s systematic pool to
+// sqrt(0.5 + s²) mm, 5 mm at s = 4.9497 mm. Just inside and just outside.
+TEST(PoolFlights, TheStderrGateJudgesTheSystematicPartToo) {
+  const double boundary = std::sqrt(25.0 - 0.5);
+  for (const double k : {0.99, 1.01}) {
+    const double sys = k * boundary;
+    const double se = std::hypot(1.0, sys);
+    const std::vector<FlightImus> flights = {
+        OneFlight("A.ulg", MadeUpFit(0, {10, 0, 0}, {se, se, se}, sys)),
+        OneFlight("B.ulg", MadeUpFit(0, {10, 0, 0}, {se, se, se}, sys))};
+    const PooledAxis x = PoolFlights(flights).at(0).axes[0];
+    EXPECT_NEAR(x.stderr_statistical_m, 1e-3 / std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(x.stderr_m, std::sqrt(0.5 + sys * sys) * 1e-3, 1e-12);
+    EXPECT_EQ(x.reason, k < 1 ? "given" : "stderr") << k;
+    EXPECT_EQ(x.determined, k < 1) << k;
+  }
+}
+
+// 0.5 m from the centre of mass on either side: just inside is given, just
+// outside withheld, whichever sign.
+TEST(PoolFlights, ThePlausibleDistanceHoldsOnBothSides) {
+  for (const double mm : {499.0, 501.0, -499.0, -501.0}) {
+    const std::vector<FlightImus> flights = {
+        OneFlight("A.ulg", MadeUpFit(0, {mm, 0, 0}, {1, 1, 1})),
+        OneFlight("B.ulg", MadeUpFit(0, {mm, 0, 0}, {1, 1, 1}))};
+    const PooledAxis x = PoolFlights(flights).at(0).axes[0];
+    EXPECT_EQ(x.reason, std::abs(mm) < 500 ? "given" : "abs_position") << mm;
+  }
+}
+
+// The pooled σ̂ in each output (text, JSON) is the whole σ̂, statistical and
+// systematic parts together, read back against the library's value.
+TEST(PoolFlights, TheOutputsCarryTheWholeSigma) {
+  const double se = std::hypot(1.0, 2.0);
+  const std::vector<FlightImus> flights = {
+      OneFlight("A.ulg", MadeUpFit(0, {10, 20, 30}, {se, se, se}, 2.0)),
+      OneFlight("B.ulg", MadeUpFit(0, {12, 22, 32}, {se, se, se}, 2.0))};
+  const PooledImuPosition3d p = PoolFlights(flights).at(0);
+  const nlohmann::ordered_json j = PooledToJson(p);
+  for (int a = 0; a < 3; ++a) {
+    const PooledAxis& axis = p.axes[static_cast<std::size_t>(a)];
+    ASSERT_TRUE(axis.determined) << a;
+    // sqrt(0.5 + 4) mm against 0.71 mm statistical.
+    EXPECT_NEAR(axis.stderr_m, std::sqrt(4.5) * 1e-3, 1e-12);
+    EXPECT_EQ(j["imu_position_frd_stderr_m"][a].get<double>(), axis.stderr_m);
+    EXPECT_EQ(j["decisions"][a]["stderr_m"].get<double>(), axis.stderr_m);
+  }
+  const std::string text = PooledToText(p);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      text, m, std::regex(R"(pooled +x (\S+) \+/- (\S+) +y (\S+) \+/- (\S+))")))
+      << text;
+  EXPECT_EQ(m[1].str(), "11.0");
+  EXPECT_EQ(m[2].str(), "2.1");  // sqrt(4.5) = 2.12 mm
+  EXPECT_EQ(m[3].str(), "21.0");
+  EXPECT_EQ(m[4].str(), "2.1");
+}
+
 // --- The joint fit against the stacked least squares it stands for ---
 
 // The rigid3d columns several flights share (kSharedParameterNames' order).
@@ -496,6 +578,36 @@ TEST(PoolFlights, TheTiltAgreementThresholdIsOneInAThousand) {
     EXPECT_NEAR(m.p_value[1], std::erfc(d / 2), 1e-12) << d;
     EXPECT_EQ(m.reason, d < 4.65 ? "given" : "flights_disagree") << d;
   }
+}
+
+// A flight's tilt enters the pool where the flight enters any position
+// axis: one kept out of x alone (its delay at the limit there) still
+// shares its tilt; one kept out of every axis does not.
+TEST(PoolFlights, ATiltEntersWithAnyPositionAxis) {
+  auto tilted = [](const std::string& source,
+                   const std::array<std::string, 3>& reasons) {
+    ImuPosition3d r = MadeUpFit(0, {10, 20, 30}, {1, 1, 1}, 0.0, reasons);
+    r.parameters = Eigen::VectorXd::Zero(kNumRigid3dParameters);
+    r.shared_covariance.setZero();
+    r.shared_covariance.diagonal() << 1e-6, 1e-6, 1e-6, 1e-6, 1e-6;
+    return OneFlight(source, r);
+  };
+  const std::array<std::string, 3> given = {"given", "given", "given"};
+  const std::array<std::string, 3> x_out = {"delay_at_limit", "given", "given"};
+  const std::array<std::string, 3> all_out = {
+      "delay_at_limit", "delay_at_limit", "delay_at_limit"};
+  const PooledImuPosition3d one_axis_out =
+      PoolFlights({tilted("A.ulg", given), tilted("B.ulg", x_out)}).at(0);
+  EXPECT_EQ(one_axis_out.axes[0].flights, 1);
+  EXPECT_EQ(one_axis_out.axes[1].flights, 2);
+  EXPECT_EQ(one_axis_out.misalignment.reason, "given");
+  EXPECT_EQ(one_axis_out.misalignment.flights, 2);
+  ASSERT_EQ(one_axis_out.misalignment.flights_own.size(), 2u);
+  EXPECT_TRUE(one_axis_out.misalignment.flights_own[1].entered);
+  const PooledImuPosition3d every_axis_out =
+      PoolFlights({tilted("A.ulg", given), tilted("B.ulg", all_out)}).at(0);
+  EXPECT_EQ(every_axis_out.misalignment.flights, 1);
+  EXPECT_FALSE(every_axis_out.misalignment.flights_own[1].entered);
 }
 
 // --- The command line, on simulated flights of one vehicle ---

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <random>
 #include <string>
@@ -17,6 +18,7 @@
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "imusysid/autopilot.h"
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
@@ -24,6 +26,7 @@
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
+#include "nlohmann/json.hpp"
 #include "src/analyse/agreement3d.h"
 #include "src/analyse/uncertainty3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
@@ -369,6 +372,13 @@ const Preprocess3dResult& FigureEightData() {
     return out;
   }();
   return *pre;
+}
+
+// A number in mm as the text report prints it (one decimal).
+std::string FormatFixedForTest(double mm) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.1f", mm);
+  return buffer;
 }
 
 // A converged rigid3d fit at position `p` with HAC σ̂ `se` and RMSE `rmse`
@@ -725,6 +735,58 @@ TEST(Rigid3dGates, SystematicStderrIsTheSensitivityWithTheFloor) {
                     0);
   EXPECT_FALSE(wider.determined[2]);
   EXPECT_EQ(wider.decisions[2].reason, "stderr");
+}
+
+// Every output that carries σ̂ carries the whole one, statistical and
+// systematic parts together, read back against the library's value: the
+// JSON's position σ̂ and each decision's, the text's "+/-", and the
+// parameter file's σ̂ for each parameter written; and the misalignment's
+// systematic part is its sensitivity with its own floor.
+TEST(Rigid3dGates, EachOutputCarriesTheWholeSigma) {
+  Preprocess3dResult pre = FigureEightData();
+  pre.systematic_stderr_m = Eigen::Vector3d(3e-3, 2e-3, 2.5e-3);
+  pre.misalignment_systematic_stderr_deg = Eigen::Vector2d(0.1, 0.2);
+  const Rigid3dReportOptions options;
+  const ImuPosition3d r = Rigid3dReport(GateFit(kGateTruthM,
+                                                Eigen::Vector3d::Constant(1e-3),
+                                                RmseForFraction(pre, 0.1)),
+                                        pre,
+                                        0,
+                                        options);
+  const nlohmann::ordered_json j = Rigid3dToJson(r);
+  const std::string text = Rigid3dToText(r);
+  StatusOr<AutopilotParameters> params =
+      Rigid3dAutopilotParameters({r}, EmitFormat::kArduPilot);
+  ASSERT_TRUE(params.ok()) << params.status().ToString();
+  ASSERT_EQ(params->stderrs.size(), 3u);
+  const char* const names[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    const auto i = static_cast<std::size_t>(a);
+    ASSERT_TRUE(r.determined[i]) << a;
+    const double whole = std::hypot(
+        1e-3,
+        std::hypot(pre.systematic_stderr_m[a], options.model_error_floor_m));
+    ASSERT_NEAR(r.stderr_m[a], whole, 1e-15);
+    ASSERT_GT(r.stderr_m[a], 1.5 * r.decisions[i].stderr_statistical_m);
+    EXPECT_EQ(j["imu_position_frd_stderr_m"][a].get<double>(), r.stderr_m[a]);
+    EXPECT_EQ(j["decisions"][a]["stderr_m"].get<double>(), r.stderr_m[a]);
+    EXPECT_EQ(j["decisions"][a]["stderr_statistical_m"].get<double>(),
+              r.decisions[i].stderr_statistical_m);
+    EXPECT_EQ(params->stderrs[i].first,
+              std::string("INS_POS1_") + static_cast<char>('X' + a));
+    EXPECT_EQ(params->stderrs[i].second, r.stderr_m[a]);
+    const std::string line = std::string("    ") + names[a] + "  " +
+                             FormatFixedForTest(r.position_m[a] * 1e3) +
+                             " +/- " + FormatFixedForTest(r.stderr_m[a] * 1e3) +
+                             "\n";
+    EXPECT_THAT(text, ::testing::HasSubstr(line)) << text;
+  }
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_NEAR(r.misalignment_stderr_systematic_deg[k],
+                std::hypot(pre.misalignment_systematic_stderr_deg[k],
+                           options.misalignment_floor_deg),
+                1e-15);
+  }
 }
 
 // The figure-eight's flight cut into two windows of equal length: the

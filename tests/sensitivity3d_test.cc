@@ -61,6 +61,25 @@ TEST(Sensitivity3d, PlausibleDelaysEndWhereTheFitIsTwoSigmaWorse) {
   EXPECT_EQ(out.estimator_delay_high_s, 0.012);
 }
 
+// Exactly at the limit: with n_eff = 0.5 the allowance is RMSE² ≤ 9 × the
+// best's (1 + 4/0.5), so an RMSE of exactly 3 against 1 is in (on both
+// sides, at the first delay searched too) and a hair above it is out.
+TEST(Sensitivity3d, PlausibleDelaysIncludeADelayExactlyAtTheLimit) {
+  Calibration3d c;
+  c.estimator_delay_s = 0.01;
+  c.delay_estimated = true;
+  c.searched_delays_s = {0.0, 0.01, 0.02, 0.03};
+  c.searched_rmse = {3.0, 1.0, 3.0, 3.0000001};
+  Preprocess3dResult out;
+  PlausibleDelays(c, 0.5, &out);
+  EXPECT_EQ(out.estimator_delay_low_s, 0.0);
+  EXPECT_EQ(out.estimator_delay_high_s, 0.02);
+  c.searched_rmse = {3.0000001, 1.0, 3.0, 3.0};
+  PlausibleDelays(c, 0.5, &out);
+  EXPECT_EQ(out.estimator_delay_low_s, 0.01);
+  EXPECT_EQ(out.estimator_delay_high_s, 0.03);
+}
+
 // White noise carries one sample's information per sample; an AR(1) series
 // with coefficient φ has (1 + φ)/(1 − φ) samples per independent one (9 at
 // 0.8). 20 000 samples a half: the estimate's own spread is a few percent.

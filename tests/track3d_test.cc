@@ -16,11 +16,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "Eigen/Cholesky"
 #include "gtest/gtest.h"
+#include "src/track/track3d_internal.h"
 #include "tests/test_util.h"
 
 namespace imusysid {
@@ -317,6 +320,90 @@ TEST(Track3d, OnTheGroundNothingIsEstimated) {
   EXPECT_FALSE(e.valid);
   EXPECT_TRUE(std::isnan(e.position_frd_m.x()));
   EXPECT_FALSE(tracker->calibration().done);
+}
+
+// The tracker's σ̂ against the closed form of weighted least squares on a
+// case small enough to write out: three blocks of 8 rows (11 coefficients
+// and a target each, fixed numbers), folded with a forgetting factor of
+// 1/2 per block, so that the rows weigh w = 1/4, 1/2, 1 by age. Then
+//   β = (AᵀWA)⁻¹ AᵀWy,  σ² = Σ w r² / (Σw − 11),
+//   Cov = σ² (AᵀWA)⁻¹ Σw²/Σw,  Σw = 8 (1/4 + 1/2 + 1) = 14,
+//   Σw² = 8 (1/16 + 1/4 + 1) = 10.5,
+// computed here from A, y and w directly, not from the tracker's factors.
+TEST(Track3dSigma, ForgettingMatchesTheWeightedLeastSquaresClosedForm) {
+  using track3d_internal::Factor;
+  using track3d_internal::kM;
+  constexpr int kRowsPerBlock = 8;
+  constexpr int kBlocks = 3;
+  auto pipe = std::make_unique<track3d_internal::Pipeline>();
+  Track3dOptions o;
+  o.memory_s = o.block_s / std::log(2.0);
+  pipe->Init(o, 0.0, 0.0, 0.0, false);
+  ASSERT_NEAR(pipe->lambda_block, 0.5, 1e-15);
+  // Fixed, well-conditioned rows: a_ij = sin(1 + 3i + 7j) + (i mod 11 == j),
+  // target y_i = Σ_j a_ij (j + 1)/10 + 0.3 cos(5i) (a residual to estimate
+  // σ² from).
+  const int n = kRowsPerBlock * kBlocks;
+  Eigen::MatrixXd a(n, kM);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) {
+    y[i] = 0.3 * std::cos(5.0 * i);
+    for (int j = 0; j < kM; ++j) {
+      a(i, j) = std::sin(1.0 + 3.0 * i + 7.0 * j) + (i % kM == j ? 1.0 : 0.0);
+      y[i] += a(i, j) * (j + 1) / 10.0;
+    }
+  }
+  for (int b = 0; b < kBlocks; ++b) {
+    pipe->current = track3d_internal::Block();
+    for (int i = b * kRowsPerBlock; i < (b + 1) * kRowsPerBlock; ++i) {
+      double row[track3d_internal::kC];
+      for (int j = 0; j < kM; ++j) row[j] = a(i, j);
+      row[kM] = y[i];
+      track3d_internal::FoldRow(&pipe->current.r, row);
+    }
+    pipe->current.rows = kRowsPerBlock;
+    pipe->EndBlock(0.5 * (b + 1));
+  }
+  // The weights by age, written out.
+  Eigen::VectorXd w(n);
+  for (int i = 0; i < n; ++i) {
+    const int age = kBlocks - 1 - i / kRowsPerBlock;
+    w[i] = std::pow(0.5, age);
+  }
+  const double sum_w = w.sum();
+  const double sum_w2 = w.squaredNorm();
+  ASSERT_DOUBLE_EQ(sum_w, 14.0);
+  ASSERT_DOUBLE_EQ(sum_w2, 10.5);
+  const Eigen::MatrixXd info = a.transpose() * w.asDiagonal() * a;
+  const Eigen::MatrixXd info_inv =
+      info.ldlt().solve(Eigen::MatrixXd::Identity(kM, kM));
+  const Eigen::VectorXd beta = info_inv * (a.transpose() * w.asDiagonal() * y);
+  const Eigen::VectorXd r = y - a * beta;
+  const double sigma2 = r.dot(w.asDiagonal() * r) / (sum_w - kM);
+  const Eigen::Matrix3d expected =
+      sigma2 * sum_w2 / sum_w * info_inv.topLeftCorner<3, 3>();
+
+  auto check = [&](const char* what) {
+    SCOPED_TRACE(what);
+    EXPECT_NEAR(pipe->main_rows, sum_w, 1e-12);
+    EXPECT_NEAR(pipe->main_rows_sq, sum_w2, 1e-12);
+    Eigen::Vector3d p;
+    Eigen::Matrix3d cov;
+    ASSERT_TRUE(pipe->PositionOf(
+        pipe->main, pipe->main_rows, pipe->main_rows_sq, &p, &cov));
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(p[k], beta[k], 1e-9 * (1.0 + std::abs(beta[k])));
+      EXPECT_NEAR(std::sqrt(cov(k, k)),
+                  std::sqrt(expected(k, k)),
+                  1e-9 * std::sqrt(expected(k, k)))
+          << k;
+    }
+  };
+  // As the blocks were folded one by one, and as the factor is rebuilt
+  // from the ring (after a restart) with each block's weight λ^age.
+  check("folded block by block");
+  pipe->RebuildMain();
+  check("rebuilt from the ring");
 }
 
 // The simulated figure-eight as a CSV (gentle sensors: the command's

@@ -69,19 +69,14 @@ ChangeScan ScanForChange(std::string_view model_name,
     s.k = k;
     s.before = FitSide(factors, 0, k);
     s.after = FitSide(factors, k, kChangeBlocks);
-    for (int a = 0; a < 3; ++a) {
-      const double sb = s.before.stderr_m[a];
-      const double sa = s.after.stderr_m[a];
-      const double d = s.before.position_m[a] - s.after.position_m[a];
-      if (!(std::isfinite(d) && sb > 0 && sa > 0 &&
-            sb <= kChangeMaxSideStderrM && sa <= kChangeMaxSideStderrM)) {
-        continue;
-      }
-      s.judged[a] = true;
-      s.chi_square += d * d / (sb * sb + sa * sa);
-      ++s.dof;
-      s.largest_difference_m = std::max(s.largest_difference_m, std::abs(d));
-    }
+    const ChangeSides sides = CompareChangeSides(s.before.position_m,
+                                                 s.before.stderr_m,
+                                                 s.after.position_m,
+                                                 s.after.stderr_m);
+    for (int a = 0; a < 3; ++a) s.judged[a] = sides.judged[a];
+    s.chi_square = sides.chi_square;
+    s.dof = sides.dof;
+    s.largest_difference_m = sides.largest_difference_m;
     if (s.dof == 0) continue;
     s.p_value = ChiSquareUpperTail(s.chi_square, s.dof);
     ++out.splits;
@@ -106,6 +101,27 @@ ChangeScan ScanForChange(std::string_view model_name,
   out.p_value_adjusted = std::min(1.0, best.p_value * out.splits);
   out.largest_difference_m = best.largest_difference_m;
   out.found = ChangeFound(out.p_value, out.splits, out.largest_difference_m);
+  return out;
+}
+
+ChangeSides CompareChangeSides(const Eigen::Vector3d& before_m,
+                               const Eigen::Vector3d& before_stderr_m,
+                               const Eigen::Vector3d& after_m,
+                               const Eigen::Vector3d& after_stderr_m) {
+  ChangeSides out;
+  for (int a = 0; a < 3; ++a) {
+    const double sb = before_stderr_m[a];
+    const double sa = after_stderr_m[a];
+    const double d = before_m[a] - after_m[a];
+    if (!(std::isfinite(d) && sb > 0 && sa > 0 && sb <= kChangeMaxSideStderrM &&
+          sa <= kChangeMaxSideStderrM)) {
+      continue;
+    }
+    out.judged[a] = true;
+    out.chi_square += d * d / (sb * sb + sa * sa);
+    ++out.dof;
+    out.largest_difference_m = std::max(out.largest_difference_m, std::abs(d));
+  }
   return out;
 }
 

@@ -31,6 +31,21 @@ inline constexpr double kChangeMaxSideStderrM = 0.005;
 // The scan's result is the report's (rigid3d_report.h).
 using ChangeScan = PositionChange3d;
 
+// One split's two sides compared axis by axis: an axis is judged where
+// both sides' σ̂ are positive and at most kChangeMaxSideStderrM and the
+// difference is finite; the chi-square Σ d²/(σ_before² + σ_after²) over the
+// judged axes, its dof (their number) and their largest |d|.
+struct ChangeSides {
+  bool judged[3] = {false, false, false};
+  double chi_square = 0.0;
+  int dof = 0;
+  double largest_difference_m = 0.0;
+};
+ChangeSides CompareChangeSides(const Eigen::Vector3d& before_m,
+                               const Eigen::Vector3d& before_stderr_m,
+                               const Eigen::Vector3d& after_m,
+                               const Eigen::Vector3d& after_stderr_m);
+
 // The decision: the best split's p-value times the splits tried below
 // kChangeAlpha, and some judged axis further apart than
 // kChangeMinDifferenceM.

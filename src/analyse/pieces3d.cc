@@ -114,6 +114,13 @@ void JudgePieces3d(const EstimateResult& result,
   }
 }
 
+bool ChangeKeepsAxis(const PositionChange3d& scan, int axis) {
+  const auto i = static_cast<std::size_t>(axis);
+  return !scan.found || (scan.judged[i] &&
+                         std::abs(scan.before_m[axis] - scan.after_m[axis]) <=
+                             kChangeMinDifferenceM);
+}
+
 void JudgeChange3d(const EstimateResult& result,
                    const Preprocess3dResult& pre,
                    const Rigid3dReportOptions& options,
@@ -156,8 +163,7 @@ void JudgeChange3d(const EstimateResult& result,
                            : std::numeric_limits<double>::quiet_NaN();
       g.min_difference_m = kChangeMinDifferenceM;
       g.window_t0_s = scan.t_s;
-      g.passed = !scan.found ||
-                 (scan.judged[i] && g.difference_m <= g.min_difference_m);
+      g.passed = ChangeKeepsAxis(scan, a);
       out.decisions[i].evidence.push_back(g);
       if (out.determined[i] && !g.passed) {
         out.determined[i] = false;

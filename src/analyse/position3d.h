@@ -41,6 +41,10 @@ void JudgePieces3d(const EstimateResult& result,
                    const Preprocess3dResult& pre,
                    const Rigid3dReportOptions& options,
                    ImuPosition3d* out);
+// The change scan's decision on one axis: kept when no change was found,
+// or when both sides pin the axis down (judged) and differ on it by no
+// more than kChangeMinDifferenceM; withheld otherwise.
+bool ChangeKeepsAxis(const PositionChange3d& scan, int axis);
 void JudgeChange3d(const EstimateResult& result,
                    const Preprocess3dResult& pre,
                    const Rigid3dReportOptions& options,
