@@ -17,7 +17,8 @@ namespace imusysid {
 namespace bench {
 namespace {
 
-using Json = nlohmann::json;
+// (Not "Json": report_json.cc, in the same unity unit, has its own.)
+using GbenchJson = nlohmann::json;
 
 // Google Benchmark's time units, as factors to milliseconds.
 bool TimeUnitToMs(const std::string& unit, double* factor) {
@@ -70,7 +71,7 @@ Status FieldError(const std::string& file,
 
 // A finite number (NaN and ±inf are written as strings or null by some
 // Google Benchmark versions; neither can be plotted).
-Status NumberField(const Json& entry,
+Status NumberField(const GbenchJson& entry,
                    const std::string& file,
                    std::size_t index,
                    const std::string& name,
@@ -89,7 +90,7 @@ Status NumberField(const Json& entry,
 }
 
 // An optional counter: absent → unchanged; present → must be a number.
-Status OptionalNumber(const Json& entry,
+Status OptionalNumber(const GbenchJson& entry,
                       const std::string& file,
                       std::size_t index,
                       const std::string& name,
@@ -133,10 +134,10 @@ Status ReadOneFile(const std::string& file,
                    std::vector<GbenchScalingPoint>* points) {
   StatusOr<std::string> text = ReadFileToString(file);
   if (!text.ok()) return text.status();
-  Json root;
+  GbenchJson root;
   try {
-    root = Json::parse(*text);
-  } catch (const Json::parse_error& e) {
+    root = GbenchJson::parse(*text);
+  } catch (const GbenchJson::parse_error& e) {
     return InvalidArgumentError(file + ": not valid JSON at byte " +
                                 std::to_string(e.byte) +
                                 " (expected the output of "
@@ -151,7 +152,7 @@ Status ReadOneFile(const std::string& file,
   GbenchContext context;
   context.file = file;
   if (root.contains("context") && root["context"].is_object()) {
-    const Json& c = root["context"];
+    const GbenchJson& c = root["context"];
     if (c.contains("date") && c["date"].is_string()) context.date = c["date"];
     if (c.contains("host_name") && c["host_name"].is_string()) {
       context.host_name = c["host_name"];
@@ -169,9 +170,9 @@ Status ReadOneFile(const std::string& file,
   std::map<std::pair<std::string, std::int64_t>, GbenchScalingPoint> singles;
   std::map<std::pair<std::string, std::int64_t>, GbenchScalingPoint> medians;
   std::map<std::pair<std::string, std::int64_t>, std::string> repeated;
-  const Json& list = root["benchmarks"];
+  const GbenchJson& list = root["benchmarks"];
   for (std::size_t i = 0; i < list.size(); ++i) {
-    const Json& entry = list[i];
+    const GbenchJson& entry = list[i];
     if (!entry.is_object()) {
       return InvalidArgumentError(file + ": benchmarks[" + std::to_string(i) +
                                   "] is not an object");
