@@ -139,8 +139,8 @@ def solve_rls(a, y, axis, lam, gamma, cov_max=1e6, max_drop=0.9):
 
 
 def forgetting_factor(bandwidth_hz, sample_rate_hz):
-    """indiflight's lambda: the weight of a sample halves... to 1 - ln 2
-    after fs / (2 pi f) samples, i.e. a memory of about 1 / (2 pi f) s."""
+    """indiflight's lambda: a sample's weight falls to 1 - ln 2 (0.31)
+    after fs / (2 pi f) samples, a memory of about 1 / (2 pi f) s."""
     return (1.0 - math.log(2.0)) ** (2.0 * math.pi * bandwidth_hz /
                                      sample_rate_hz)
 
