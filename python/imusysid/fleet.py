@@ -19,6 +19,7 @@ import hashlib
 import importlib
 import json
 import logging
+import math
 import os
 import socket
 import stat
@@ -37,6 +38,8 @@ EXIT_BAD_INPUT = 2
 PRESET_SCENARIOS = {
     "paper": ["paper_test1", "paper_test2"],
     "ci": ["paper_test1", "paper_test2", "model_exact", "hover_only"],
+    "ci3d": ["figure8_3d", "pitch_laps_3d"],
+    "3d": ["figure8_3d", "pitch_laps_3d", "roll_laps_3d", "yaw_sweeps_3d"],
 }
 
 # Result keys left out of the CSV (they stay in the JSON lines): long text
@@ -197,6 +200,9 @@ def fit_task(path, options):
         model, estimators, rest = _split_options(options)
         record["result"] = imusysid.identify(path, model=model,
                                              estimators=estimators, **rest)
+        truth = _truth_beside(path)
+        if truth is not None and "imus" in truth:
+            record["truth3d"] = _truth3d(truth, record["result"])
 
     return _recorded({"status": "ok", "error": "", "worker": _worker_id()},
                      work)
@@ -208,27 +214,90 @@ def bench_task(scenario, seed, options):
     the same seed, beside the truth."""
     def work(record, start):
         model, estimators, rest = _split_options(options)
-        sim = imusysid.simulate(scenario, seed=seed, return_bytes=True)
+        # A 3-D scenario is flown as PX4 ULog (every IMU in one file).
+        three_d = scenario.endswith("_3d")
+        fmt = rest.pop("log_format", None) or ("ulog" if three_d else "csv")
+        sim = imusysid.simulate(scenario, seed=seed, return_bytes=True,
+                                format=fmt)
         record["sim_s"] = time.perf_counter() - start
+        ext = {"ulog": "ulg", "dataflash": "bin"}.get(fmt, "csv")
         record["result"] = imusysid.identify(
-            sim["bytes"][0], source=f"{scenario}.csv (seed {seed})",
+            sim["bytes"][0], source=f"{scenario}.{ext} (seed {seed})",
             model=model, estimators=estimators, seed=seed, **rest)
         truth = sim["truth"]
-        record["truth"] = {k: truth[k] for k in
-                           ("r_m", "beta_deg", "alpha_deg", "mu",
-                            "alpha_effective_deg") if k in truth}
+        if "imus" in truth:
+            record["truth3d"] = _truth3d(truth, record["result"])
+        else:
+            record["truth"] = {k: truth[k] for k in
+                               ("r_m", "beta_deg", "alpha_deg", "mu",
+                                "alpha_effective_deg") if k in truth}
 
     return _recorded({"scenario": scenario, "seed": seed, "status": "ok",
                       "error": "", "worker": _worker_id()}, work)
 
 
+def _first(result):
+    """A fit's first result object (a 3-D fit: its first IMU), or {}."""
+    first = result[0] if isinstance(result, list) and result else result
+    return first if isinstance(first, dict) else {}
+
+
+def _truth_beside(path):
+    """LOG.truth.json beside a log, as a dict; None without one."""
+    truth_path = os.path.splitext(path)[0] + ".truth.json"
+    if not os.path.isfile(truth_path):
+        return None
+    with open(truth_path, encoding="utf-8") as f:
+        return json.load(f)
+
+
+def _truth3d(truth, result):
+    """The truth of a 3-D fit's first IMU in its own axes: R_sᵀ p with
+    R_s = R_z(yaw) R_y(pitch) R_x(roll) the simulated misalignment, as
+    `imusysid bench` turns it (benchmarks/bench3d.cc)."""
+    instance, imus = _first(result).get("instance", 0), truth.get("imus") or []
+    if not 0 <= instance < len(imus):
+        return {}
+    imu = imus[instance]
+    m = imu.get("misalignment_deg") or {}
+    r, q, y = (math.radians(m.get(k, 0.0)) for k in ("roll", "pitch", "yaw"))
+    cr, sr, cp, sp, cy, sy = (math.cos(r), math.sin(r), math.cos(q),
+                              math.sin(q), math.cos(y), math.sin(y))
+    rot = [[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+           [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+           [-sp, cp * sr, cp * cr]]
+    p = imu["p_frd_m"]  # R_sᵀ p: column i of R_s against p
+    return {f"{a}_m": sum(rot[k][i] * p[k] for k in range(3))
+            for i, a in enumerate("xyz")}
+
+
+def _row3d(record, row):
+    """A 3-D fit's first IMU per axis: position (every axis, given or
+    withheld), σ̂, whether it is given, and against the truth."""
+    first = _first(record["result"])
+    fitted = first.get("fitted_position_frd_m") or [None] * 3
+    stderr = first.get("imu_position_frd_stderr_m") or [None] * 3
+    given = first.get("determined") or [None] * 3
+    for i, a in enumerate("xyz"):
+        row[f"position.{a}_m"] = fitted[i]
+        row[f"stderr.{a}_m"] = stderr[i]
+        row[f"given.{a}"] = given[i]
+        truth = record.get("truth3d", {}).get(f"{a}_m")
+        if truth is not None and fitted[i] is not None:
+            row[f"truth.{a}_m"] = truth
+            row[f"error.{a}_m"] = fitted[i] - truth
+
+
 def _row(record):
     # The task's own fields first, and they win over the result's (its
     # "log" is the path the worker read; the row keeps the one given).
-    row = {k: v for k, v in record.items() if k not in ("result", "truth")}
+    row = {k: v for k, v in record.items()
+           if k not in ("result", "truth", "truth3d")}
     if "result" in record:
         for k, v in flatten(record["result"]).items():
             row.setdefault(k, v)
+        if "fitted_position_frd_m" in _first(record["result"]):
+            _row3d(record, row)
     for k, v in record.get("truth", {}).items():
         row[f"truth.{k}"] = v
         est = row.get(k)
@@ -434,7 +503,9 @@ def _exit_code(frame, strict):
 
 def summarize_bench(frame):
     """Bias, spread and usable count per scenario × model × estimator of
-    the parameters the truth knows."""
+    the parameters the truth knows; for a 3-D model per axis also the
+    seeds that give the axis (given.AXIS) and, over those, the share whose
+    truth lies within ±2σ̂ (coverage.AXIS_m) and the mean σ̂."""
     import pandas as pd
     rows = []
     ok = frame[frame["status"] == "ok"]
@@ -450,6 +521,20 @@ def summarize_bench(frame):
                 name = column[len("error."):]
                 row[f"bias.{name}"] = group[column].mean()
                 row[f"sd.{name}"] = group[column].std()
+                if f"stderr.{name}" in group.columns:
+                    # Over the seeds giving the axis, as the tool's table.
+                    err = group[column].astype(float)
+                    se = group[f"stderr.{name}"].astype(float)
+                    known = err.notna() & se.notna()
+                    given = f"given.{name[:-2]}"
+                    if given in group.columns:
+                        flags = group[given].astype(str) == "True"
+                        row[given] = int(flags.sum())
+                        known &= flags
+                    row[f"coverage.{name}"] = (
+                        (err[known].abs() <= 2 * se[known]).mean()
+                        if known.any() else float("nan"))
+                    row[f"mean_stderr.{name}"] = se[known].mean()
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -469,6 +554,8 @@ def command_bench(args):
                              "valid: "
                              f"{', '.join(valid)}")
     options = _fit_options(args)  # each task fits with its noise seed
+    if args.log_format:
+        options["log_format"] = args.log_format
     tasks = []
     for scenario in scenarios:
         for seed in range(1, args.seeds + 1):
@@ -558,12 +645,16 @@ def build_parser():
                     "writes DIR/monte_carlo.csv (+ .jsonl), summary.csv "
                     "(bias and spread against the truth) and timing.json.")
     bench.add_argument("--preset", default="paper",
-                       help="paper (paper_test1, paper_test2) or ci (also "
-                            "model_exact, hover_only)")
+                       help="paper (paper_test1, paper_test2), ci (also "
+                            "model_exact, hover_only), ci3d (figure8_3d, "
+                            "pitch_laps_3d) or 3d (also roll_laps_3d, "
+                            "yaw_sweeps_3d; with --model=rigid3d)")
     bench.add_argument("--scenarios",
                        help="comma-separated scenarios instead of the "
                             "preset's")
     bench.add_argument("--seeds", type=int, default=10)
+    bench.add_argument("--log-format", choices=("csv", "ulog", "dataflash"),
+                       help="log format (default: csv; 3-D scenarios ulog)")
     bench.add_argument("--out", required=True, metavar="DIR")
     _add_common(bench)
     bench.set_defaults(run=command_bench, model="consistent")

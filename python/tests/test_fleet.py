@@ -182,3 +182,67 @@ def test_inputs_and_outputs_are_refused_as_the_tool_refuses_them(
     with pytest.raises(SystemExit) as e:
         fleet.main(["fit", str(log), out, "--imu=5"])
     assert e.value.code == 2
+
+
+def test_3d_bench_rows_carry_the_error_per_axis_as_the_tool_does(cli,
+                                                                 tmp_path):
+    """A rigid3d seed's row: position, σ̂ and error per axis in the IMU's
+    axes, the same numbers `imusysid bench` gives for the same flight."""
+    record = fleet.bench_task("figure8_3d", 1,
+                              {"model": "rigid3d", "estimators": "linear"})
+    assert record["status"] == "ok", record["error"]
+    row = fleet._row(record)
+    # IMU 0 of the 3-D scenarios (docs/simulator-3d.md), no misalignment.
+    truth = {"x": 0.05, "y": -0.02, "z": -0.03}
+    log = str(tmp_path / "F.ulg")
+    code, _, err = cli("simulate", "--scenario=figure8_3d", "--seed=1",
+                       f"--out={log}")
+    assert code == 0, err
+    code, out, err = cli("bench", "--models=rigid3d", "--estimators=linear",
+                         f"--logs={log}", "--format=json")
+    assert code == 0, err
+    run = next(r for r in json.loads(out)["runs"] if r["instance"] == 0)
+    for i, a in enumerate("xyz"):
+        assert row[f"truth.{a}_m"] == pytest.approx(truth[a], abs=1e-15)
+        assert row[f"error.{a}_m"] == pytest.approx(
+            row[f"position.{a}_m"] - truth[a], abs=1e-15)
+        # The tool's error of the same flight (seed 1, ULog): to rounding.
+        assert row[f"error.{a}_m"] == pytest.approx(
+            run["position_error_m"][i], abs=1e-12)
+        assert row[f"stderr.{a}_m"] > 0 and row[f"given.{a}"] is True
+        # A seed's error is a few σ̂ at most (σ̂ ~ 1 mm here).
+        assert abs(row[f"error.{a}_m"]) < 5e-3
+    # fleet fit of the same log finds the truth file beside it.
+    fitted = fleet._row(fleet.fit_task(
+        log, {"model": "rigid3d", "estimators": "linear"}))
+    assert fitted["error.x_m"] == pytest.approx(row["error.x_m"], abs=1e-12)
+
+
+def test_3d_truth_is_turned_into_the_imus_axes():
+    """A sensor yawed 90° about down: its x axis is the body's y, so the
+    body position (px, py, pz) is (py, −px, pz) in the IMU's axes."""
+    truth = {"imus": [{"p_frd_m": [0.05, -0.02, -0.03],
+                       "misalignment_deg": {"roll": 0.0, "pitch": 0.0,
+                                            "yaw": 90.0}}]}
+    turned = fleet._truth3d(truth, [{"instance": 0}])
+    assert turned["x_m"] == pytest.approx(-0.02, abs=1e-15)
+    assert turned["y_m"] == pytest.approx(-0.05, abs=1e-15)
+    assert turned["z_m"] == pytest.approx(-0.03, abs=1e-15)
+
+
+def test_3d_summary_gives_bias_spread_and_coverage_per_axis():
+    rows = []
+    # x errors 1, 3, −1 mm with σ̂ 1 mm, the last seed withholding x: the
+    # bias and spread are over every seed, the coverage over the two that
+    # give x (|e| ≤ 2σ̂ on one).
+    for e_x, given in ((0.001, True), (0.003, True), (-0.001, False)):
+        rows.append({"status": "ok", "scenario": "figure8_3d",
+                     "model": "rigid3d", "estimator": "linear", "task_s": 0.1,
+                     "error.x_m": e_x, "stderr.x_m": 0.001, "given.x": given})
+    summary = fleet.summarize_bench(pd.DataFrame(rows))
+    assert summary.loc[0, "seeds"] == 3
+    assert summary.loc[0, "bias.x_m"] == pytest.approx(0.001)
+    assert summary.loc[0, "sd.x_m"] == pytest.approx(0.002)
+    assert summary.loc[0, "coverage.x_m"] == pytest.approx(0.5)
+    assert summary.loc[0, "mean_stderr.x_m"] == pytest.approx(0.001)
+    assert summary.loc[0, "given.x"] == 2
