@@ -64,6 +64,8 @@ struct Run3dRecord {
   std::string format;
   std::string scenario;
   std::uint64_t seed = 0;
+  // The vehicle's group of logs (bench3d_groups.h), "" when not grouped.
+  std::string group;
   std::string model;
   std::string estimator;
   int instance = 0;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "benchmarks/bench3d_groups.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -75,6 +76,7 @@ Json3d Run3dToJson(const Run3dRecord& run) {
   j["estimator"] = run.estimator;
   j["log"] = run.log;
   if (!run.log_path.empty()) j["log_path"] = run.log_path;
+  if (!run.group.empty()) j["group"] = run.group;
   j["format"] = run.format;
   j["scenario"] = run.scenario.empty() ? Json3d(nullptr) : Json3d(run.scenario);
   j["instance"] = run.instance;
@@ -251,7 +253,8 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
                      "The same on flights with an effect the models know "
                      "nothing of (docs/simulator-3d.md, \"Stress effects\"): "
                      "an honest fit withholds what it gets wrong.",
-                     stress);
+                     stress) +
+         Agreement3dMarkdown(Agreement3d(runs));
 }
 
 std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
@@ -406,6 +409,8 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
     }
     tables.push_back(std::move(t));
   }
+  const std::vector<Agreement3dRecord> agreement = Agreement3d(runs);
+  if (!agreement.empty()) tables.push_back(Agreement3dHtmlTable(agreement));
   return tables;
 }
 

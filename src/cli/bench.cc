@@ -14,8 +14,10 @@
 #include <utility>
 #include <vector>
 
+#include "benchmarks/bench3d_groups.h"
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
+#include "imusysid/log.h"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
@@ -71,6 +73,13 @@ DEFINE_int32(seeds,
              -1,
              "Monte Carlo noise seeds per simulator scenario (0: none; "
              "-1: the preset's).");
+DEFINE_string(groups,
+              "",
+              "One vehicle's logs grouped, A.ulg+B.ulg,C.bin+D.bin: each "
+              "group's logs are fitted (added to --logs) and the agreement "
+              "between its flights per axis (values, spread, largest "
+              "difference, chi2 within stderr) is tabled as their accuracy "
+              "(3-D models; agreement3d.csv with --out).");
 DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
 DEFINE_string(scaling,
               "",
@@ -131,6 +140,24 @@ int RunBench(const std::vector<std::string>& positional) {
   if (!preset.ok()) return ReportError(cmd, preset.status());
   bench::BenchConfig config = *preset;
   if (FlagWasSet("logs")) config.logs = bench::SplitList(FLAGS_logs);
+  std::vector<bench::LogGroup3d> groups;
+  if (!FLAGS_groups.empty()) {
+    StatusOr<std::vector<bench::LogGroup3d>> parsed =
+        bench::ParseLogGroups3d(FLAGS_groups);
+    if (!parsed.ok()) return ReportError(cmd, parsed.status());
+    groups = std::move(parsed).value();
+    // The groups' logs replace the preset's own logs unless --logs names
+    // them; a log in --logs and a group is fitted once.
+    if (!FlagWasSet("logs")) config.logs.clear();
+    for (const bench::LogGroup3d& g : groups) {
+      for (const std::string& path : g.paths) {
+        if (std::find(config.logs.begin(), config.logs.end(), path) ==
+            config.logs.end()) {
+          config.logs.push_back(path);
+        }
+      }
+    }
+  }
   if (FlagWasSet("models")) {
     config.models = bench::SplitList(FLAGS_models);
     config.monte_carlo_models3d.clear();
@@ -194,6 +221,9 @@ int RunBench(const std::vector<std::string>& positional) {
   StatusOr<bench::BenchReport> report = bench::RunBench(config);
   if (!report.ok()) return ReportError(cmd, report.status());
   report->gbench = std::move(gbench);
+  bench::AssignLogGroups3d(groups, &report->runs3d);
+  const std::vector<bench::Agreement3dRecord> agreement =
+      bench::Agreement3d(report->runs3d);
 
   const std::string text = JsonOutput() ? bench::ReportJson(*report)
                                         : bench::FormatMarkdown(*report);
@@ -214,6 +244,11 @@ int RunBench(const std::vector<std::string>& positional) {
     };
     s = bench::WriteOutputs(*report, *staging);
     if (!s.ok()) return fail(s);
+    if (!agreement.empty()) {
+      s = WriteFileAtomically(*staging + "/agreement3d.csv",
+                              bench::Agreement3dCsv(agreement));
+      if (!s.ok()) return fail(s);
+    }
     std::size_t figure_count = 0;
     if (FLAGS_figures) {
       std::vector<report::Figure> figures;
@@ -237,7 +272,7 @@ int RunBench(const std::vector<std::string>& positional) {
       std::cerr << "wrote " << FLAGS_out
                 << "/{results3d.csv,report.md,report3d.html"
                 << (report->monte_carlo3d.empty() ? "" : ",monte_carlo3d.csv")
-                << "}\n";
+                << (agreement.empty() ? "" : ",agreement3d.csv") << "}\n";
     }
   }
   // A log that could not be fitted at all is bad input, even though the
@@ -313,7 +348,11 @@ const Command& BenchCommand() {
       "estimator x scenario x format x axis: bias, spread, 2-sigma "
       "coverage,\nstderr/spread, time. --logs with --preset=ci3d|3d adds "
       "those logs (real\nflights) to the simulated ones in the same tables. "
-      "--out adds results3d.csv,\nmonte_carlo3d.csv, report.md and "
+      "--groups=A.ulg+B.ulg,C.bin+D.bin\ngroups one vehicle's logs: the "
+      "agreement between its flights per axis (spread,\nlargest difference, "
+      "chi2 of the values about their stderr-weighted mean) is their\n"
+      "accuracy measure. --out adds results3d.csv,\nmonte_carlo3d.csv, "
+      "report.md and "
       "report3d.html (the 3-D tables, also in index.html).",
       WithLogFlags({"preset",
                     "logs",
@@ -324,6 +363,7 @@ const Command& BenchCommand() {
                     "threads",
                     "seed",
                     "covariance",
+                    "groups",
                     "figures",
                     "scaling",
                     "out",
