@@ -115,7 +115,7 @@ std::vector<Agreement3dRecord> Agreement3d(
   using Key = std::tuple<std::string, std::string, std::string, int>;
   std::vector<Key> keys;
   for (const Run3dRecord& r : runs) {
-    if (r.group.empty()) continue;
+    if (r.group.empty() || !r.preprocessing.empty()) continue;
     const Key k{r.group, r.model, r.estimator, r.instance};
     if (std::find(keys.begin(), keys.end(), k) == keys.end()) {
       keys.push_back(k);
@@ -128,7 +128,10 @@ std::vector<Agreement3dRecord> Agreement3d(
       std::tie(a.group, a.model, a.estimator, a.instance) = k;
       a.axis = axis;
       for (const Run3dRecord& r : runs) {
-        if (Key{r.group, r.model, r.estimator, r.instance} != k) continue;
+        if (Key{r.group, r.model, r.estimator, r.instance} != k ||
+            !r.preprocessing.empty()) {
+          continue;
+        }
         if (!r.Usable()) continue;
         const double p = r.imu.position_m[axis];
         const double s = r.imu.stderr_m[axis];

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "benchmarks/bench3d_groups.h"
+#include "benchmarks/bench3d_preprocess.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -77,6 +78,14 @@ Json3d Run3dToJson(const Run3dRecord& run) {
   j["log"] = run.log;
   if (!run.log_path.empty()) j["log_path"] = run.log_path;
   if (!run.group.empty()) j["group"] = run.group;
+  if (!run.preprocessing.empty()) {
+    j["preprocessing"] = {
+        {"label", run.preprocessing},
+        {"cutoff_hz", Bench3dJsonNum(run.cutoff_hz)},
+        {"derivative_half_width_s",
+         Bench3dJsonNum(run.derivative_half_width_s)},
+        {"delay_s", Bench3dJsonNum(run.fixed_delay_s)}};  // null: estimated
+  }
   j["format"] = run.format;
   j["scenario"] = run.scenario.empty() ? Json3d(nullptr) : Json3d(run.scenario);
   j["instance"] = run.instance;
@@ -239,6 +248,7 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
   std::vector<Run3dRecord> plain;
   std::vector<Run3dRecord> stress;
   for (const Run3dRecord& r : runs) {
+    if (!r.preprocessing.empty()) continue;  // their own table
     (r.scenario.find('/') == std::string::npos ? plain : stress).push_back(r);
   }
   return Runs3dTable(
@@ -254,7 +264,7 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
                      "nothing of (docs/simulator-3d.md, \"Stress effects\"): "
                      "an honest fit withholds what it gets wrong.",
                      stress) +
-         Agreement3dMarkdown(Agreement3d(runs));
+         Agreement3dMarkdown(Agreement3d(runs)) + Preprocess3dMarkdown(runs);
 }
 
 std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
@@ -342,6 +352,7 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
                 "time ms",
                 "termination"};
     for (const Run3dRecord& r : runs) {
+      if (!r.preprocessing.empty()) continue;  // their own table
       const bool u = r.Usable();
       for (int a = 0; a < 3; ++a) {
         t.rows.push_back(
@@ -411,6 +422,8 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
   }
   const std::vector<Agreement3dRecord> agreement = Agreement3d(runs);
   if (!agreement.empty()) tables.push_back(Agreement3dHtmlTable(agreement));
+  report::HtmlTable preprocessing = Preprocess3dHtmlTable(runs);
+  if (!preprocessing.rows.empty()) tables.push_back(std::move(preprocessing));
   return tables;
 }
 
@@ -443,6 +456,7 @@ std::string Runs3dCsv(const std::vector<Run3dRecord>& runs) {
     return std::isfinite(v) ? FormatShortest(v) : std::string();
   };
   for (const Run3dRecord& r : runs) {
+    if (!r.preprocessing.empty()) continue;  // their own table
     const bool u = r.Usable();
     out << r.log << "," << r.format << "," << r.scenario << "," << r.model
         << "," << r.estimator << "," << r.instance << "," << r.seed;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "benchmarks/bench3d_groups.h"
+#include "benchmarks/bench3d_preprocess.h"
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
 #include "imusysid/log.h"
@@ -80,6 +81,20 @@ DEFINE_string(groups,
               "between its flights per axis (values, spread, largest "
               "difference, chi2 within stderr) is tabled as their accuracy "
               "(3-D models; agreement3d.csv with --out).");
+DEFINE_string(cutoffs_hz,
+              "",
+              "3-D preprocessing as a dimension: low-pass cutoffs, Hz, e.g. "
+              "3,5,8; with --derivative_widths_s and --delays every "
+              "combination refits each 3-D log (a row each; "
+              "preprocess3d.csv with --out). Empty: the default 5 Hz.");
+DEFINE_string(derivative_widths_s,
+              "",
+              "3-D preprocessing: derivative half-widths, s, e.g. "
+              "0.03,0.05,0.08 (empty: the default 0.05).");
+DEFINE_string(delays,
+              "",
+              "3-D preprocessing: estimator delays, 'estimated' or s, e.g. "
+              "estimated,0.02 (empty: estimated).");
 DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
 DEFINE_string(scaling,
               "",
@@ -212,6 +227,16 @@ int RunBench(const std::vector<std::string>& positional) {
     }
   }
 
+  std::vector<bench::Preprocess3dVariant> preprocess_variants;
+  if (!FLAGS_cutoffs_hz.empty() || !FLAGS_derivative_widths_s.empty() ||
+      !FLAGS_delays.empty()) {
+    StatusOr<std::vector<bench::Preprocess3dVariant>> variants =
+        bench::Preprocess3dVariants(
+            FLAGS_cutoffs_hz, FLAGS_derivative_widths_s, FLAGS_delays);
+    if (!variants.ok()) return ReportError(cmd, variants.status());
+    preprocess_variants = std::move(variants).value();
+  }
+
   std::cerr << "bench: preset " << config.preset << ", " << config.logs.size()
             << " log(s), " << config.threads << " worker(s)"
             << (config.seeds > 0
@@ -221,6 +246,18 @@ int RunBench(const std::vector<std::string>& positional) {
   StatusOr<bench::BenchReport> report = bench::RunBench(config);
   if (!report.ok()) return ReportError(cmd, report.status());
   report->gbench = std::move(gbench);
+  if (!preprocess_variants.empty()) {
+    std::vector<std::string> models3d;
+    for (const std::string& m : config.models) {
+      if (bench::Is3dModel(m)) models3d.push_back(m);
+    }
+    StatusOr<std::vector<bench::Log3d>> logs3d = bench::BenchLogs3d(config);
+    if (!logs3d.ok()) return ReportError(cmd, logs3d.status());
+    for (bench::Run3dRecord& r : bench::RunPreprocessing3d(
+             config, models3d, *logs3d, preprocess_variants)) {
+      report->runs3d.push_back(std::move(r));
+    }
+  }
   bench::AssignLogGroups3d(groups, &report->runs3d);
   const std::vector<bench::Agreement3dRecord> agreement =
       bench::Agreement3d(report->runs3d);
@@ -244,6 +281,11 @@ int RunBench(const std::vector<std::string>& positional) {
     };
     s = bench::WriteOutputs(*report, *staging);
     if (!s.ok()) return fail(s);
+    if (!preprocess_variants.empty()) {
+      s = WriteFileAtomically(*staging + "/preprocess3d.csv",
+                              bench::Preprocess3dCsv(report->runs3d));
+      if (!s.ok()) return fail(s);
+    }
     if (!agreement.empty()) {
       s = WriteFileAtomically(*staging + "/agreement3d.csv",
                               bench::Agreement3dCsv(agreement));
@@ -272,7 +314,9 @@ int RunBench(const std::vector<std::string>& positional) {
       std::cerr << "wrote " << FLAGS_out
                 << "/{results3d.csv,report.md,report3d.html"
                 << (report->monte_carlo3d.empty() ? "" : ",monte_carlo3d.csv")
-                << (agreement.empty() ? "" : ",agreement3d.csv") << "}\n";
+                << (agreement.empty() ? "" : ",agreement3d.csv")
+                << (preprocess_variants.empty() ? "" : ",preprocess3d.csv")
+                << "}\n";
     }
   }
   // A log that could not be fitted at all is bad input, even though the
@@ -351,7 +395,11 @@ const Command& BenchCommand() {
       "--groups=A.ulg+B.ulg,C.bin+D.bin\ngroups one vehicle's logs: the "
       "agreement between its flights per axis (spread,\nlargest difference, "
       "chi2 of the values about their stderr-weighted mean) is their\n"
-      "accuracy measure. --out adds results3d.csv,\nmonte_carlo3d.csv, "
+      "accuracy measure. --cutoffs_hz=3,5,8 --derivative_widths_s=0.03,0.05\n"
+      "--delays=estimated,0.02 refit each 3-D log per combination (the "
+      "model's default\nestimator, or --estimators), a row each: the "
+      "preprocessing behind the systematic\npart of stderr. --out adds "
+      "results3d.csv,\nmonte_carlo3d.csv, "
       "report.md and "
       "report3d.html (the 3-D tables, also in index.html).",
       WithLogFlags({"preset",
@@ -364,6 +412,9 @@ const Command& BenchCommand() {
                     "seed",
                     "covariance",
                     "groups",
+                    "cutoffs_hz",
+                    "derivative_widths_s",
+                    "delays",
                     "figures",
                     "scaling",
                     "out",
