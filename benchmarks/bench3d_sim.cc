@@ -90,6 +90,7 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
     sum += e;
     sq += e * e;
   }
+  r.errors_m = errors;
   r.bias_m = sum / n;
   r.rmse_m = std::sqrt(sq / n);
   if (n >= 2) {

@@ -66,6 +66,9 @@ struct MonteCarlo3dRecord {
   double spread_over_bound = kNaN;  // spread / bound (≥ 1 up to sampling)
   double time_s = kNaN;             // median Identify call
   double fit_time_s = kNaN;         // median solve alone
+  // Each usable seed's error (fitted − true), m, in seed order: what the
+  // figures scatter (bench3d_figures.h).
+  std::vector<double> errors_m;
 };
 
 // The Monte Carlo over config.seeds seeds (options.seed, +1, ...) of each
