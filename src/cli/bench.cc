@@ -363,6 +363,8 @@ const Command& BenchCommand() {
           JoinNames(bench::BenchModelNames(), ",", ",") +
           "] [--estimators=NAMES|all] [--repeats=N] "
           "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
+          "[--groups=A.ulg+B.ulg,...] [--cutoffs_hz=3,5,8] "
+          "[--derivative_widths_s=0.03,0.05] [--delays=estimated,0.02] "
           "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
       "API and prints\nMarkdown tables: per-run accuracy against the truth "
