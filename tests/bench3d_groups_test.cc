@@ -121,6 +121,16 @@ TEST(Bench3dGroups, BenchGroupsFlagTablesAndWritesTheAgreement) {
   std::stringstream html;
   html << page.rdbuf();
   EXPECT_NE(html.str().find("<table id=\"agreement3d\""), std::string::npos);
+  const auto as_json = testing::RunCli(
+      "bench --models=rigid3d --estimators=linear --format=json --groups=" + a +
+      "+" + b);
+  ASSERT_EQ(as_json.exit_code, 0) << as_json.err;
+  const nlohmann::json j = testing::ParseJson(as_json);
+  ASSERT_TRUE(j.contains("agreement_3d"));
+  ASSERT_EQ(j["agreement_3d"].size(), 3u);
+  EXPECT_EQ(j["agreement_3d"][0]["flights"], 2);
+  EXPECT_EQ(j["agreement_3d"][0]["dof"], 1);
+  EXPECT_EQ(j["runs"][0]["group"], a + "+" + b);
   const auto bad = testing::RunCli("bench --models=rigid3d --groups=" + a);
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
 }

@@ -19,6 +19,7 @@
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
 #include "imusysid/log.h"
+#include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
@@ -262,8 +263,16 @@ int RunBench(const std::vector<std::string>& positional) {
   const std::vector<bench::Agreement3dRecord> agreement =
       bench::Agreement3d(report->runs3d);
 
-  const std::string text = JsonOutput() ? bench::ReportJson(*report)
-                                        : bench::FormatMarkdown(*report);
+  std::string text = JsonOutput() ? bench::ReportJson(*report)
+                                  : bench::FormatMarkdown(*report);
+  if (JsonOutput() && !agreement.empty()) {
+    // The groups' agreement beside the runs it is formed from.
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const auto& a : agreement) rows.push_back(bench::Agreement3dToJson(a));
+    j["agreement_3d"] = rows;
+    text = j.dump(2) + "\n";
+  }
   Status s = EmitOutput(text, "");
   if (!s.ok()) return ReportError(cmd, s);
 
