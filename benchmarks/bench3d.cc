@@ -193,7 +193,8 @@ std::vector<Run3dRecord> FitLog3d(const BenchConfig& config,
                                   const Log3d& log,
                                   const std::string& model,
                                   const std::string& estimator,
-                                  std::shared_ptr<const Model>* built) {
+                                  std::shared_ptr<const Model>* built,
+                                  const Preprocess3dOptions* preprocess3d) {
   Run3dRecord base;
   base.log = log.name;
   base.log_path = log.path;
@@ -209,6 +210,7 @@ std::vector<Run3dRecord> FitLog3d(const BenchConfig& config,
   IdentifyOptions options;
   options.model = model;
   options.estimators = {estimator};
+  if (preprocess3d != nullptr) options.preprocess3d = *preprocess3d;
   options.estimator = config.options;
   options.estimator.ga.num_threads = 1;
   // The problem of each instance, kept to ask the estimator's own account

@@ -16,6 +16,7 @@
 #include "benchmarks/bench_config.h"
 #include "benchmarks/truth_sidecar.h"
 #include "imusysid/extend/model.h"
+#include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d_report.h"
 #include "imusysid/simulate3d.h"
 #include "imusysid/status.h"
@@ -64,6 +65,15 @@ struct Run3dRecord {
   std::string format;
   std::string scenario;
   std::uint64_t seed = 0;
+  // The vehicle's group of logs (bench3d_groups.h), "" when not grouped.
+  std::string group;
+  // A run of the preprocessing table (bench3d_preprocess.h): its label
+  // ("" for the bench's own runs, at the library's default preprocessing)
+  // and settings (delay NaN: estimated).
+  std::string preprocessing;
+  double cutoff_hz = kNaN;
+  double derivative_half_width_s = kNaN;
+  double fixed_delay_s = kNaN;
   std::string model;
   std::string estimator;
   int instance = 0;
@@ -109,11 +119,15 @@ Log3d Log3dFromFile(const std::string& path);
 // the log holds) and scores each fitted instance. *built, when not null,
 // receives the model of the first instance (to ask which estimators
 // support it). A failed fit gives one record with the status.
-std::vector<Run3dRecord> FitLog3d(const BenchConfig& config,
-                                  const Log3d& log,
-                                  const std::string& model,
-                                  const std::string& estimator,
-                                  std::shared_ptr<const Model>* built);
+// `preprocess3d`, when not null, replaces the library's default 3-D
+// preprocessing.
+std::vector<Run3dRecord> FitLog3d(
+    const BenchConfig& config,
+    const Log3d& log,
+    const std::string& model,
+    const std::string& estimator,
+    std::shared_ptr<const Model>* built,
+    const Preprocess3dOptions* preprocess3d = nullptr);
 
 // Every log × 3-D model × estimator: first the model's closed form on each
 // (log, model) to learn which estimators support the model, then the rest,

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "benchmarks/bench3d_groups.h"
+#include "benchmarks/bench3d_preprocess.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -75,6 +77,15 @@ Json3d Run3dToJson(const Run3dRecord& run) {
   j["estimator"] = run.estimator;
   j["log"] = run.log;
   if (!run.log_path.empty()) j["log_path"] = run.log_path;
+  if (!run.group.empty()) j["group"] = run.group;
+  if (!run.preprocessing.empty()) {
+    j["preprocessing"] = {
+        {"label", run.preprocessing},
+        {"cutoff_hz", Bench3dJsonNum(run.cutoff_hz)},
+        {"derivative_half_width_s",
+         Bench3dJsonNum(run.derivative_half_width_s)},
+        {"delay_s", Bench3dJsonNum(run.fixed_delay_s)}};  // null: estimated
+  }
   j["format"] = run.format;
   j["scenario"] = run.scenario.empty() ? Json3d(nullptr) : Json3d(run.scenario);
   j["instance"] = run.instance;
@@ -158,7 +169,9 @@ Json3d MonteCarlo3dToJson(const MonteCarlo3dRecord& r) {
                 {"mean_stderr_m", Bench3dJsonNum(r.mean_stderr_m)},
                 {"coverage_2sigma", Bench3dJsonNum(r.coverage)},
                 {"stderr_over_spread", Bench3dJsonNum(r.stderr_over_spread)},
-                {"spread_over_bound", nullptr},
+                {"bound_m", Bench3dJsonNum(r.bound_m)},
+                {"white_bound_m", Bench3dJsonNum(r.white_bound_m)},
+                {"spread_over_bound", Bench3dJsonNum(r.spread_over_bound)},
                 {"time_s", Bench3dJsonNum(r.time_s)},
                 {"fit_time_s", Bench3dJsonNum(r.fit_time_s)}};
 }
@@ -235,6 +248,7 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
   std::vector<Run3dRecord> plain;
   std::vector<Run3dRecord> stress;
   for (const Run3dRecord& r : runs) {
+    if (!r.preprocessing.empty()) continue;  // their own table
     (r.scenario.find('/') == std::string::npos ? plain : stress).push_back(r);
   }
   return Runs3dTable(
@@ -249,7 +263,8 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
                      "The same on flights with an effect the models know "
                      "nothing of (docs/simulator-3d.md, \"Stress effects\"): "
                      "an honest fit withholds what it gets wrong.",
-                     stress);
+                     stress) +
+         Agreement3dMarkdown(Agreement3d(runs)) + Preprocess3dMarkdown(runs);
 }
 
 std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
@@ -261,8 +276,11 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
          "error, spread = standard deviation of the fitted values, cover = "
          "fraction with |error| <= 2σ̂, σ̂/spread = mean σ̂ over the "
          "spread (1: σ̂ as large as the scatter; the systematic part of σ̂ "
-         "makes it larger). The 3-D Cramér–Rao bound is not computed yet "
-         "(spread/bound: n/a). given = seeds whose axis was given.\n\n";
+         "makes it larger). bound = the Cramér–Rao bound at the truth with the "
+         "noise level and correlation of the flight's own residual "
+         "(an AR model per residual axis; docs/benchmarks.md), white = the "
+         "same for white residuals, spread/bound >= 1 up to sampling error "
+         "for an unbiased estimator. given = seeds whose axis was given.\n\n";
   std::vector<std::vector<std::string>> rows;
   for (const MonteCarlo3dRecord& r : records) {
     rows.push_back({r.model,
@@ -278,7 +296,9 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                     Mm3d(r.mean_stderr_m),
                     Cell3d(r.coverage, 2),
                     Cell3d(r.stderr_over_spread, 2),
-                    "n/a",
+                    Cell3d(1000.0 * r.bound_m, 3),
+                    Cell3d(1000.0 * r.white_bound_m, 3),
+                    Cell3d(r.spread_over_bound, 2),
                     Cell3d(1000.0 * r.time_s, 1)});
   }
   out << Table3d({"model",
@@ -294,6 +314,8 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                   "σ̂ mm",
                   "cover 2σ̂",
                   "σ̂/spread",
+                  "bound mm",
+                  "white mm",
                   "spread/bound",
                   "time ms"},
                  rows)
@@ -330,6 +352,7 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
                 "time ms",
                 "termination"};
     for (const Run3dRecord& r : runs) {
+      if (!r.preprocessing.empty()) continue;  // their own table
       const bool u = r.Usable();
       for (int a = 0; a < 3; ++a) {
         t.rows.push_back(
@@ -355,8 +378,9 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
     report::HtmlTable t;
     t.id = "monte_carlo3d";
     t.caption =
-        "3-D Monte Carlo, IMU instance 0 (mm; cover = |error| <= 2σ̂; the "
-        "3-D bound is not computed yet)";
+        "3-D Monte Carlo, IMU instance 0 (mm; cover = |error| <= 2σ̂; bound "
+        "= Cramér–Rao bound with the residual's AR noise, white = with "
+        "white noise)";
     t.header = {"model",
                 "estimator",
                 "scenario",
@@ -370,6 +394,9 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
                 "σ̂",
                 "cover 2σ̂",
                 "σ̂/spread",
+                "bound",
+                "white",
+                "spread/bound",
                 "time ms"};
     for (const MonteCarlo3dRecord& r : records) {
       t.rows.push_back(
@@ -386,10 +413,17 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
            exact(r.mean_stderr_m, 1000.0, 2),
            exact(r.coverage, 1.0, 2),
            exact(r.stderr_over_spread, 1.0, 2),
+           exact(r.bound_m, 1000.0, 3),
+           exact(r.white_bound_m, 1000.0, 3),
+           exact(r.spread_over_bound, 1.0, 2),
            exact(r.time_s, 1000.0, 1)});
     }
     tables.push_back(std::move(t));
   }
+  const std::vector<Agreement3dRecord> agreement = Agreement3d(runs);
+  if (!agreement.empty()) tables.push_back(Agreement3dHtmlTable(agreement));
+  report::HtmlTable preprocessing = Preprocess3dHtmlTable(runs);
+  if (!preprocessing.rows.empty()) tables.push_back(std::move(preprocessing));
   return tables;
 }
 
@@ -422,6 +456,7 @@ std::string Runs3dCsv(const std::vector<Run3dRecord>& runs) {
     return std::isfinite(v) ? FormatShortest(v) : std::string();
   };
   for (const Run3dRecord& r : runs) {
+    if (!r.preprocessing.empty()) continue;  // their own table
     const bool u = r.Usable();
     out << r.log << "," << r.format << "," << r.scenario << "," << r.model
         << "," << r.estimator << "," << r.instance << "," << r.seed;
@@ -447,7 +482,8 @@ std::string MonteCarlo3dCsv(const std::vector<MonteCarlo3dRecord>& records) {
   std::ostringstream out;
   out << "model,estimator,scenario,format,axis,seeds,usable,given,converged,"
          "truth_m,bias_m,spread_m,rmse_m,mean_stderr_m,coverage_2sigma,"
-         "stderr_over_spread,time_s,fit_time_s\n";
+         "stderr_over_spread,bound_m,white_bound_m,spread_over_bound,time_s,"
+         "fit_time_s\n";
   auto num = [](double v) {
     return std::isfinite(v) ? FormatShortest(v) : std::string();
   };
@@ -457,8 +493,9 @@ std::string MonteCarlo3dCsv(const std::vector<MonteCarlo3dRecord>& records) {
         << "," << r.given << "," << r.converged << "," << num(r.truth_m) << ","
         << num(r.bias_m) << "," << num(r.spread_m) << "," << num(r.rmse_m)
         << "," << num(r.mean_stderr_m) << "," << num(r.coverage) << ","
-        << num(r.stderr_over_spread) << "," << num(r.time_s) << ","
-        << num(r.fit_time_s) << "\n";
+        << num(r.stderr_over_spread) << "," << num(r.bound_m) << ","
+        << num(r.white_bound_m) << "," << num(r.spread_over_bound) << ","
+        << num(r.time_s) << "," << num(r.fit_time_s) << "\n";
   }
   return out.str();
 }

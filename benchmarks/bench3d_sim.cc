@@ -8,6 +8,7 @@
 #include <tuple>
 #include <utility>
 
+#include "benchmarks/bench3d_bound.h"
 #include "benchmarks/bench_internal.h"
 #include "imusysid/extend/model.h"
 #include "imusysid/extend/registry.h"
@@ -33,6 +34,9 @@ struct Seed3dSample {
   Eigen::Vector3d stderr_m = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d truth_m = Eigen::Vector3d::Constant(kNaN);
   std::array<bool, 3> given = {false, false, false};
+  // The flight's Cramér–Rao bound variances (instance 0), NaN without one.
+  Eigen::Vector3d bound_var_m2 = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d white_bound_var_m2 = Eigen::Vector3d::Constant(kNaN);
   double time_s = kNaN;
   double fit_time_s = kNaN;
 };
@@ -48,8 +52,19 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
   r.axis = axis;
   r.seeds = static_cast<int>(samples.size());
   std::vector<double> errors, values, stderrs, times, fit_times;
+  double bound_sum = 0.0, white_sum = 0.0;
+  int bounds = 0, whites = 0;
   int covered = 0;
   for (const Seed3dSample& s : samples) {
+    if (std::isfinite(s.bound_var_m2[axis])) {
+      bound_sum += s.bound_var_m2[axis];
+      ++bounds;
+    }
+    if (std::isfinite(s.white_bound_var_m2[axis])) {
+      white_sum += s.white_bound_var_m2[axis];
+      ++whites;
+    }
+
     if (std::isfinite(s.time_s)) times.push_back(s.time_s);
     if (std::isfinite(s.fit_time_s)) fit_times.push_back(s.fit_time_s);
     if (!s.usable || !std::isfinite(s.error_m[axis])) continue;
@@ -66,6 +81,8 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
   }
   r.time_s = Bench3dMedian(times);
   r.fit_time_s = Bench3dMedian(fit_times);
+  if (bounds > 0) r.bound_m = std::sqrt(bound_sum / bounds);
+  if (whites > 0) r.white_bound_m = std::sqrt(white_sum / whites);
   const std::size_t n = errors.size();
   if (n == 0) return r;
   double sum = 0.0, sq = 0.0;
@@ -73,6 +90,7 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
     sum += e;
     sq += e * e;
   }
+  r.errors_m = errors;
   r.bias_m = sum / n;
   r.rmse_m = std::sqrt(sq / n);
   if (n >= 2) {
@@ -82,6 +100,9 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
     double var = 0.0;
     for (double v : values) var += (v - mean) * (v - mean);
     r.spread_m = std::sqrt(var / (n - 1));
+    if (std::isfinite(r.bound_m) && r.bound_m > 0.0) {
+      r.spread_over_bound = r.spread_m / r.bound_m;
+    }
   }
   if (!stderrs.empty()) {
     double s = 0.0;
@@ -186,6 +207,39 @@ StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
   return logs;
 }
 
+// The Cramér–Rao bound of one flight's instance 0 in the IMU's own axes
+// (the frame of the model's position and of the truth).
+struct Bench3dFlightBound {
+  Eigen::Vector3d var_m2 = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d white_var_m2 = Eigen::Vector3d::Constant(kNaN);
+};
+
+Bench3dFlightBound FlightBound3d(const Model* built,
+                                 const Log3d& log,
+                                 const std::vector<Run3dRecord>& runs) {
+  Bench3dFlightBound out;
+  if (built == nullptr || !log.truth.known ||
+      log.truth.position_imu_axes_m.empty()) {
+    return out;
+  }
+  // `built` is the first problem Identify configured; use it only when it
+  // is instance 0's (its sample count).
+  bool instance0 = false;
+  for (const Run3dRecord& r : runs) {
+    if (r.instance == 0 && r.status.ok() &&
+        r.imu.samples == built->data().size()) {
+      instance0 = true;
+    }
+  }
+  if (!instance0) return out;
+  StatusOr<PositionBound3d> bound = Rigid3dPositionBound(
+      *built, log.truth.position_imu_axes_m.front(), kBench3dMaxArOrder);
+  if (!bound.ok()) return out;
+  out.var_m2 = bound->sd_m.cwiseAbs2();
+  out.white_var_m2 = bound->white_sd_m.cwiseAbs2();
+  return out;
+}
+
 }  // namespace
 
 StatusOr<std::vector<Log3d>> SimulateLogs3d(const BenchConfig& config,
@@ -226,6 +280,8 @@ std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
           std::shared_ptr<const Model> built;
           std::vector<Run3dRecord> first_runs =
               FitLog3d(config, log, model, first, &built);
+          const Bench3dFlightBound flight_bound =
+              FlightBound3d(built.get(), log, first_runs);
           std::vector<std::string> names = EstimatorsFor(
               model, built.get(), config.estimators, config.model_estimators);
           for (const std::string& name : names) {
@@ -245,6 +301,8 @@ std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
               s.given = r.imu.determined;
               s.fit_time_s = r.fit_time_s;
             }
+            s.bound_var_m2 = flight_bound.var_m2;
+            s.white_bound_var_m2 = flight_bound.white_var_m2;
             mine.push_back({{model, name, scenario, log.format}, s});
           }
         }

@@ -57,8 +57,18 @@ struct MonteCarlo3dRecord {
   double mean_stderr_m = kNaN;       // mean σ̂ (statistical and systematic)
   double coverage = kNaN;            // fraction with |error| <= 2σ̂
   double stderr_over_spread = kNaN;  // mean σ̂ / spread
-  double time_s = kNaN;              // median Identify call
-  double fit_time_s = kNaN;          // median solve alone
+  // The Cramér–Rao bound on the axis (bench3d_bound.h): √ of the mean over
+  // the seeds of each flight's bound variance, with the residual's AR noise;
+  // white_bound_m the same had the residuals been white; NaN where the model
+  // has no bound (not linear in its parameters).
+  double bound_m = kNaN;
+  double white_bound_m = kNaN;
+  double spread_over_bound = kNaN;  // spread / bound (≥ 1 up to sampling)
+  double time_s = kNaN;             // median Identify call
+  double fit_time_s = kNaN;         // median solve alone
+  // Each usable seed's error (fitted − true), m, in seed order: what the
+  // figures scatter (bench3d_figures.h).
+  std::vector<double> errors_m;
 };
 
 // The Monte Carlo over config.seeds seeds (options.seed, +1, ...) of each

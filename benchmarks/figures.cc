@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "benchmarks/bench3d_figures.h"
 #include "benchmarks/bench3d_report.h"
 #include "benchmarks/bench_internal.h"
 #include "src/report/gnuplot.h"
@@ -302,6 +303,9 @@ Status WriteBenchFigures(const BenchReport& report,
         has_gbench,
         &drawn));
   }
+  // The 3-D Monte Carlo (bench3d_figures.h).
+  IMUSYSID_RETURN_IF_ERROR(
+      DrawMonteCarlo3dFigures(gnuplot, dir, report.monte_carlo3d, &drawn));
   IMUSYSID_RETURN_IF_ERROR(
       report::WriteIndexHtml(dir,
                              "imusysid bench (" + report.context.preset + ")",

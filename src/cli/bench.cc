@@ -14,8 +14,12 @@
 #include <utility>
 #include <vector>
 
+#include "benchmarks/bench3d_groups.h"
+#include "benchmarks/bench3d_preprocess.h"
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
+#include "imusysid/log.h"
+#include "nlohmann/json.hpp"
 #include "src/cli/common.h"
 #include "src/cli/estimator_flags.h"
 #include "src/cli/log_flags.h"
@@ -71,6 +75,27 @@ DEFINE_int32(seeds,
              -1,
              "Monte Carlo noise seeds per simulator scenario (0: none; "
              "-1: the preset's).");
+DEFINE_string(groups,
+              "",
+              "One vehicle's logs grouped, A.ulg+B.ulg,C.bin+D.bin: each "
+              "group's logs are fitted (added to --logs) and the agreement "
+              "between its flights per axis (values, spread, largest "
+              "difference, chi2 within stderr) is tabled as their accuracy "
+              "(3-D models; agreement3d.csv with --out).");
+DEFINE_string(cutoffs_hz,
+              "",
+              "3-D preprocessing as a dimension: low-pass cutoffs, Hz, e.g. "
+              "3,5,8; with --derivative_widths_s and --delays every "
+              "combination refits each 3-D log (a row each; "
+              "preprocess3d.csv with --out). Empty: the default 5 Hz.");
+DEFINE_string(derivative_widths_s,
+              "",
+              "3-D preprocessing: derivative half-widths, s, e.g. "
+              "0.03,0.05,0.08 (empty: the default 0.05).");
+DEFINE_string(delays,
+              "",
+              "3-D preprocessing: estimator delays, 'estimated' or s, e.g. "
+              "estimated,0.02 (empty: estimated).");
 DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
 DEFINE_string(scaling,
               "",
@@ -131,6 +156,24 @@ int RunBench(const std::vector<std::string>& positional) {
   if (!preset.ok()) return ReportError(cmd, preset.status());
   bench::BenchConfig config = *preset;
   if (FlagWasSet("logs")) config.logs = bench::SplitList(FLAGS_logs);
+  std::vector<bench::LogGroup3d> groups;
+  if (!FLAGS_groups.empty()) {
+    StatusOr<std::vector<bench::LogGroup3d>> parsed =
+        bench::ParseLogGroups3d(FLAGS_groups);
+    if (!parsed.ok()) return ReportError(cmd, parsed.status());
+    groups = std::move(parsed).value();
+    // The groups' logs replace the preset's own logs unless --logs names
+    // them; a log in --logs and a group is fitted once.
+    if (!FlagWasSet("logs")) config.logs.clear();
+    for (const bench::LogGroup3d& g : groups) {
+      for (const std::string& path : g.paths) {
+        if (std::find(config.logs.begin(), config.logs.end(), path) ==
+            config.logs.end()) {
+          config.logs.push_back(path);
+        }
+      }
+    }
+  }
   if (FlagWasSet("models")) {
     config.models = bench::SplitList(FLAGS_models);
     config.monte_carlo_models3d.clear();
@@ -185,6 +228,16 @@ int RunBench(const std::vector<std::string>& positional) {
     }
   }
 
+  std::vector<bench::Preprocess3dVariant> preprocess_variants;
+  if (!FLAGS_cutoffs_hz.empty() || !FLAGS_derivative_widths_s.empty() ||
+      !FLAGS_delays.empty()) {
+    StatusOr<std::vector<bench::Preprocess3dVariant>> variants =
+        bench::Preprocess3dVariants(
+            FLAGS_cutoffs_hz, FLAGS_derivative_widths_s, FLAGS_delays);
+    if (!variants.ok()) return ReportError(cmd, variants.status());
+    preprocess_variants = std::move(variants).value();
+  }
+
   std::cerr << "bench: preset " << config.preset << ", " << config.logs.size()
             << " log(s), " << config.threads << " worker(s)"
             << (config.seeds > 0
@@ -194,9 +247,32 @@ int RunBench(const std::vector<std::string>& positional) {
   StatusOr<bench::BenchReport> report = bench::RunBench(config);
   if (!report.ok()) return ReportError(cmd, report.status());
   report->gbench = std::move(gbench);
+  if (!preprocess_variants.empty()) {
+    std::vector<std::string> models3d;
+    for (const std::string& m : config.models) {
+      if (bench::Is3dModel(m)) models3d.push_back(m);
+    }
+    StatusOr<std::vector<bench::Log3d>> logs3d = bench::BenchLogs3d(config);
+    if (!logs3d.ok()) return ReportError(cmd, logs3d.status());
+    for (bench::Run3dRecord& r : bench::RunPreprocessing3d(
+             config, models3d, *logs3d, preprocess_variants)) {
+      report->runs3d.push_back(std::move(r));
+    }
+  }
+  bench::AssignLogGroups3d(groups, &report->runs3d);
+  const std::vector<bench::Agreement3dRecord> agreement =
+      bench::Agreement3d(report->runs3d);
 
-  const std::string text = JsonOutput() ? bench::ReportJson(*report)
-                                        : bench::FormatMarkdown(*report);
+  std::string text = JsonOutput() ? bench::ReportJson(*report)
+                                  : bench::FormatMarkdown(*report);
+  if (JsonOutput() && !agreement.empty()) {
+    // The groups' agreement beside the runs it is formed from.
+    nlohmann::ordered_json j = nlohmann::ordered_json::parse(text);
+    nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+    for (const auto& a : agreement) rows.push_back(bench::Agreement3dToJson(a));
+    j["agreement_3d"] = rows;
+    text = j.dump(2) + "\n";
+  }
   Status s = EmitOutput(text, "");
   if (!s.ok()) return ReportError(cmd, s);
 
@@ -214,6 +290,16 @@ int RunBench(const std::vector<std::string>& positional) {
     };
     s = bench::WriteOutputs(*report, *staging);
     if (!s.ok()) return fail(s);
+    if (!preprocess_variants.empty()) {
+      s = WriteFileAtomically(*staging + "/preprocess3d.csv",
+                              bench::Preprocess3dCsv(report->runs3d));
+      if (!s.ok()) return fail(s);
+    }
+    if (!agreement.empty()) {
+      s = WriteFileAtomically(*staging + "/agreement3d.csv",
+                              bench::Agreement3dCsv(agreement));
+      if (!s.ok()) return fail(s);
+    }
     std::size_t figure_count = 0;
     if (FLAGS_figures) {
       std::vector<report::Figure> figures;
@@ -237,6 +323,8 @@ int RunBench(const std::vector<std::string>& positional) {
       std::cerr << "wrote " << FLAGS_out
                 << "/{results3d.csv,report.md,report3d.html"
                 << (report->monte_carlo3d.empty() ? "" : ",monte_carlo3d.csv")
+                << (agreement.empty() ? "" : ",agreement3d.csv")
+                << (preprocess_variants.empty() ? "" : ",preprocess3d.csv")
                 << "}\n";
     }
   }
@@ -284,6 +372,8 @@ const Command& BenchCommand() {
           JoinNames(bench::BenchModelNames(), ",", ",") +
           "] [--estimators=NAMES|all] [--repeats=N] "
           "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
+          "[--groups=A.ulg+B.ulg,...] [--cutoffs_hz=3,5,8] "
+          "[--derivative_widths_s=0.03,0.05] [--delays=estimated,0.02] "
           "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
       "API and prints\nMarkdown tables: per-run accuracy against the truth "
@@ -313,7 +403,15 @@ const Command& BenchCommand() {
       "estimator x scenario x format x axis: bias, spread, 2-sigma "
       "coverage,\nstderr/spread, time. --logs with --preset=ci3d|3d adds "
       "those logs (real\nflights) to the simulated ones in the same tables. "
-      "--out adds results3d.csv,\nmonte_carlo3d.csv, report.md and "
+      "--groups=A.ulg+B.ulg,C.bin+D.bin\ngroups one vehicle's logs: the "
+      "agreement between its flights per axis (spread,\nlargest difference, "
+      "chi2 of the values about their stderr-weighted mean) is their\n"
+      "accuracy measure. --cutoffs_hz=3,5,8 --derivative_widths_s=0.03,0.05\n"
+      "--delays=estimated,0.02 refit each 3-D log per combination (the "
+      "model's default\nestimator, or --estimators), a row each: the "
+      "preprocessing behind the systematic\npart of stderr. --out adds "
+      "results3d.csv,\nmonte_carlo3d.csv, "
+      "report.md and "
       "report3d.html (the 3-D tables, also in index.html).",
       WithLogFlags({"preset",
                     "logs",
@@ -324,6 +422,10 @@ const Command& BenchCommand() {
                     "threads",
                     "seed",
                     "covariance",
+                    "groups",
+                    "cutoffs_hz",
+                    "derivative_widths_s",
+                    "delays",
                     "figures",
                     "scaling",
                     "out",
