@@ -6,6 +6,7 @@
 
 #include "benchmarks/bench3d_groups.h"
 #include "benchmarks/bench3d_preprocess.h"
+#include "benchmarks/bench_internal.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -28,33 +29,7 @@ Json3d Vector3dJson(const Eigen::Vector3d& v) {
   return a;
 }
 
-std::string Cell3d(double v, int decimals) {
-  return std::isfinite(v) ? FormatFixed(v, decimals) : "n/a";
-}
-
-std::string Mm3d(double m) { return Cell3d(1000.0 * m, 2); }
-
-std::string Table3d(const std::vector<std::string>& header,
-                    const std::vector<std::vector<std::string>>& rows) {
-  std::ostringstream out;
-  auto emit = [&](const std::vector<std::string>& row) {
-    out << "|";
-    for (std::size_t i = 0; i < header.size(); ++i) {
-      out << " " << (i < row.size() ? row[i] : "") << " |";
-    }
-    out << "\n";
-  };
-  emit(header);
-  out << "|";
-  for (std::size_t i = 0; i < header.size(); ++i) out << " --- |";
-  out << "\n";
-  for (const auto& row : rows) emit(row);
-  return out.str();
-}
-
-std::string Cut3d(const std::string& text, std::size_t n) {
-  return text.size() <= n ? text : text.substr(0, n) + "…";
-}
+std::string Mm3d(double m) { return internal::FixedCell(1000.0 * m, 2); }
 
 // Each axis's decision in one cell: "x given, y stderr, z given".
 std::string Decisions3d(const Run3dRecord& run) {
@@ -202,37 +177,38 @@ std::string Runs3dTable(const std::string& title,
          Mm3d(run.error_m[0]) + " / " + Mm3d(run.error_m[1]) + " / " +
              Mm3d(run.error_m[2]),
          Decisions3d(run),
-         u ? Cell3d(imu.misalignment_roll_deg, 2) + " / " +
-                 Cell3d(imu.misalignment_pitch_deg, 2)
+         u ? internal::FixedCell(imu.misalignment_roll_deg, 2) + " / " +
+                 internal::FixedCell(imu.misalignment_pitch_deg, 2)
            : "-",
-         Cell3d(1000.0 * run.estimator_delay_s, 1),
+         internal::FixedCell(1000.0 * run.estimator_delay_s, 1),
          run.evaluations >= 0 ? std::to_string(run.evaluations) : "-",
-         Cell3d(1000.0 * run.fit_time_s, 1),
-         Cell3d(1000.0 * run.time_s, 1),
-         run.status.ok() ? (run.termination.empty() ? "-" : run.termination)
-                         : "failure: " + Cut3d(run.status.message(), 60)});
+         internal::FixedCell(1000.0 * run.fit_time_s, 1),
+         internal::FixedCell(1000.0 * run.time_s, 1),
+         run.status.ok()
+             ? (run.termination.empty() ? "-" : run.termination)
+             : "failure: " + internal::Truncate(run.status.message(), 60)});
     for (const std::string& s : run.skipped) {
-      const std::string note = run.log + ": " + Cut3d(s, 120);
+      const std::string note = run.log + ": " + internal::Truncate(s, 120);
       if (std::find(notes.begin(), notes.end(), note) == notes.end()) {
         notes.push_back(note);
       }
     }
   }
-  out << Table3d({"log",
-                  "model",
-                  "estimator",
-                  "IMU",
-                  "p x / y / z mm",
-                  "σ̂ mm",
-                  "err mm",
-                  "decision",
-                  "roll / pitch deg",
-                  "delay ms",
-                  "evals",
-                  "fit ms",
-                  "time ms",
-                  "termination"},
-                 rows)
+  out << internal::MarkdownTable({"log",
+                                  "model",
+                                  "estimator",
+                                  "IMU",
+                                  "p x / y / z mm",
+                                  "σ̂ mm",
+                                  "err mm",
+                                  "decision",
+                                  "roll / pitch deg",
+                                  "delay ms",
+                                  "evals",
+                                  "fit ms",
+                                  "time ms",
+                                  "termination"},
+                                 rows)
       << "\n";
   if (!notes.empty()) {
     out << "Not fitted:\n\n";
@@ -294,31 +270,31 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                     Mm3d(r.spread_m),
                     Mm3d(r.rmse_m),
                     Mm3d(r.mean_stderr_m),
-                    Cell3d(r.coverage, 2),
-                    Cell3d(r.stderr_over_spread, 2),
-                    Cell3d(1000.0 * r.bound_m, 3),
-                    Cell3d(1000.0 * r.white_bound_m, 3),
-                    Cell3d(r.spread_over_bound, 2),
-                    Cell3d(1000.0 * r.time_s, 1)});
+                    internal::FixedCell(r.coverage, 2),
+                    internal::FixedCell(r.stderr_over_spread, 2),
+                    internal::FixedCell(1000.0 * r.bound_m, 3),
+                    internal::FixedCell(1000.0 * r.white_bound_m, 3),
+                    internal::FixedCell(r.spread_over_bound, 2),
+                    internal::FixedCell(1000.0 * r.time_s, 1)});
   }
-  out << Table3d({"model",
-                  "estimator",
-                  "scenario",
-                  "format",
-                  "axis",
-                  "fits",
-                  "given",
-                  "bias mm",
-                  "spread mm",
-                  "RMSE mm",
-                  "σ̂ mm",
-                  "cover 2σ̂",
-                  "σ̂/spread",
-                  "bound mm",
-                  "white mm",
-                  "spread/bound",
-                  "time ms"},
-                 rows)
+  out << internal::MarkdownTable({"model",
+                                  "estimator",
+                                  "scenario",
+                                  "format",
+                                  "axis",
+                                  "fits",
+                                  "given",
+                                  "bias mm",
+                                  "spread mm",
+                                  "RMSE mm",
+                                  "σ̂ mm",
+                                  "cover 2σ̂",
+                                  "σ̂/spread",
+                                  "bound mm",
+                                  "white mm",
+                                  "spread/bound",
+                                  "time ms"},
+                                 rows)
       << "\n";
   return out.str();
 }
@@ -368,8 +344,9 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
              r.evaluations >= 0 ? std::to_string(r.evaluations) : "-",
              exact(r.fit_time_s, 1000.0, 1),
              exact(r.time_s, 1000.0, 1),
-             r.status.ok() ? r.termination
-                           : "failure: " + Cut3d(r.status.message(), 80)});
+             r.status.ok()
+                 ? r.termination
+                 : "failure: " + internal::Truncate(r.status.message(), 80)});
       }
     }
     tables.push_back(std::move(t));

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -30,6 +32,32 @@ void ParallelFor(std::size_t n,
 }
 
 std::string FormatSeconds(double s) { return FormatFixed(s, 1) + " s"; }
+
+std::string FixedCell(double v, int decimals) {
+  return std::isfinite(v) ? FormatFixed(v, decimals) : "n/a";
+}
+
+std::string MarkdownTable(const std::vector<std::string>& header,
+                          const std::vector<std::vector<std::string>>& rows) {
+  std::ostringstream out;
+  auto emit = [&](const std::vector<std::string>& row) {
+    out << "|";
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      out << " " << (i < row.size() ? row[i] : "") << " |";
+    }
+    out << "\n";
+  };
+  emit(header);
+  out << "|";
+  for (std::size_t i = 0; i < header.size(); ++i) out << " --- |";
+  out << "\n";
+  for (const auto& row : rows) emit(row);
+  return out.str();
+}
+
+std::string Truncate(const std::string& text, std::size_t n) {
+  return text.size() <= n ? text : text.substr(0, n) + "…";
+}
 
 }  // namespace internal
 }  // namespace bench

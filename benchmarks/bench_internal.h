@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace imusysid {
 namespace bench {
@@ -21,6 +22,17 @@ void ParallelFor(std::size_t n,
 
 // "12.3 s", for progress lines and the report's total.
 std::string FormatSeconds(double s);
+
+// A table cell with fixed decimals; any non-finite value (a missing error,
+// an efficiency against a zero bound) reads "n/a".
+std::string FixedCell(double v, int decimals);
+
+// A Markdown table: the header, its rule, the rows (short rows padded).
+std::string MarkdownTable(const std::vector<std::string>& header,
+                          const std::vector<std::vector<std::string>>& rows);
+
+// The first n bytes of text and "…" when it is longer.
+std::string Truncate(const std::string& text, std::size_t n);
 
 // The four physical parameters' names and units in the reports, in index
 // order (kR, kBeta, kAlpha, kMu).

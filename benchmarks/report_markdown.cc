@@ -22,34 +22,6 @@ namespace {
 using internal::kParamNames;
 using internal::kParamUnits;
 
-// A table cell with fixed decimals; any non-finite value (a missing error, an
-// efficiency against a zero bound) reads "n/a".
-std::string FixedCell(double v, int decimals) {
-  return std::isfinite(v) ? FormatFixed(v, decimals) : "n/a";
-}
-
-std::string MarkdownTable(const std::vector<std::string>& header,
-                          const std::vector<std::vector<std::string>>& rows) {
-  std::ostringstream out;
-  auto emit = [&](const std::vector<std::string>& row) {
-    out << "|";
-    for (std::size_t i = 0; i < header.size(); ++i) {
-      out << " " << (i < row.size() ? row[i] : "") << " |";
-    }
-    out << "\n";
-  };
-  emit(header);
-  out << "|";
-  for (std::size_t i = 0; i < header.size(); ++i) out << " --- |";
-  out << "\n";
-  for (const auto& row : rows) emit(row);
-  return out.str();
-}
-
-std::string Truncate(const std::string& text, std::size_t n) {
-  return text.size() <= n ? text : text.substr(0, n) + "…";
-}
-
 // 1000 → "1e3"; other sizes as they are.
 std::string SizeLabel(std::int64_t n) {
   int exponent = 0;
@@ -97,17 +69,18 @@ std::string FormatGbenchScaling(const GbenchScaling& gbench) {
       std::string cell = "–";
       for (const auto& p : gbench.points) {
         if (p.estimator != name || p.samples != n) continue;
-        cell = FixedCell(p.real_time_ms, p.real_time_ms < 10 ? 3 : 1);
+        cell = internal::FixedCell(p.real_time_ms, p.real_time_ms < 10 ? 3 : 1);
         if (std::isfinite(p.peak_rss_mb)) largest_rss = &p;
       }
       row.push_back(cell);
     }
     if (largest_rss != nullptr) {
-      row.push_back(FixedCell(largest_rss->peak_rss_mb, 0) + " (" +
+      row.push_back(internal::FixedCell(largest_rss->peak_rss_mb, 0) + " (" +
                     SizeLabel(largest_rss->samples) + ")");
       row.push_back(
           std::isfinite(largest_rss->raw_log_mb) && largest_rss->raw_log_mb > 0
-              ? FixedCell(largest_rss->peak_rss_mb / largest_rss->raw_log_mb, 2)
+              ? internal::FixedCell(
+                    largest_rss->peak_rss_mb / largest_rss->raw_log_mb, 2)
               : "–");
     } else {
       row.push_back("–");
@@ -115,7 +88,7 @@ std::string FormatGbenchScaling(const GbenchScaling& gbench) {
     }
     rows.push_back(row);
   }
-  out << MarkdownTable(header, rows) << "\n";
+  out << internal::MarkdownTable(header, rows) << "\n";
   for (const auto& e : gbench.errors) {
     out << "benchmark error (not plotted): " << e << "\n";
   }
@@ -152,45 +125,46 @@ std::string RunsSection(const BenchReport& report) {
     const bool usable = run.Usable();
     const bool ident = usable && Identifiable(run.result);
     const auto& x = run.result.parameters;
-    rows.push_back({run.log,
-                    run.model,
-                    run.estimator,
-                    usable ? FormatNumber(run.result.rmse, 5) : "-",
-                    usable ? FormatNumber(run.of_gap, 2) : "-",
-                    ident ? FormatNumber(x[kR], 4) : (usable ? "n/i" : "-"),
-                    ident ? FormatNumber(x[kBeta], 5) : (usable ? "n/i" : "-"),
-                    usable ? FormatNumber(x[kAlpha], 4) : "-",
-                    usable ? FormatNumber(x[kMu], 4) : "-",
-                    FixedCell(1000.0 * run.r_error_m, 2),
-                    FixedCell(run.beta_error_deg, 3),
-                    FixedCell(run.alpha_error_deg, 3) +
-                        (run.alpha_vs_effective ? "*" : ""),
-                    FixedCell(run.mu_error, 4),
-                    std::to_string(run.result.cost_evaluations),
-                    std::to_string(run.result.iterations),
-                    FixedCell(run.wall_ms_median, 1),
-                    run.status.ok()
-                        ? TerminationToString(run.result.termination)
-                        : "failure: " + Truncate(run.status.message(), 60)});
+    rows.push_back(
+        {run.log,
+         run.model,
+         run.estimator,
+         usable ? FormatNumber(run.result.rmse, 5) : "-",
+         usable ? FormatNumber(run.of_gap, 2) : "-",
+         ident ? FormatNumber(x[kR], 4) : (usable ? "n/i" : "-"),
+         ident ? FormatNumber(x[kBeta], 5) : (usable ? "n/i" : "-"),
+         usable ? FormatNumber(x[kAlpha], 4) : "-",
+         usable ? FormatNumber(x[kMu], 4) : "-",
+         internal::FixedCell(1000.0 * run.r_error_m, 2),
+         internal::FixedCell(run.beta_error_deg, 3),
+         internal::FixedCell(run.alpha_error_deg, 3) +
+             (run.alpha_vs_effective ? "*" : ""),
+         internal::FixedCell(run.mu_error, 4),
+         std::to_string(run.result.cost_evaluations),
+         std::to_string(run.result.iterations),
+         internal::FixedCell(run.wall_ms_median, 1),
+         run.status.ok()
+             ? TerminationToString(run.result.termination)
+             : "failure: " + internal::Truncate(run.status.message(), 60)});
   }
-  out << MarkdownTable({"log",
-                        "model",
-                        "estimator",
-                        "OF m/s²",
-                        "gap",
-                        "r m",
-                        "β deg",
-                        "α deg",
-                        "μ 1/m",
-                        "err r mm",
-                        "err β deg",
-                        "err α deg",
-                        "err μ",
-                        "evals",
-                        "iters",
-                        "wall ms",
-                        "termination"},
-                       rows)
+  out << internal::MarkdownTable({"log",
+                                  "model",
+                                  "estimator",
+                                  "OF m/s²",
+                                  "gap",
+                                  "r m",
+                                  "β deg",
+                                  "α deg",
+                                  "μ 1/m",
+                                  "err r mm",
+                                  "err β deg",
+                                  "err α deg",
+                                  "err μ",
+                                  "evals",
+                                  "iters",
+                                  "wall ms",
+                                  "termination"},
+                                 rows)
       << "\n";
   return out.str();
 }
@@ -253,7 +227,7 @@ std::string TableISection(const BenchReport& report) {
                       FormatNumber(run.result.rmse, 4)});
     }
   }
-  out << MarkdownTable(
+  out << internal::MarkdownTable(
              {"test", "source", "r m", "β deg", "α deg", "μ 1/m", "OF m/s²"},
              rows)
       << "\n";
@@ -278,65 +252,65 @@ std::string DisplacementSection(const BenchReport& report) {
                           kPaperTest2Fit.r_m,
                           kPaperTest2Fit.beta_deg);
   rows.push_back({"paper's experiment (published)",
-                  FixedCell(kPaperDisplacementLM * 100, 2),
-                  FixedCell(kPaperDisplacementDeltaDeg, 2),
-                  FixedCell(kPaperDisplacementDxCm, 2),
-                  FixedCell(kPaperDisplacementDzCm, 2),
+                  internal::FixedCell(kPaperDisplacementLM * 100, 2),
+                  internal::FixedCell(kPaperDisplacementDeltaDeg, 2),
+                  internal::FixedCell(kPaperDisplacementDxCm, 2),
+                  internal::FixedCell(kPaperDisplacementDzCm, 2),
                   "-",
                   "-",
                   "-"});
   rows.push_back({"paper's fits through eq. 11",
-                  FixedCell(paper_fit.l_m * 100, 2),
-                  FixedCell(paper_fit.delta_deg, 2),
-                  FixedCell(paper_fit.dx_m * 100, 2),
-                  FixedCell(paper_fit.dz_m * 100, 2),
+                  internal::FixedCell(paper_fit.l_m * 100, 2),
+                  internal::FixedCell(paper_fit.delta_deg, 2),
+                  internal::FixedCell(paper_fit.dx_m * 100, 2),
+                  internal::FixedCell(paper_fit.dz_m * 100, 2),
                   "-",
                   "-",
                   "-"});
   rows.push_back({"CAD expectation (paper)",
                   "-",
                   "-",
-                  FixedCell(kPaperCadDxCm, 2),
-                  FixedCell(kPaperCadDzCm, 2),
+                  internal::FixedCell(kPaperCadDxCm, 2),
+                  internal::FixedCell(kPaperCadDzCm, 2),
                   "-",
                   "-",
                   "-"});
   if (!report.displacements.empty()) {
     const ComDisplacement& t = report.displacements.front().truth;
     rows.push_back({"truth (simulator)",
-                    FixedCell(t.l_m * 100, 2),
-                    FixedCell(t.delta_deg, 2),
-                    FixedCell(t.dx_m * 100, 2),
-                    FixedCell(t.dz_m * 100, 2),
+                    internal::FixedCell(t.l_m * 100, 2),
+                    internal::FixedCell(t.delta_deg, 2),
+                    internal::FixedCell(t.dx_m * 100, 2),
+                    internal::FixedCell(t.dz_m * 100, 2),
                     "-",
                     "-",
                     "-"});
   }
   for (const auto& d : report.displacements) {
-    std::string dx = FixedCell(d.estimate.dx_m * 100, 2);
-    std::string dz = FixedCell(d.estimate.dz_m * 100, 2);
+    std::string dx = internal::FixedCell(d.estimate.dx_m * 100, 2);
+    std::string dz = internal::FixedCell(d.estimate.dz_m * 100, 2);
     if (std::isfinite(d.estimate.dx_stderr_m)) {
-      dx += " ± " + FixedCell(d.estimate.dx_stderr_m * 100, 2);
-      dz += " ± " + FixedCell(d.estimate.dz_stderr_m * 100, 2);
+      dx += " ± " + internal::FixedCell(d.estimate.dx_stderr_m * 100, 2);
+      dz += " ± " + internal::FixedCell(d.estimate.dz_stderr_m * 100, 2);
     }
     rows.push_back({d.model + " / " + d.estimator,
-                    FixedCell(d.estimate.l_m * 100, 2),
-                    FixedCell(d.estimate.delta_deg, 2),
+                    internal::FixedCell(d.estimate.l_m * 100, 2),
+                    internal::FixedCell(d.estimate.delta_deg, 2),
                     dx,
                     dz,
-                    FixedCell(d.dx_error_m * 100, 2),
-                    FixedCell(d.dz_error_m * 100, 2),
-                    FixedCell(d.l_error_m * 100, 2)});
+                    internal::FixedCell(d.dx_error_m * 100, 2),
+                    internal::FixedCell(d.dz_error_m * 100, 2),
+                    internal::FixedCell(d.l_error_m * 100, 2)});
   }
-  out << MarkdownTable({"source",
-                        "l cm",
-                        "δ deg",
-                        "Δx cm",
-                        "Δz cm",
-                        "err Δx cm",
-                        "err Δz cm",
-                        "err l cm"},
-                       rows)
+  out << internal::MarkdownTable({"source",
+                                  "l cm",
+                                  "δ deg",
+                                  "Δx cm",
+                                  "Δz cm",
+                                  "err Δx cm",
+                                  "err Δz cm",
+                                  "err l cm"},
+                                 rows)
       << "\n";
   return out.str();
 }
@@ -356,9 +330,9 @@ std::string RuntimeSection(const BenchReport& report) {
                     run.estimator,
                     run.log,
                     std::to_string(run.samples),
-                    FixedCell(run.wall_ms_median, 2),
-                    FixedCell(run.wall_ms_min, 2),
-                    FixedCell(run.wall_ms_max, 2),
+                    internal::FixedCell(run.wall_ms_median, 2),
+                    internal::FixedCell(run.wall_ms_min, 2),
+                    internal::FixedCell(run.wall_ms_max, 2),
                     std::to_string(run.result.cost_evaluations),
                     std::to_string(run.result.iterations),
                     TerminationToString(run.result.termination)});
@@ -369,17 +343,17 @@ std::string RuntimeSection(const BenchReport& report) {
       [](const std::vector<std::string>& a, const std::vector<std::string>& b) {
         return std::tie(a[0], a[1]) < std::tie(b[0], b[1]);
       });
-  out << MarkdownTable({"model",
-                        "estimator",
-                        "log",
-                        "samples",
-                        "median ms",
-                        "min ms",
-                        "max ms",
-                        "evals",
-                        "iters",
-                        "termination"},
-                       rows)
+  out << internal::MarkdownTable({"model",
+                                  "estimator",
+                                  "log",
+                                  "samples",
+                                  "median ms",
+                                  "min ms",
+                                  "max ms",
+                                  "evals",
+                                  "iters",
+                                  "termination"},
+                                 rows)
       << "\n";
   return out.str();
 }
@@ -412,23 +386,23 @@ std::string MonteCarloSection(const BenchReport& report) {
            FormatNumber(m.std_dev[i], 3),
            FormatNumber(m.rmse[i], 3),
            FormatNumber(m.crlb_sd[i], 3),
-           FixedCell(m.efficiency[i], 2),
-           FixedCell(m.coverage[i], 2)});
+           internal::FixedCell(m.efficiency[i], 2),
+           internal::FixedCell(m.coverage[i], 2)});
     }
   }
-  out << MarkdownTable({"scenario",
-                        "model",
-                        "estimator",
-                        "usable",
-                        "parameter",
-                        "truth",
-                        "bias",
-                        "std",
-                        "RMSE",
-                        "√CRLB",
-                        "RMSE/√CRLB",
-                        "coverage ±2σ̂"},
-                       rows)
+  out << internal::MarkdownTable({"scenario",
+                                  "model",
+                                  "estimator",
+                                  "usable",
+                                  "parameter",
+                                  "truth",
+                                  "bias",
+                                  "std",
+                                  "RMSE",
+                                  "√CRLB",
+                                  "RMSE/√CRLB",
+                                  "coverage ±2σ̂"},
+                                 rows)
       << "\n";
   return out.str();
 }
