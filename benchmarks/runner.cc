@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "benchmarks/bench3d_preprocess.h"
 #include "benchmarks/bench_context.h"
 
 namespace imusysid {
@@ -56,17 +57,9 @@ std::vector<double> SeedCostHints(const MonteCarloConfig& mc,
 Status RunBench3dPart(const BenchConfig& config,
                       const std::vector<std::string>& models,
                       BenchReport* report) {
-  std::vector<Log3d> logs;
-  for (const std::string& path : config.logs) {
-    logs.push_back(Log3dFromFile(path));
-  }
-  if (!config.scenarios3d.empty()) {
-    StatusOr<std::vector<Log3d>> simulated =
-        SimulateLogs3d(config, config.options.seed);
-    if (!simulated.ok()) return simulated.status();
-    for (Log3d& log : *simulated) logs.push_back(std::move(log));
-  }
-  report->runs3d = RunLogs3d(config, models, logs);
+  StatusOr<std::vector<Log3d>> logs = BenchLogs3d(config);
+  if (!logs.ok()) return logs.status();
+  report->runs3d = RunLogs3d(config, models, *logs);
   if (config.seeds >= 2 && !config.scenarios3d.empty()) {
     std::vector<std::string> mc_models;
     for (const std::string& model : config.monte_carlo_models3d) {
