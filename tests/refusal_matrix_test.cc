@@ -318,7 +318,8 @@ TEST(RefusalMatrix, WithoutEstimatorChannelsTheImuOnlyModelNeedsAStillStart) {
     EXPECT_THAT(notes[0], HasSubstr("no attitude and velocity estimate"));
     if (before_motors_s < 0.75) {
       ASSERT_FALSE(s.ok());
-      EXPECT_THAT(s.status().message(), HasSubstr("no still stretch was found at its start"));
+      EXPECT_THAT(s.status().message(),
+                  HasSubstr("no still stretch was found at its start"));
       continue;
     }
     ASSERT_TRUE(s.ok()) << s.status().ToString();
