@@ -1,5 +1,7 @@
 #include "estimators/internal/thread_pool.h"
 
+#include <system_error>
+
 #include "glog/logging.h"
 
 namespace imusysid {
@@ -9,7 +11,14 @@ ThreadPool::ThreadPool(int num_threads) {
   CHECK_GE(num_threads, 1);  // from a validated option (PopulationEvaluator)
   workers_.reserve(static_cast<std::size_t>(num_threads - 1));
   for (int w = 1; w < num_threads; ++w) {
-    workers_.emplace_back([this, w] { WorkerLoop(w); });
+    // A thread the system cannot start leaves the pool smaller (Run's tasks
+    // share their work, so fewer workers give the same result); the
+    // exception would leave the started ones unjoined.
+    try {
+      workers_.emplace_back([this, w] { WorkerLoop(w); });
+    } catch (const std::system_error&) {
+      break;
+    }
   }
 }
 

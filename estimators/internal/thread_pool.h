@@ -27,7 +27,8 @@ namespace internal {
 // workers.
 class ThreadPool {
  public:
-  // num_threads ≥ 1; num_threads − 1 workers are started here.
+  // num_threads ≥ 1; num_threads − 1 workers are started here, fewer where
+  // the system cannot start a thread (num_threads() says how many).
   explicit ThreadPool(int num_threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;

@@ -12,11 +12,10 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <system_error>
-#include <thread>
 #include <utility>
 #include <vector>
 
+#include "estimators/internal/thread_pool.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
 #include "imusysid/identify.h"
@@ -308,13 +307,18 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     summary.skipped_imus.push_back({instance, status.message()});
     return Next::kGoOn;
   };
-  // Until one instance is fitted, one at a time: the first fitted sets the
-  // delay and the wind the others share. The rest, which read only what it
-  // set, side by side on up to options.num_threads threads (each
-  // instance's work is the same on any thread, so the result is too).
+  // One at a time until one instance is fitted: the first fitted sets the
+  // delay and the wind the others share. With num_threads > 1 the rest,
+  // which read only what it set, side by side (each instance's work is the
+  // same on any thread, so the result is too); with one thread, each in
+  // turn, its progress as it happens.
+  const bool threads =
+      options.stop_after == IdentifyStage::kFit && options.num_threads > 1;
   std::size_t i = 0;
   Next next = Next::kGoOn;
-  for (; i < instances.size() && summary.imus.empty(); ++i) {
+  for (; i < instances.size() &&
+         (summary.imus.empty() || !threads || instances.size() - i < 2);
+       ++i) {
     InstanceOutcome o;
     const Status status = fit_instance(instances[i], options, model_name, &o);
     next = take(instances[i], status, &o);
@@ -326,7 +330,9 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     std::vector<Status> statuses(rest, Status::Ok());
     std::vector<std::string> models(rest, model_name);
     std::atomic<std::size_t> claimed{0};
-    auto work = [&] {
+    ThreadPool pool(static_cast<int>(std::min<std::size_t>(
+        rest, static_cast<std::size_t>(options.num_threads))));
+    pool.Run([&](int /*worker*/) {
       for (std::size_t k = claimed++; k < rest; k = claimed++) {
         InstanceOutcome* o = &outcomes[k];
         IdentifyOptions buffered = options;
@@ -338,26 +344,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         };
         statuses[k] = fit_instance(instances[i + k], buffered, models[k], o);
       }
-    };
-    const bool side_by_side = options.stop_after == IdentifyStage::kFit &&
-                              rest > 1 && options.num_threads > 1;
-    std::vector<std::thread> helpers;
-    if (side_by_side) {
-      const std::size_t extra =
-          std::min<std::size_t>(rest,
-                                static_cast<std::size_t>(options.num_threads)) -
-          1;
-      for (std::size_t h = 0; h < extra; ++h) {
-        // A thread the system cannot start leaves its share to this one.
-        try {
-          helpers.emplace_back(work);
-        } catch (const std::system_error&) {
-          break;
-        }
-      }
-    }
-    work();
-    for (std::thread& helper : helpers) helper.join();
+    });
     for (std::size_t k = 0; k < rest; ++k) {
       next = take(instances[i + k], statuses[k], &outcomes[k]);
       if (next != Next::kGoOn) break;
