@@ -17,6 +17,7 @@
 
 #include "Eigen/Core"
 #include "Eigen/Geometry"
+#include "imusysid/flight_plan.h"
 #include "imusysid/log.h"
 #include "imusysid/status.h"
 
@@ -104,9 +105,9 @@ struct EstimatorGlitch3d {
 // Every setting of one simulated 3-D flight. The defaults are the
 // "figure8_3d" scenario.
 struct Simulator3dOptions {
-  // Scenario: figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d or
-  // yaw_sweeps_3d (what is flown during the maneuver segment). Written into
-  // the logs' metadata and the truth.
+  // Scenario: figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d,
+  // yaw_sweeps_3d or sysid_3d (what is flown during the maneuver segment).
+  // Written into the logs' metadata and the truth.
   std::string scenario = "figure8_3d";
   // Seed of every noise generator (sensors and estimator). Same seed, options
   // and build give bit-identical logs.
@@ -208,6 +209,14 @@ struct Simulator3dOptions {
   // binary logs' IMU samples and to the estimator's publication times.
   double timestamp_jitter_s = 20e-6;
 
+  // sysid_3d only (and required there): the excitation segments flown
+  // during the manoeuvre, each a chirp as ArduCopter's System ID mode
+  // injects it (flight_plan.h), in order, with sysid_gap_s of hover before
+  // each and after the last. maneuver_s must hold them all
+  // (SysId3dManeuverS); SysId3dOptions sets it from a plan.
+  std::vector<ExcitationSegment3d> sysid_segments;
+  double sysid_gap_s = 4.0;  // in [1, 60]
+
   // A payload change in flight; none by default.
   PayloadChange3d payload_change;
   // Stress effects outside the fitted models; all off by default.
@@ -308,11 +317,22 @@ struct Simulated3dFlight {
 // the ground before the landing segment.
 StatusOr<Simulated3dFlight> Simulate3d(const Simulator3dOptions& options);
 
-// figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d, yaw_sweeps_3d.
+// figure8_3d, hover_3d, pitch_laps_3d, roll_laps_3d, yaw_sweeps_3d,
+// sysid_3d.
 std::vector<std::string> Scenario3dNames();
 
 // The options of a named 3-D scenario; NotFound lists the valid names.
+// sysid_3d's have no segments: it flies a plan (SysId3dOptions).
 StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name);
+
+// The manoeuvre that flies `options.sysid_segments` with its gaps, s:
+// Σ (sysid_gap_s + t_rec_s) + sysid_gap_s.
+double SysId3dManeuverS(const Simulator3dOptions& options);
+
+// The sysid_3d scenario flying `plan`'s segments, the manoeuvre as long as
+// they need; InvalidArgument when the plan does not validate
+// (ValidateFlightPlan3d) or has no segments.
+StatusOr<Simulator3dOptions> SysId3dOptions(const FlightPlan3d& plan);
 
 // The truth sidecar as pretty-printed JSON (fixed key order, byte-identical
 // for the same options): scenario, seed, rate, frame, every IMU's p_frd_m

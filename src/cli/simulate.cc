@@ -317,6 +317,11 @@ int RunSimulate(const std::vector<std::string>& positional) {
     return UsageError(
         cmd, "unexpected argument '" + CutForMessage(positional[0]) + "'");
   }
+  if (FlagWasSet("plan") && FLAGS_scenario != "sysid_3d") {
+    return UsageError(cmd,
+                      "--plan applies to --scenario=sysid_3d only, not to " +
+                          CutForMessage(FLAGS_scenario));
+  }
   if (Is3dScenario(FLAGS_scenario)) return Run3d();
   if (FLAGS_scenario == kBatteryMoveScenario) return RunBatteryMove();
   for (const char* flag : kThreeDOnlyFlags) {
@@ -428,8 +433,9 @@ const Command& SimulateCommand() {
           "each axis), hover_3d (hover only), pitch_laps_3d\n(laps along "
           "north with pitch doublets, pitch only), roll_laps_3d (laps along "
           "east\nwith roll doublets, roll only), yaw_sweeps_3d (hover, heading "
-          "swept +/-60 deg,\nyaw only). They fly three IMUs and write FILE.csv "
-          "(IMU "
+          "swept +/-60 deg,\nyaw only), sysid_3d (hover, then each "
+          "excitation segment of --plan in turn, 4 s\nof hover before each "
+          "and after the last). They fly three IMUs and write FILE.csv (IMU "
           "1),\nFILE.imu2.csv and FILE.imu3.csv, in FRD with the autopilot's "
           "attitude and velocity\n(qw,qx,qy,qz,vn,ve,vd; empty before its "
           "first estimate), and FILE.truth.json (every\nIMU's position, "
@@ -448,6 +454,11 @@ const Command& SimulateCommand() {
           "jitter) or gentle (one vibration\n    tone, as earlier versions). "
           "Only --seed, --rate_hz (100-1000), --format and\n    these apply "
           "to them.\n"
+          "  --plan=plan.json (sysid_3d only, and required there): the "
+          "flight plan (`imusysid plan`,\n    include/imusysid/flight_plan.h) "
+          "whose segments are flown, each a chirp as\n    ArduCopter's System "
+          "ID mode injects it (SID_AXIS 1-3 attitude, 7-9 rate); the\n    "
+          "manoeuvre lasts as long as they need.\n"
           "  --payload_change=T,DM,DX,DY,DZ: at T s attach (DM > 0 kg) or "
           "drop (DM < 0) a payload\n    at (DX, DY, DZ) m from the CoM, "
           "body FRD; the CoM moves by DM/(M+DM) of that\n    offset, every "
@@ -489,7 +500,8 @@ const Command& SimulateCommand() {
        "payload_change",
        "flexible_mount",
        "periodic_force",
-       "estimator_glitch"},
+       "estimator_glitch",
+       "plan"},
       &RunSimulate};
   return c;
 }

@@ -18,7 +18,12 @@ DEFINE_string(scenario,
               "Scenario: paper_test1, paper_test2, model_exact, hover_only, "
               "paper_battery_move (planar); figure8_3d, hover_3d, "
               "pitch_laps_3d, roll_laps_3d, "
-              "yaw_sweeps_3d (6-DOF, FRD, one CSV per IMU).");
+              "yaw_sweeps_3d, sysid_3d (6-DOF, FRD, one CSV per IMU).");
+DEFINE_string(plan,
+              "",
+              "sysid_3d (and only it, which needs one): the flight plan "
+              "(plan.json) whose excitation segments it flies, each a chirp "
+              "as ArduCopter's System ID mode injects it.");
 DEFINE_double(r_m,
               std::numeric_limits<double>::quiet_NaN(),
               "Override the true IMU distance from the CoM, m.");
@@ -225,7 +230,21 @@ int Simulator3dOptionsFromFlags(const std::string& cmd,
         "--sensor_profile=" + CutForMessage(FLAGS_sensor_profile) +
             ": required gentle or realistic");
   }
+  const bool sysid = FLAGS_scenario == "sysid_3d";
+  if (sysid && FLAGS_plan.empty()) {
+    return UsageError(cmd,
+                      "--scenario=sysid_3d flies a flight plan: give "
+                      "--plan=plan.json (docs/simulator-3d.md)");
+  }
   StatusOr<Simulator3dOptions> options = Scenario3dOptions(FLAGS_scenario);
+  if (sysid) {
+    StatusOr<FlightPlan3d> plan = ReadFlightPlan3d(FLAGS_plan);
+    if (!plan.ok()) return ReportError(cmd, plan.status().WithPrefix("--plan"));
+    options = SysId3dOptions(*plan);
+    if (!options.ok()) {
+      return ReportError(cmd, options.status().WithPrefix("--plan"));
+    }
+  }
   if (!options.ok()) return ReportError(cmd, options.status());
   // The CLI flies the realistic sensors unless asked for the gentle ones;
   // the binary logs sample the raw IMU at 1 kHz, as real IMUs are read, so

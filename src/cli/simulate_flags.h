@@ -15,6 +15,7 @@
 #include "imusysid/status.h"
 
 DECLARE_string(scenario);
+DECLARE_string(plan);
 DECLARE_double(r_m);
 DECLARE_double(beta_deg);
 DECLARE_double(alpha_deg);
@@ -62,10 +63,10 @@ enum class LogKind { kCsv, kUlog, kDataFlash };
 
 // The 3-D scenario --scenario names, with the flags that apply to it
 // (--log_format or --out's extension, --sensor_profile, --rate_hz, --seed,
-// --high_rate_raw_imu and the effects), validated: kExitOk with the
-// simulator's and the log writer's options and the log's kind set, else the
-// exit code of the usage or input error (reported). The planar scenarios'
-// flags and a frame other than FRD are refused.
+// --high_rate_raw_imu, the effects and sysid_3d's --plan), validated: kExitOk
+// with the simulator's and the log writer's options and the log's kind set,
+// else the exit code of the usage or input error (reported). The planar
+// scenarios' flags and a frame other than FRD are refused.
 int Simulator3dOptionsFromFlags(const std::string& cmd,
                                 Simulator3dOptions* options,
                                 Sim3dLogOptions* log_options,

@@ -19,7 +19,10 @@ namespace {
 constexpr double kPositionGain = 1.5;          // 1/s
 constexpr double kVelocityGain = 4.0;          // 1/s
 constexpr double kVelocityIntegralGain = 1.0;  // 1/s²
-constexpr double kMaxSpeed = 8.0;              // m/s, horizontal command
+// sysid_3d: the horizontal position and velocity gains while a segment is
+// flown, times these (natural frequency 0.1 Hz, below the chirps' start).
+constexpr double kSysIdHorizontalGainScale = 0.25;
+constexpr double kMaxSpeed = 8.0;  // m/s, horizontal command
 constexpr double kMaxTiltDeg = 35.0;
 // Attitude → rate (1/s) per body axis; yaw is slower, as on real vehicles
 // whose yaw torque is the rotors' drag.
@@ -151,6 +154,11 @@ bool SingleAxisReference(const Simulator3dOptions& o,
 void ManeuverReference(const Simulator3dOptions& o,
                        double tau,
                        Reference3d* ref) {
+  if (o.scenario == "sysid_3d") {
+    // Hover at the origin with the plan's chirps on top.
+    SysIdExcitationAt(o, tau, ref);
+    return;
+  }
   if (SingleAxisReference(o, tau, ref)) return;
   const double span = o.maneuver_s;
   if (o.scenario != "figure8_3d") return;  // hover_3d: stay put
@@ -249,14 +257,27 @@ Commands3d Controller3d::Update(
   const Eigen::Vector3d v_ff = (p_after - p_before) / (2.0 * kFeedForwardStep);
   const Eigen::Vector3d a_ff = (p_after - 2.0 * ref.p + p_before) /
                                (kFeedForwardStep * kFeedForwardStep);
-  Eigen::Vector3d v_cmd = v_ff + kPositionGain * (ref.p - s.p);
+  // While a sysid_3d segment is flown the horizontal loops are a pilot's
+  // slow corrections in AltHold (ArduCopter's System ID mode has no
+  // position hold): gains scaled to a bandwidth below the chirps, the wind
+  // trim held. At full gain the loop's tilt added to the injected one and
+  // doubled it near 1 Hz.
+  const Eigen::Vector3d loop_scale =
+      ref.excited
+          ? Eigen::Vector3d(
+                kSysIdHorizontalGainScale, kSysIdHorizontalGainScale, 1.0)
+          : Eigen::Vector3d::Ones();
+  Eigen::Vector3d v_cmd =
+      v_ff + kPositionGain * loop_scale.cwiseProduct(ref.p - s.p);
   const double v_xy = v_cmd.head<2>().norm();
   if (v_xy > kMaxSpeed) v_cmd.head<2>() *= kMaxSpeed / v_xy;
   const Eigen::Vector3d v_error = v_cmd - s.v;
   // On the ground the contact force, not the controller, holds the vehicle.
-  if (!grounded) velocity_integral_ += h * v_error;
-  const Eigen::Vector3d a_cmd = a_ff + kVelocityGain * v_error +
-                                kVelocityIntegralGain * velocity_integral_;
+  if (!grounded && !ref.excited) velocity_integral_ += h * v_error;
+  if (!grounded && ref.excited) velocity_integral_.z() += h * v_error.z();
+  const Eigen::Vector3d a_cmd =
+      a_ff + kVelocityGain * loop_scale.cwiseProduct(v_error) +
+      kVelocityIntegralGain * velocity_integral_;
 
   // Specific force to produce (NED), never pointing down, tilt-limited.
   Eigen::Vector3d f = a_cmd - Eigen::Vector3d(0.0, 0.0, kGravity);
@@ -272,11 +293,25 @@ Commands3d Controller3d::Update(
       o_.mass_kg * f.dot(thrust_axis), 0.0, o_.max_thrust_to_weight * weight);
 
   // Attitude → body rates: the error rotation's vector part, in body axes.
-  const Eigen::Quaterniond q_des = AttitudeFor(f, ref.yaw);
+  // sysid_3d turns the heading target by what its yaw injections integrate
+  // to and tilts the attitude target by its roll and pitch injections
+  // (about the body axes, after the heading: Euler roll and pitch).
+  if (ref.excited) sysid_heading_ += h * ref.heading_rate;
+  Eigen::Quaterniond q_des =
+      AttitudeFor(f, sysid_ ? ref.yaw + sysid_heading_ : ref.yaw);
+  if (ref.excited) {
+    q_des = q_des *
+            Eigen::AngleAxisd(ref.tilt_offset.y(), Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(ref.tilt_offset.x(), Eigen::Vector3d::UnitX());
+  }
   Eigen::Quaterniond q_err = s.q.conjugate() * q_des;
   if (q_err.w() < 0.0) q_err.coeffs() = -q_err.coeffs();
   Eigen::Vector3d w_cmd = 2.0 * kAttitudeGain.cwiseProduct(q_err.vec());
   w_cmd = w_cmd.cwiseMax(-kMaxRate).cwiseMin(kMaxRate);
+  // ArduCopter adds its System ID rate injection to the rate target the
+  // attitude loop leaves (which then fights it), and feeds an attitude
+  // target's rate forward.
+  if (ref.excited) w_cmd += ref.rate_offset;
   for (int axis = 0; axis < 3; ++axis) {
     if (!std::isnan(ref.rate_override(axis))) {
       w_cmd(axis) = ref.rate_override(axis);

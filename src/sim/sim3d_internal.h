@@ -153,7 +153,33 @@ struct Reference3d {
   double yaw = 0.0;
   Eigen::Vector3d rate_override =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // sysid_3d's excitation (SysIdExcitationAt), used only where `excited`
+  // (the other scenarios' commands stay bit for bit as they were):
+  // roll and pitch added to the attitude target (rad), body rates added to
+  // the rate command after the attitude loop (rad/s: a rate injection, or
+  // the rate of an attitude injection fed forward), and a heading rate the
+  // controller integrates into its heading target (rad/s).
+  bool excited = false;
+  Eigen::Vector2d tilt_offset = Eigen::Vector2d::Zero();
+  Eigen::Vector3d rate_offset = Eigen::Vector3d::Zero();
+  double heading_rate = 0.0;
 };
+
+// --- sysid_3d's excitation (sim3d_sysid.cc) ----------------------------------
+
+// The chirp of segment `s` at τ s since it starts, as ArduPilot's AP_Math
+// Chirp generates it, in s.magnitude's units: two cycles at f_start_hz, then
+// an exponential sweep reaching f_stop_hz at t_rec_s, under half-cosine
+// fades over t_fade_in_s and the last t_fade_out_s; 0 outside
+// (0, t_rec_s].
+double SysIdChirp(const ExcitationSegment3d& s, double tau);
+
+// sysid_3d's excitation at τ s since the manoeuvre starts, into `ref`: the
+// segment being flown (each after o.sysid_gap_s of hover), injected as
+// ArduCopter's System ID mode does (flight_plan.h); nothing in the gaps.
+void SysIdExcitationAt(const Simulator3dOptions& o,
+                       double tau,
+                       Reference3d* ref);
 
 // The scenario's reference at time t (continuous in p and its first two
 // derivatives, so their central differences are the feed-forward).
@@ -167,7 +193,7 @@ Reference3d ReferenceAt(const Simulator3dOptions& o,
 class Controller3d {
  public:
   Controller3d(const Simulator3dOptions& o, const Timeline3d& timeline)
-      : o_(o), timeline_(timeline) {}
+      : o_(o), timeline_(timeline), sysid_(o.scenario == "sysid_3d") {}
 
   // Commands for the step of h seconds starting at t. `landed`: back on the
   // ground after the flight (idle thrust, no integration).
@@ -178,6 +204,10 @@ class Controller3d {
   const Simulator3dOptions& o_;
   const Timeline3d& timeline_;
   Eigen::Vector3d velocity_integral_ = Eigen::Vector3d::Zero();
+  // sysid_3d: the heading its yaw injections have turned the target by,
+  // rad, kept after each segment as ArduCopter keeps a yaw stick's turn.
+  const bool sysid_;
+  double sysid_heading_ = 0.0;
 };
 
 }  // namespace internal

@@ -1,6 +1,7 @@
 // The 3-D simulator's options and scenarios, its truth sidecar and the CSV
 // text of its logs (include/imusysid/simulate3d.h).
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -54,6 +55,35 @@ nlohmann::ordered_json Vec(const Eigen::Vector3d& v) {
   return nlohmann::ordered_json::array({v.x(), v.y(), v.z()});
 }
 
+// sysid_3d flies its segments and nothing else does; the manoeuvre must
+// hold them.
+Status ValidateSysIdSegments(const Simulator3dOptions& o) {
+  const bool sysid = o.scenario == "sysid_3d";
+  if (!sysid && !o.sysid_segments.empty()) {
+    return InvalidArgumentError(
+        "Simulator3dOptions::sysid_segments holds " +
+        std::to_string(o.sysid_segments.size()) +
+        " segments; they apply to the sysid_3d scenario only");
+  }
+  if (!sysid) return Status::Ok();
+  if (o.sysid_segments.empty()) {
+    return InvalidArgumentError(
+        "Simulator3dOptions::sysid_segments is empty; the sysid_3d scenario "
+        "flies a flight plan's excitation segments (SysId3dOptions, or "
+        "`imusysid simulate --scenario=sysid_3d --plan=plan.json`)");
+  }
+  IMUSYSID_RETURN_IF_ERROR(
+      ValidateExcitationSegments3d(o.sysid_segments)
+          .WithPrefix("Simulator3dOptions::sysid_segments"));
+  IMUSYSID_RETURN_IF_ERROR(InRange("sysid_gap_s", o.sysid_gap_s, 1.0, 60.0));
+  const double needed = SysId3dManeuverS(o);
+  return Require(o.maneuver_s >= needed - 1e-9,
+                 "maneuver_s",
+                 o.maneuver_s,
+                 ">= " + FormatShortest(needed) +
+                     " s, what sysid_segments and their gaps take");
+}
+
 }  // namespace
 
 std::vector<Imu3dMount> Simulator3dOptions::DefaultImus() {
@@ -76,9 +106,10 @@ Status Simulator3dOptions::Validate() const {
     return InvalidArgumentError("Simulator3dOptions::scenario = '" +
                                 CutForMessage(scenario) +
                                 "'; required figure8_3d, hover_3d, "
-                                "pitch_laps_3d, roll_laps_3d or "
-                                "yaw_sweeps_3d");
+                                "pitch_laps_3d, roll_laps_3d, "
+                                "yaw_sweeps_3d or sysid_3d");
   }
+  IMUSYSID_RETURN_IF_ERROR(ValidateSysIdSegments(*this));
   IMUSYSID_RETURN_IF_ERROR(InRange(
       "rate_hz", rate_hz, sim3d_flags::kMinRateHz, sim3d_flags::kMaxRateHz));
   IMUSYSID_RETURN_IF_ERROR(
@@ -283,7 +314,8 @@ std::vector<std::string> Scenario3dNames() {
           "hover_3d",
           "pitch_laps_3d",
           "roll_laps_3d",
-          "yaw_sweeps_3d"};
+          "yaw_sweeps_3d",
+          "sysid_3d"};
 }
 
 StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
@@ -298,7 +330,29 @@ StatusOr<Simulator3dOptions> Scenario3dOptions(std::string_view name) {
   }
   return NotFoundError("unknown 3-D scenario '" + CutForMessage(name) +
                        "'; valid: figure8_3d, hover_3d, pitch_laps_3d, "
-                       "roll_laps_3d, yaw_sweeps_3d");
+                       "roll_laps_3d, yaw_sweeps_3d, sysid_3d");
+}
+
+double SysId3dManeuverS(const Simulator3dOptions& options) {
+  double total = options.sysid_gap_s;
+  for (const ExcitationSegment3d& s : options.sysid_segments) {
+    total += options.sysid_gap_s + s.t_rec_s;
+  }
+  return total;
+}
+
+StatusOr<Simulator3dOptions> SysId3dOptions(const FlightPlan3d& plan) {
+  IMUSYSID_RETURN_IF_ERROR(ValidateFlightPlan3d(plan));
+  if (plan.segments.empty()) {
+    return InvalidArgumentError(
+        "the plan has no segments: sysid_3d has nothing to fly");
+  }
+  StatusOr<Simulator3dOptions> o = Scenario3dOptions("sysid_3d");
+  if (!o.ok()) return o.status();
+  o->sysid_segments = plan.segments;
+  // At least the shortest manoeuvre any scenario flies.
+  o->maneuver_s = std::max(10.0, SysId3dManeuverS(*o));
+  return o;
 }
 
 std::string Truth3dJson(const Simulator3dOptions& o,
@@ -391,6 +445,25 @@ std::string Truth3dJson(const Simulator3dOptions& o,
              {"mass_after_kg", o.mass_kg + o.payload_change.mass_kg},
              {"com_shift_frd_m", Vec(flight.com_shift_frd_m)},
              {"imus", after}};
+  }
+  // Only sysid_3d has this key: what it flew and when (flight time, s).
+  if (!o.sysid_segments.empty()) {
+    Json segments = Json::array();
+    FlightPlan3d plan;
+    plan.segments = o.sysid_segments;
+    const Json written = FlightPlan3dToJson(plan)["segments"];
+    double start = flight.maneuver_start_t_s;
+    for (std::size_t k = 0; k < o.sysid_segments.size(); ++k) {
+      const ExcitationSegment3d& s = o.sysid_segments[k];
+      start += o.sysid_gap_s;
+      Json e = written[k];
+      e["start_t_s"] = start;
+      e["end_t_s"] = start + s.t_rec_s;
+      segments.push_back(std::move(e));
+      start += s.t_rec_s;
+    }
+    j["sysid_segments"] = std::move(segments);
+    j["sysid_gap_s"] = o.sysid_gap_s;
   }
   // Only a flight with a stress effect has its key; every other truth is as
   // it always was.
