@@ -71,7 +71,8 @@ TEST(Simulate3d, ScenariosAreNamedAndValidated) {
                                       "hover_3d",
                                       "pitch_laps_3d",
                                       "roll_laps_3d",
-                                      "yaw_sweeps_3d"}));
+                                      "yaw_sweeps_3d",
+                                      "sysid_3d"}));
   const StatusOr<Simulator3dOptions> unknown = Scenario3dOptions("eight");
   ASSERT_FALSE(unknown.ok());
   EXPECT_THAT(unknown.status().message(), HasSubstr("figure8_3d"));
