@@ -6,6 +6,7 @@
 // --model=rigid3d` fits (Identify, no options): every axis of every IMU
 // fitted is determined, σ̂ ≤ 2.6 mm, the truth within 3σ̂.
 
+#include <iostream>
 #include <string>
 
 #include "gtest/gtest.h"

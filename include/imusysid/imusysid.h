@@ -10,6 +10,7 @@
 #include "imusysid/dataflash.h"
 #include "imusysid/displacement.h"
 #include "imusysid/estimator_options.h"
+#include "imusysid/flight_plan.h"
 #include "imusysid/identifiability.h"
 #include "imusysid/identify.h"
 #include "imusysid/log.h"
