@@ -19,7 +19,7 @@
 namespace imusysid {
 namespace {
 
-using Json = nlohmann::json;
+using PlanJson = nlohmann::json;
 
 constexpr char kPlanFormat[] = "imusysid.plan";
 constexpr int kPlanVersion = 1;
@@ -68,7 +68,7 @@ Status PlanStderr(const std::string& name,
   return Status::Ok();
 }
 
-Status ValidateSegment(const ExcitationSegment3d& s, std::size_t index) {
+Status ValidatePlanSegment(const ExcitationSegment3d& s, std::size_t index) {
   const std::string name = "segments[" + std::to_string(index) + "].";
   if (s.axis != "roll" && s.axis != "pitch" && s.axis != "yaw") {
     return InvalidArgumentError(name + "axis = '" + CutForMessage(s.axis) +
@@ -121,13 +121,15 @@ Status ValidateSegment(const ExcitationSegment3d& s, std::size_t index) {
 
 // --- reading ----------------------------------------------------------------
 
-std::string PlanTypeName(const Json& j) { return std::string(j.type_name()); }
+std::string PlanTypeName(const PlanJson& j) {
+  return std::string(j.type_name());
+}
 
 // The member `key` of `object` (`where` names the object in errors, e.g.
 // "segments[2]"); InvalidArgument when it is missing.
-StatusOr<const Json*> PlanMember(const Json& object,
-                                 const char* key,
-                                 const std::string& where) {
+StatusOr<const PlanJson*> PlanMember(const PlanJson& object,
+                                     const char* key,
+                                     const std::string& where) {
   const auto it = object.find(key);
   if (it == object.end()) {
     return InvalidArgumentError((where.empty() ? "" : where + ": ") +
@@ -140,11 +142,11 @@ std::string PlanFieldName(const std::string& where, const char* key) {
   return where.empty() ? std::string(key) : where + "." + key;
 }
 
-Status PlanNumber(const Json& object,
+Status PlanNumber(const PlanJson& object,
                   const char* key,
                   const std::string& where,
                   double* value) {
-  StatusOr<const Json*> j = PlanMember(object, key, where);
+  StatusOr<const PlanJson*> j = PlanMember(object, key, where);
   if (!j.ok()) return j.status();
   if (!(*j)->is_number()) {
     return InvalidArgumentError(PlanFieldName(where, key) +
@@ -154,11 +156,11 @@ Status PlanNumber(const Json& object,
   return Status::Ok();
 }
 
-Status PlanString(const Json& object,
+Status PlanString(const PlanJson& object,
                   const char* key,
                   const std::string& where,
                   std::string* value) {
-  StatusOr<const Json*> j = PlanMember(object, key, where);
+  StatusOr<const PlanJson*> j = PlanMember(object, key, where);
   if (!j.ok()) return j.status();
   if (!(*j)->is_string()) {
     return InvalidArgumentError(PlanFieldName(where, key) +
@@ -169,7 +171,7 @@ Status PlanString(const Json& object,
 }
 
 // [x, y, z], each a number (or null → NaN where `null_ok`).
-Status PlanVector(const Json& j,
+Status PlanVector(const PlanJson& j,
                   const std::string& name,
                   bool null_ok,
                   Eigen::Vector3d* v) {
@@ -182,7 +184,7 @@ Status PlanVector(const Json& j,
                                      : PlanTypeName(j)));
   }
   for (std::size_t i = 0; i < 3; ++i) {
-    const Json& e = j[i];
+    const PlanJson& e = j[i];
     if (null_ok && e.is_null()) {
       (*v)[static_cast<Eigen::Index>(i)] =
           std::numeric_limits<double>::quiet_NaN();
@@ -197,7 +199,8 @@ Status PlanVector(const Json& j,
   return Status::Ok();
 }
 
-StatusOr<ExcitationSegment3d> ParseSegment(const Json& j, std::size_t index) {
+StatusOr<ExcitationSegment3d> ParsePlanSegment(const PlanJson& j,
+                                               std::size_t index) {
   const std::string where = "segments[" + std::to_string(index) + "]";
   if (!j.is_object()) {
     return InvalidArgumentError(where + " must be an object, not " +
@@ -216,7 +219,7 @@ StatusOr<ExcitationSegment3d> ParseSegment(const Json& j, std::size_t index) {
   return s;
 }
 
-StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
+StatusOr<FlightPlan3d> PlanFromJson(const PlanJson& j) {
   if (!j.is_object()) {
     return InvalidArgumentError("expected a plan object, not " +
                                 PlanTypeName(j));
@@ -227,7 +230,7 @@ StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
     return InvalidArgumentError("format = '" + CutForMessage(format) +
                                 "'; required '" + kPlanFormat + "'");
   }
-  StatusOr<const Json*> version = PlanMember(j, "version", "");
+  StatusOr<const PlanJson*> version = PlanMember(j, "version", "");
   if (!version.ok()) return version.status();
   if (!(*version)->is_number_integer() ||
       (*version)->get<std::int64_t>() != kPlanVersion) {
@@ -245,7 +248,7 @@ StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
     }
     plan.source_log = source->get<std::string>();
   }
-  StatusOr<const Json*> target = PlanMember(j, "target_stderr_m", "");
+  StatusOr<const PlanJson*> target = PlanMember(j, "target_stderr_m", "");
   if (!target.ok()) return target.status();
   IMUSYSID_RETURN_IF_ERROR(
       PlanVector(**target, "target_stderr_m", false, &plan.target_stderr_m));
@@ -256,7 +259,7 @@ StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
                                   PlanTypeName(*predicted));
     }
     for (const char* key : {"before", "after"}) {
-      StatusOr<const Json*> v =
+      StatusOr<const PlanJson*> v =
           PlanMember(*predicted, key, "predicted_stderr_m");
       if (!v.ok()) return v.status();
       IMUSYSID_RETURN_IF_ERROR(PlanVector(
@@ -266,7 +269,7 @@ StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
           key[0] == 'b' ? &plan.predicted_before_m : &plan.predicted_after_m));
     }
   }
-  StatusOr<const Json*> segments = PlanMember(j, "segments", "");
+  StatusOr<const PlanJson*> segments = PlanMember(j, "segments", "");
   if (!segments.ok()) return segments.status();
   if (!(*segments)->is_array()) {
     return InvalidArgumentError("segments must be an array, not " +
@@ -278,7 +281,7 @@ StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
         " entries; required at most " + std::to_string(kMaxPlanSegments));
   }
   for (std::size_t i = 0; i < (*segments)->size(); ++i) {
-    StatusOr<ExcitationSegment3d> s = ParseSegment((**segments)[i], i);
+    StatusOr<ExcitationSegment3d> s = ParsePlanSegment((**segments)[i], i);
     if (!s.ok()) return s.status();
     plan.segments.push_back(std::move(s).value());
   }
@@ -286,14 +289,15 @@ StatusOr<FlightPlan3d> PlanFromJson(const Json& j) {
   return plan;
 }
 
-nlohmann::ordered_json NumberOrNull(double value) {
+nlohmann::ordered_json PlanNumberOrNull(double value) {
   if (std::isnan(value)) return nullptr;
   return value;
 }
 
 nlohmann::ordered_json PlanVectorJson(const Eigen::Vector3d& v) {
-  return nlohmann::ordered_json::array(
-      {NumberOrNull(v.x()), NumberOrNull(v.y()), NumberOrNull(v.z())});
+  return nlohmann::ordered_json::array({PlanNumberOrNull(v.x()),
+                                        PlanNumberOrNull(v.y()),
+                                        PlanNumberOrNull(v.z())});
 }
 
 }  // namespace
@@ -306,7 +310,7 @@ Status ValidateExcitationSegments3d(
         " entries; required at most " + std::to_string(kMaxPlanSegments));
   }
   for (std::size_t i = 0; i < segments.size(); ++i) {
-    IMUSYSID_RETURN_IF_ERROR(ValidateSegment(segments[i], i));
+    IMUSYSID_RETURN_IF_ERROR(ValidatePlanSegment(segments[i], i));
   }
   return Status::Ok();
 }
@@ -355,12 +359,12 @@ nlohmann::ordered_json FlightPlan3dToJson(const FlightPlan3d& plan) {
     OJson e;
     e["axis"] = s.axis;
     e["injection"] = s.injection;
-    e["magnitude"] = NumberOrNull(s.magnitude);
-    e["f_start_hz"] = NumberOrNull(s.f_start_hz);
-    e["f_stop_hz"] = NumberOrNull(s.f_stop_hz);
-    e["t_fade_in_s"] = NumberOrNull(s.t_fade_in_s);
-    e["t_rec_s"] = NumberOrNull(s.t_rec_s);
-    e["t_fade_out_s"] = NumberOrNull(s.t_fade_out_s);
+    e["magnitude"] = PlanNumberOrNull(s.magnitude);
+    e["f_start_hz"] = PlanNumberOrNull(s.f_start_hz);
+    e["f_stop_hz"] = PlanNumberOrNull(s.f_stop_hz);
+    e["t_fade_in_s"] = PlanNumberOrNull(s.t_fade_in_s);
+    e["t_rec_s"] = PlanNumberOrNull(s.t_rec_s);
+    e["t_fade_out_s"] = PlanNumberOrNull(s.t_fade_out_s);
     segments.push_back(std::move(e));
   }
   j["segments"] = std::move(segments);
@@ -369,7 +373,7 @@ nlohmann::ordered_json FlightPlan3dToJson(const FlightPlan3d& plan) {
 
 StatusOr<FlightPlan3d> ParseFlightPlan3d(std::string_view text,
                                          const std::string& path) {
-  StatusOr<Json> j = ParseJsonText(text, path);
+  StatusOr<PlanJson> j = ParseJsonText(text, path);
   if (!j.ok()) return j.status();
   StatusOr<FlightPlan3d> plan = PlanFromJson(*j);
   if (!plan.ok()) return plan.status().WithPrefix(path);
