@@ -62,9 +62,11 @@ if [ "$sanitizers" = 1 ]; then
   # -O1: sanitizer reports stay readable and the build stays cheap on 2 cores.
   # Warnings are enforced by the Release build above; at -O1 with
   # instrumentation GCC 12 reports false maybe-uninitialized in std::regex.
-  # Only the sanitized unit tests are built: no benchmarks, no accuracy
-  # tests, no Python module (an instrumented extension needs the sanitizer
-  # runtime preloaded into Python).
+  # Only the sanitized unit tests are built: no benchmarks (so the tool has
+  # no bench command there: its runner was a fifth of this build's CPU, and
+  # its input cases run in the Release pass), no accuracy tests, no Python
+  # module (an instrumented extension needs the sanitizer runtime preloaded
+  # into Python).
   # Six shards, not four: the estimator contract's cases cycle through four
   # models, so with four shards every IMU-only-model case (the slowest under
   # the sanitizers) fell in one shard, which ran alone for half a minute.

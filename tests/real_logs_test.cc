@@ -292,6 +292,7 @@ TEST(Log171, ConvertedCsvFitsLikeTheBinaryLog) {
 // regressors, so they agree to rounding.
 TEST(Log171, BenchFitsTheBinaryLogAsFitDoes) {
   IMUSYSID_REQUIRE_REAL_DATA();
+  IMUSYSID_REQUIRE_BENCH();
   const std::string window = FlightWindow();
   const CommandResult fit = RunCli("fit --log=" + RealLog(kLog171) + window +
                                    " --estimator=linear --format=json");

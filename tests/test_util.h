@@ -149,8 +149,24 @@ void ExpectImuAtTruth(const ImuPosition3d& imu,
                       const Eigen::Vector3d& truth,
                       double max_stderr_m);
 
+// Whether the tool was built with its bench command (the benchmarks; the
+// test command's sanitizer pass builds without them).
+#ifdef IMUSYSID_CLI_HAS_BENCH
+inline constexpr bool kCliHasBench = true;
+#else
+inline constexpr bool kCliHasBench = false;
+#endif
+
 }  // namespace testing
 }  // namespace imusysid
+
+// Skips a test that runs `imusysid bench` in a build without it.
+#define IMUSYSID_REQUIRE_BENCH()                                         \
+  do {                                                                   \
+    if (!::imusysid::testing::kCliHasBench) {                            \
+      GTEST_SKIP() << "built without the benchmarks (no bench command)"; \
+    }                                                                    \
+  } while (false)
 
 // For a test that needs ../shared/data/real: skips with a message saying
 // where the logs were looked for, except under CI, where their absence is a

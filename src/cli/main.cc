@@ -24,14 +24,18 @@ namespace cli {
 namespace {
 
 std::vector<const Command*> AllCommands() {
-  return {&SimulateCommand(),
-          &InspectCommand(),
-          &FitCommand(),
-          &DisplacementCommand(),
-          &ExportProblemCommand(),
-          &ConvertCommand(),
-          &TrackCommand(),
-          &BenchCommand()};
+  return {
+      &SimulateCommand(),
+      &InspectCommand(),
+      &FitCommand(),
+      &DisplacementCommand(),
+      &ExportProblemCommand(),
+      &ConvertCommand(),
+      &TrackCommand(),
+#ifdef IMUSYSID_CLI_HAS_BENCH
+      &BenchCommand(),
+#endif
+  };
 }
 
 void PrintToolHelp() {
@@ -247,6 +251,13 @@ int Main(int argc, char** argv) {
     }
     return RunBehindBarrier(*c, positional);
   }
+#ifndef IMUSYSID_CLI_HAS_BENCH
+  if (name == "bench") {
+    std::cerr << "imusysid: this build has no bench command (configured "
+                 "with IMUSYSID_BUILD_BENCHMARKS=OFF)\n";
+    return kExitBadInput;
+  }
+#endif
   std::cerr << "imusysid: unknown command '" << EscapeForDisplay(name) << "'\n";
   PrintToolHelp();
   return kExitBadInput;
