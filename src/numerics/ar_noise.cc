@@ -84,20 +84,23 @@ StatusOr<ArNoise> FitArNoise(const Eigen::VectorXd& series, int max_order) {
 
 Eigen::MatrixXd PrewhitenAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
   const int q = noise.order();
-  Eigen::MatrixXd out(m.rows(), m.cols());
-  for (Eigen::Index t = 0; t < m.rows(); ++t) {
+  // Time along the columns, so that each step reads contiguous samples.
+  const Eigen::MatrixXd in = m.transpose();
+  Eigen::MatrixXd out(in.rows(), in.cols());
+  Eigen::VectorXd acc(in.rows());
+  for (Eigen::Index t = 0; t < in.cols(); ++t) {
     // Sample t is predicted from its min(t, q) predecessors: the innovations
     // form of the exact Gaussian likelihood (L is the Cholesky factor of
     // Σ⁻¹ read backwards).
-    const int k = static_cast<int>(std::min<Eigen::Index>(t, q));
-    const std::vector<double>& phi =
-        noise.predictors[static_cast<std::size_t>(k)];
-    Eigen::RowVectorXd row = m.row(t);
-    for (int j = 1; j <= k; ++j)
-      row -= phi[static_cast<std::size_t>(j - 1)] * m.row(t - j);
-    out.row(t) = row / std::sqrt(noise.variances[static_cast<std::size_t>(k)]);
+    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
+    const std::vector<double>& phi = noise.predictors[k];
+    acc = in.col(t);
+    for (std::size_t j = 1; j <= k; ++j) {
+      acc.noalias() -= phi[j - 1] * in.col(t - static_cast<Eigen::Index>(j));
+    }
+    out.col(t) = acc / std::sqrt(noise.variances[k]);
   }
-  return out;
+  return out.transpose();
 }
 
 Eigen::MatrixXd ColorAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
@@ -105,23 +108,25 @@ Eigen::MatrixXd ColorAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
   // (s_t = √v_k(t), k(t) = min(t, q)): from the last row back,
   // z_s = s_s (m_s + Σ_{t=s+1..s+q} φ⁽ᵏ⁽ᵗ⁾⁾_{t−s} z_t / s_t).
   const int q = noise.order();
-  const Eigen::Index n = m.rows();
-  Eigen::MatrixXd scaled(n, m.cols());  // z_t / s_t
-  Eigen::MatrixXd out(n, m.cols());
+  const Eigen::MatrixXd in = m.transpose();
+  const Eigen::Index n = in.cols();
+  Eigen::MatrixXd scaled(in.rows(), n);  // z_t / s_t
+  Eigen::VectorXd acc(in.rows());
   for (Eigen::Index s = n - 1; s >= 0; --s) {
-    Eigen::RowVectorXd acc = m.row(s);
+    acc = in.col(s);
     const Eigen::Index last = std::min<Eigen::Index>(s + q, n - 1);
     for (Eigen::Index t = s + 1; t <= last; ++t) {
-      const std::size_t k =
-          static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
-      acc += noise.predictors[k][static_cast<std::size_t>(t - s - 1)] *
-             scaled.row(t);
+      const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
+      acc.noalias() +=
+          noise.predictors[k][static_cast<std::size_t>(t - s - 1)] *
+          scaled.col(t);
     }
-    const std::size_t ks =
-        static_cast<std::size_t>(std::min<Eigen::Index>(s, q));
-    const double sd = std::sqrt(noise.variances[ks]);
-    out.row(s) = sd * acc;
-    scaled.row(s) = acc;
+    scaled.col(s) = acc;
+  }
+  Eigen::MatrixXd out(n, in.rows());
+  for (Eigen::Index s = 0; s < n; ++s) {
+    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(s, q));
+    out.row(s) = std::sqrt(noise.variances[k]) * scaled.col(s).transpose();
   }
   return out;
 }
