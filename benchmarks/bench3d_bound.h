@@ -7,8 +7,9 @@
 // bound is formed by prewhitening A with that process: exactly
 // (Aᵀ Σ⁻¹ A)⁻¹ for the Toeplitz Σ the AR(q) model implies (the first q rows
 // whitened by the Levinson–Durbin predictors of lower order, so nothing is
-// dropped). docs/benchmarks.md, "The 3-D models in the bench", says what the
-// bound leaves out.
+// dropped); the AR numerics are the library's (src/numerics/ar_noise.h).
+// docs/benchmarks.md, "The 3-D models in the bench", says what the bound
+// leaves out.
 
 #ifndef IMUSYSID_BENCHMARKS_BENCH3D_BOUND_H_
 #define IMUSYSID_BENCHMARKS_BENCH3D_BOUND_H_
@@ -19,43 +20,10 @@
 #include "benchmarks/truth_sidecar.h"
 #include "imusysid/extend/model.h"
 #include "imusysid/status.h"
+#include "src/numerics/ar_noise.h"
 
 namespace imusysid {
 namespace bench {
-
-// A stationary AR(q) noise model x_t = Σ_{j=1..q} φ_j x_{t−j} + ε_t,
-// Var ε = innovation_variance, with the Levinson–Durbin predictors of every
-// lower order (what whitens the first q samples exactly).
-struct ArNoise3d {
-  // predictors[k] (k = 0..q) holds the k coefficients of the best linear
-  // predictor of x_t from its k predecessors; variances[k] its error
-  // variance. predictors[q] is φ; variances[0] the process variance γ(0).
-  std::vector<std::vector<double>> predictors;
-  std::vector<double> variances;
-  int order() const { return static_cast<int>(predictors.size()) - 1; }
-  double innovation_variance() const { return variances.back(); }
-};
-
-// The AR(q) model of autocovariances gamma[0..q] (γ(0) > 0) by the
-// Levinson–Durbin recursion. InvalidArgument when the autocovariance is not
-// positive definite (a prediction error variance ≤ 0).
-StatusOr<ArNoise3d> ArNoiseFromAutocovariance(const std::vector<double>& gamma);
-
-// The AR model of a residual series: sample autocovariances (biased, mean
-// removed), the order 0..max_order with the least AIC
-// n log σ²_q + 2q. InvalidArgument for a series shorter than
-// 4 (max_order + 1) or of zero variance.
-StatusOr<ArNoise3d> FitArNoise3d(const Eigen::VectorXd& series, int max_order);
-
-// L y with L the exact whitening operator of `noise` (LᵀL = Σ⁻¹), applied to
-// each column of `m` (rows are time).
-Eigen::MatrixXd PrewhitenAr3d(const Eigen::MatrixXd& m, const ArNoise3d& noise);
-
-// (Σ_k A_kᵀ Σ_k⁻¹ A_k)⁻¹ for independent blocks k of rows, block k's
-// noise AR noise[k]. FailedPrecondition when the information is singular.
-StatusOr<Eigen::MatrixXd> LinearArBound3d(
-    const std::vector<Eigen::MatrixXd>& blocks,
-    const std::vector<ArNoise3d>& noise);
 
 // The largest AR order the bench fits to a residual axis: AIC picks 28–61
 // on the 3d preset's flights, and the bound moves by under 1 % between

@@ -72,6 +72,8 @@ Json3d Run3dToJson(const Run3dRecord& run) {
   j["imu_position_frd_m"] = usable ? Vector3dJson(given) : Json3d(nullptr);
   j["imu_position_frd_stderr_m"] =
       usable ? Vector3dJson(imu.stderr_m) : Json3d(nullptr);
+  j["predicted_stderr_m"] =
+      usable ? Vector3dJson(imu.predicted_stderr_m) : Json3d(nullptr);
   j["fitted_position_frd_m"] =
       usable ? Vector3dJson(imu.position_m) : Json3d(nullptr);
   j["position_error_m"] =
@@ -127,28 +129,31 @@ Json3d Run3dToJson(const Run3dRecord& run) {
 }
 
 Json3d MonteCarlo3dToJson(const MonteCarlo3dRecord& r) {
-  return Json3d{{"model", r.model},
-                {"estimator", r.estimator},
-                {"scenario", r.scenario},
-                {"format", r.format},
-                {"instance", 0},
-                {"axis", kBench3dAxes[r.axis]},
-                {"seeds", r.seeds},
-                {"usable", r.usable},
-                {"given", r.given},
-                {"converged", r.converged},
-                {"truth_m", Bench3dJsonNum(r.truth_m)},
-                {"bias_m", Bench3dJsonNum(r.bias_m)},
-                {"spread_m", Bench3dJsonNum(r.spread_m)},
-                {"rmse_m", Bench3dJsonNum(r.rmse_m)},
-                {"mean_stderr_m", Bench3dJsonNum(r.mean_stderr_m)},
-                {"coverage_2sigma", Bench3dJsonNum(r.coverage)},
-                {"stderr_over_spread", Bench3dJsonNum(r.stderr_over_spread)},
-                {"bound_m", Bench3dJsonNum(r.bound_m)},
-                {"white_bound_m", Bench3dJsonNum(r.white_bound_m)},
-                {"spread_over_bound", Bench3dJsonNum(r.spread_over_bound)},
-                {"time_s", Bench3dJsonNum(r.time_s)},
-                {"fit_time_s", Bench3dJsonNum(r.fit_time_s)}};
+  return Json3d{
+      {"model", r.model},
+      {"estimator", r.estimator},
+      {"scenario", r.scenario},
+      {"format", r.format},
+      {"instance", 0},
+      {"axis", kBench3dAxes[r.axis]},
+      {"seeds", r.seeds},
+      {"usable", r.usable},
+      {"given", r.given},
+      {"converged", r.converged},
+      {"truth_m", Bench3dJsonNum(r.truth_m)},
+      {"bias_m", Bench3dJsonNum(r.bias_m)},
+      {"spread_m", Bench3dJsonNum(r.spread_m)},
+      {"rmse_m", Bench3dJsonNum(r.rmse_m)},
+      {"mean_stderr_m", Bench3dJsonNum(r.mean_stderr_m)},
+      {"coverage_2sigma", Bench3dJsonNum(r.coverage)},
+      {"stderr_over_spread", Bench3dJsonNum(r.stderr_over_spread)},
+      {"mean_predicted_stderr_m", Bench3dJsonNum(r.mean_predicted_stderr_m)},
+      {"predicted_over_stderr", Bench3dJsonNum(r.predicted_over_stderr)},
+      {"bound_m", Bench3dJsonNum(r.bound_m)},
+      {"white_bound_m", Bench3dJsonNum(r.white_bound_m)},
+      {"spread_over_bound", Bench3dJsonNum(r.spread_over_bound)},
+      {"time_s", Bench3dJsonNum(r.time_s)},
+      {"fit_time_s", Bench3dJsonNum(r.fit_time_s)}};
 }
 
 namespace {
@@ -256,7 +261,11 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
          "noise level and correlation of the flight's own residual "
          "(an AR model per residual axis; docs/benchmarks.md), white = the "
          "same for white residuals, spread/bound >= 1 up to sampling error "
-         "for an unbiased estimator. given = seeds whose axis was given.\n\n";
+         "for an unbiased estimator. predicted = mean σ̂ each flight's motion "
+         "predicts (predict3d.h: the residual's AR noise, the jackknife's "
+         "expectation, the systematic part), pred/σ̂ = the mean of each "
+         "seed's predicted over its σ̂. given = seeds whose axis was "
+         "given.\n\n";
   std::vector<std::vector<std::string>> rows;
   for (const MonteCarlo3dRecord& r : records) {
     rows.push_back({r.model,
@@ -272,6 +281,8 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                     Mm3d(r.mean_stderr_m),
                     internal::FixedCell(r.coverage, 2),
                     internal::FixedCell(r.stderr_over_spread, 2),
+                    Mm3d(r.mean_predicted_stderr_m),
+                    internal::FixedCell(r.predicted_over_stderr, 2),
                     internal::FixedCell(1000.0 * r.bound_m, 3),
                     internal::FixedCell(1000.0 * r.white_bound_m, 3),
                     internal::FixedCell(r.spread_over_bound, 2),
@@ -290,6 +301,8 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                                   "σ̂ mm",
                                   "cover 2σ̂",
                                   "σ̂/spread",
+                                  "predicted mm",
+                                  "pred/σ̂",
                                   "bound mm",
                                   "white mm",
                                   "spread/bound",

@@ -32,6 +32,7 @@ struct Seed3dSample {
   Eigen::Vector3d error_m = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d fitted_m = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d stderr_m = Eigen::Vector3d::Constant(kNaN);
+  Eigen::Vector3d predicted_m = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d truth_m = Eigen::Vector3d::Constant(kNaN);
   std::array<bool, 3> given = {false, false, false};
   // The flight's Cramér–Rao bound variances (instance 0), NaN without one.
@@ -52,6 +53,7 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
   r.axis = axis;
   r.seeds = static_cast<int>(samples.size());
   std::vector<double> errors, values, stderrs, times, fit_times;
+  std::vector<double> predicted, ratios;
   double bound_sum = 0.0, white_sum = 0.0;
   int bounds = 0, whites = 0;
   int covered = 0;
@@ -74,11 +76,24 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
     r.truth_m = s.truth_m[axis];
     errors.push_back(s.error_m[axis]);
     values.push_back(s.fitted_m[axis]);
+    if (std::isfinite(s.predicted_m[axis])) {
+      predicted.push_back(s.predicted_m[axis]);
+      if (std::isfinite(s.stderr_m[axis]) && s.stderr_m[axis] > 0.0) {
+        ratios.push_back(s.predicted_m[axis] / s.stderr_m[axis]);
+      }
+    }
     if (std::isfinite(s.stderr_m[axis])) {
       stderrs.push_back(s.stderr_m[axis]);
       if (std::abs(s.error_m[axis]) <= 2.0 * s.stderr_m[axis]) ++covered;
     }
   }
+  auto mean_of = [](const std::vector<double>& v) {
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return v.empty() ? kNaN : sum / static_cast<double>(v.size());
+  };
+  r.mean_predicted_stderr_m = mean_of(predicted);
+  r.predicted_over_stderr = mean_of(ratios);
   r.time_s = Bench3dMedian(times);
   r.fit_time_s = Bench3dMedian(fit_times);
   if (bounds > 0) r.bound_m = std::sqrt(bound_sum / bounds);
@@ -297,6 +312,7 @@ std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
               s.error_m = r.error_m;
               s.fitted_m = r.imu.position_m;
               s.stderr_m = r.imu.stderr_m;
+              s.predicted_m = r.imu.predicted_stderr_m;
               s.truth_m = r.truth_position_m;
               s.given = r.imu.determined;
               s.fit_time_s = r.fit_time_s;

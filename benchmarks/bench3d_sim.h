@@ -57,6 +57,10 @@ struct MonteCarlo3dRecord {
   double mean_stderr_m = kNaN;       // mean σ̂ (statistical and systematic)
   double coverage = kNaN;            // fraction with |error| <= 2σ̂
   double stderr_over_spread = kNaN;  // mean σ̂ / spread
+  // The σ̂ each flight's motion predicts (ImuPosition3d::
+  // predicted_stderr_m), its mean and the mean of predicted/σ̂ per seed.
+  double mean_predicted_stderr_m = kNaN;
+  double predicted_over_stderr = kNaN;
   // The Cramér–Rao bound on the axis (bench3d_bound.h): √ of the mean over
   // the seeds of each flight's bound variance, with the residual's AR noise;
   // white_bound_m the same had the residuals been white; NaN where the model

@@ -258,6 +258,15 @@ struct ImuPosition3d {
   std::array<Rigid3dAxisDecision, 3> decisions;
   // The position's covariance (diagonal, from the widened σ̂), for baselines.
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  // The σ̂ this flight's motion predicts (predict3d.h): the statistical
+  // part from the regressors and an AR model of the fit's residual, the
+  // systematic part as stderr_m's, and their root sum of squares; what a
+  // flight plan is judged by before it is flown, shown beside the fit's
+  // own. NaN where not formed (rigid3d_imu, a failed fit).
+  Eigen::Vector3d predicted_stderr_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::Vector3d predicted_stderr_statistical_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   // Nuisance terms, for the curious and for plausibility.
   double rotor_drag_per_s = 0.0;
   double mu_per_m = 0.0;
@@ -360,6 +369,7 @@ void CompareInstances(std::vector<ImuPosition3d>* reports);
 
 // The JSON object of `fit --model=rigid3d --format=json`:
 // imu_position_frd_m (3 numbers or null), imu_position_frd_stderr_m,
+// predicted_stderr_m (3 numbers or null: ImuPosition3d::predicted_stderr_m),
 // warnings (strings), then instance, determined, advice, windows, delay, the
 // nuisance terms, baselines and, last, decisions (per axis: the decision,
 // its reason code and advice, the fitted value, σ̂ in its two parts and

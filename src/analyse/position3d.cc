@@ -15,6 +15,7 @@
 #include "imusysid/parameters.h"
 #include "imusysid/problem_data.h"
 #include "imusysid/rigid3d.h"
+#include "src/analyse/predict3d.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -365,7 +366,30 @@ ImuPosition3d AnalysePosition3d(const Problem& problem,
       if (band.ok()) options.in_band = *band;
     }
   }
-  return Rigid3dReport(result, pre, instance, options);
+  ImuPosition3d out = Rigid3dReport(result, pre, instance, options);
+  // The σ̂ the flight's motion predicts, beside the fit's own: the
+  // information of the data under an AR model of the fit's residual, the
+  // systematic part as the fit's (rigid3d only: the IMU-only model is not
+  // linear in its coefficients).
+  if (out.usable && problem.model().name() == kRigid3dModelName) {
+    Predict3dOptions predict;
+    predict.model_error_floor_m = options.model_error_floor_m;
+    predict.jackknife_blocks = options.jackknife_blocks;
+    StatusOr<ResidualNoise3d> noise =
+        ResidualNoise3dOfModel(problem.model(), result.parameters, predict);
+    StatusOr<Information3d> information =
+        noise.ok() ? Information3dOfModel(problem.model(), *noise)
+                   : StatusOr<Information3d>(noise.status());
+    if (information.ok()) {
+      StatusOr<PredictedStderr3d> predicted =
+          PredictStderr3d({*information}, pre.systematic_stderr_m, predict);
+      if (predicted.ok()) {
+        out.predicted_stderr_m = predicted->total_m;
+        out.predicted_stderr_statistical_m = predicted->statistical_m;
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace internal

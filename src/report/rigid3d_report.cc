@@ -48,6 +48,9 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   }
   j["imu_position_frd_m"] = p;
   j["imu_position_frd_stderr_m"] = se;
+  nlohmann::ordered_json predicted = nlohmann::ordered_json::array();
+  for (int a = 0; a < 3; ++a) predicted.push_back(Num(r.predicted_stderr_m[a]));
+  j["predicted_stderr_m"] = predicted;
   j["warnings"] = r.warnings;
   j["instance"] = r.instance;
   j["log"] = r.source;
@@ -207,6 +210,11 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
     } else {
       s << "withheld: " << r.advice[i] << "\n";
     }
+  }
+  if (r.predicted_stderr_m.allFinite()) {
+    s << "  1-sigma this flight's motion predicts (mm): x "
+      << Mm(r.predicted_stderr_m[0]) << ", y " << Mm(r.predicted_stderr_m[1])
+      << ", z " << Mm(r.predicted_stderr_m[2]) << "\n";
   }
   if (r.usable) {
     s << "  estimator delay " << FormatNumber(r.estimator_delay_s * 1e3, 3)

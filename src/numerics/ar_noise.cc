@@ -1,0 +1,186 @@
+#include "src/numerics/ar_noise.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "Eigen/Cholesky"
+#include "Eigen/Eigenvalues"
+
+namespace imusysid {
+
+StatusOr<ArNoise> ArNoiseFromAutocovariance(const std::vector<double>& gamma) {
+  if (gamma.empty() || !(gamma[0] > 0.0) || !std::isfinite(gamma[0])) {
+    return InvalidArgumentError(
+        "ArNoiseFromAutocovariance: γ(0) must be positive and finite");
+  }
+  const int q = static_cast<int>(gamma.size()) - 1;
+  ArNoise noise;
+  noise.autocovariance = gamma;
+  noise.predictors.assign(1, std::vector<double>());
+  noise.variances.assign(1, gamma[0]);
+  for (int k = 1; k <= q; ++k) {
+    const std::vector<double>& prev = noise.predictors.back();
+    double acc = gamma[k];
+    for (int j = 1; j < k; ++j) acc -= prev[j - 1] * gamma[k - j];
+    const double reflection = acc / noise.variances.back();
+    std::vector<double> next(k);
+    for (int j = 1; j < k; ++j) {
+      next[j - 1] = prev[j - 1] - reflection * prev[k - j - 1];
+    }
+    next[k - 1] = reflection;
+    const double v = noise.variances.back() * (1.0 - reflection * reflection);
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      return InvalidArgumentError(
+          "ArNoiseFromAutocovariance: the autocovariance is not positive "
+          "definite at lag " +
+          std::to_string(k));
+    }
+    noise.predictors.push_back(std::move(next));
+    noise.variances.push_back(v);
+  }
+  return noise;
+}
+
+StatusOr<ArNoise> WhiteArNoise(double variance) {
+  return ArNoiseFromAutocovariance({variance});
+}
+
+StatusOr<ArNoise> FitArNoise(const Eigen::VectorXd& series, int max_order) {
+  const Eigen::Index n = series.size();
+  if (max_order < 0 || n < 4 * (static_cast<Eigen::Index>(max_order) + 1)) {
+    return InvalidArgumentError("FitArNoise: " + std::to_string(n) +
+                                " samples for AR order up to " +
+                                std::to_string(max_order));
+  }
+  const Eigen::VectorXd x = series.array() - series.mean();
+  std::vector<double> gamma(static_cast<std::size_t>(max_order) + 1);
+  for (int k = 0; k <= max_order; ++k) {
+    gamma[static_cast<std::size_t>(k)] =
+        x.head(n - k).dot(x.tail(n - k)) / static_cast<double>(n);
+  }
+  StatusOr<ArNoise> full = ArNoiseFromAutocovariance(gamma);
+  if (!full.ok()) return full.status();
+  // The order by AIC on the prediction error variances of the recursion.
+  int best = 0;
+  double best_aic = 0.0;
+  for (int k = 0; k <= max_order; ++k) {
+    const double aic =
+        static_cast<double>(n) *
+            std::log(full->variances[static_cast<std::size_t>(k)]) +
+        2.0 * static_cast<double>(k);
+    if (k == 0 || aic < best_aic) {
+      best = k;
+      best_aic = aic;
+    }
+  }
+  const std::size_t keep = static_cast<std::size_t>(best) + 1;
+  full->predictors.resize(keep);
+  full->variances.resize(keep);
+  full->autocovariance.resize(keep);
+  return full;
+}
+
+Eigen::MatrixXd PrewhitenAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
+  const int q = noise.order();
+  // Time along the columns, so that each step reads contiguous samples.
+  const Eigen::MatrixXd in = m.transpose();
+  Eigen::MatrixXd out(in.rows(), in.cols());
+  Eigen::VectorXd acc(in.rows());
+  for (Eigen::Index t = 0; t < in.cols(); ++t) {
+    // Sample t is predicted from its min(t, q) predecessors: the innovations
+    // form of the exact Gaussian likelihood (L is the Cholesky factor of
+    // Σ⁻¹ read backwards).
+    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
+    const std::vector<double>& phi = noise.predictors[k];
+    acc = in.col(t);
+    for (std::size_t j = 1; j <= k; ++j) {
+      acc.noalias() -= phi[j - 1] * in.col(t - static_cast<Eigen::Index>(j));
+    }
+    out.col(t) = acc / std::sqrt(noise.variances[k]);
+  }
+  return out.transpose();
+}
+
+Eigen::MatrixXd ColorAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
+  // Lᵀ z = m with L_tt = 1/s_t and L_{t,t−j} = −φ⁽ᵏ⁽ᵗ⁾⁾_j / s_t
+  // (s_t = √v_k(t), k(t) = min(t, q)): from the last row back,
+  // z_s = s_s (m_s + Σ_{t=s+1..s+q} φ⁽ᵏ⁽ᵗ⁾⁾_{t−s} z_t / s_t).
+  const int q = noise.order();
+  const Eigen::MatrixXd in = m.transpose();
+  const Eigen::Index n = in.cols();
+  Eigen::MatrixXd scaled(in.rows(), n);  // z_t / s_t
+  Eigen::VectorXd acc(in.rows());
+  for (Eigen::Index s = n - 1; s >= 0; --s) {
+    acc = in.col(s);
+    const Eigen::Index last = std::min<Eigen::Index>(s + q, n - 1);
+    for (Eigen::Index t = s + 1; t <= last; ++t) {
+      const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
+      acc.noalias() +=
+          noise.predictors[k][static_cast<std::size_t>(t - s - 1)] *
+          scaled.col(t);
+    }
+    scaled.col(s) = acc;
+  }
+  Eigen::MatrixXd out(n, in.rows());
+  for (Eigen::Index s = 0; s < n; ++s) {
+    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(s, q));
+    out.row(s) = std::sqrt(noise.variances[k]) * scaled.col(s).transpose();
+  }
+  return out;
+}
+
+Eigen::MatrixXd ArInformation(const Eigen::MatrixXd& a, const ArNoise& noise) {
+  const Eigen::MatrixXd w = PrewhitenAr(a, noise);
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(a.cols(), a.cols());
+  out.selfadjointView<Eigen::Lower>().rankUpdate(w.transpose());
+  return out.selfadjointView<Eigen::Lower>();
+}
+
+Eigen::MatrixXd ArScoreCovariance(const Eigen::MatrixXd& a,
+                                  const ArNoise& noise) {
+  const Eigen::MatrixXd z = ColorAr(a, noise);
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(a.cols(), a.cols());
+  out.selfadjointView<Eigen::Lower>().rankUpdate(z.transpose());
+  return out.selfadjointView<Eigen::Lower>();
+}
+
+StatusOr<Eigen::MatrixXd> InvertInformation(const Eigen::MatrixXd& information,
+                                            const char* what) {
+  if (information.rows() == 0 || information.rows() != information.cols() ||
+      !information.allFinite()) {
+    return InvalidArgumentError(std::string(what) +
+                                ": the information is empty or not finite");
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(information);
+  if (!(eig.eigenvalues().minCoeff() > 1e-13 * eig.eigenvalues().maxCoeff())) {
+    return FailedPreconditionError(
+        std::string(what) +
+        ": the information is singular (coefficients not identifiable from "
+        "these data)");
+  }
+  const Eigen::Index m = information.rows();
+  return Eigen::MatrixXd(
+      information.ldlt().solve(Eigen::MatrixXd::Identity(m, m)));
+}
+
+StatusOr<Eigen::MatrixXd> LinearArBound(
+    const std::vector<Eigen::MatrixXd>& blocks,
+    const std::vector<ArNoise>& noise) {
+  if (blocks.empty() || blocks.size() != noise.size()) {
+    return InvalidArgumentError(
+        "LinearArBound: one noise model per block of rows");
+  }
+  const Eigen::Index m = blocks.front().cols();
+  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(m, m);
+  for (std::size_t k = 0; k < blocks.size(); ++k) {
+    if (blocks[k].cols() != m) {
+      return InvalidArgumentError("LinearArBound: blocks differ in columns");
+    }
+    information += ArInformation(blocks[k], noise[k]);
+  }
+  return InvertInformation(information, "LinearArBound");
+}
+
+}  // namespace imusysid
