@@ -21,6 +21,7 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/pool3d.h"
+#include "imusysid/predict3d.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem_data.h"
