@@ -20,6 +20,7 @@
 #include "imusysid/paper_reference.h"
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
+#include "imusysid/plan3d.h"
 #include "imusysid/pool3d.h"
 #include "imusysid/predict3d.h"
 #include "imusysid/preprocess.h"

@@ -8,12 +8,14 @@
 
 #include <array>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "Eigen/Core"
 #include "imusysid/autopilot.h"
 #include "imusysid/estimator_options.h"
+#include "imusysid/predict3d.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem_data.h"
 #include "imusysid/result.h"
@@ -266,6 +268,14 @@ struct ImuPosition3d {
   Eigen::Vector3d predicted_stderr_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector3d predicted_stderr_statistical_m =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // What the prediction was formed from, for a caller that adds this
+  // flight's information to other motion (PlanFlight3d, plan3d.h): the
+  // information under the AR model of the fit's residual (null where no
+  // prediction was made) and the systematic part's sensitivity
+  // (Preprocess3dResult::systematic_stderr_m).
+  std::shared_ptr<const Information3d> information;
+  Eigen::Vector3d systematic_sensitivity_m =
       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   // Nuisance terms, for the curious and for plausibility.
   double rotor_drag_per_s = 0.0;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -386,6 +387,8 @@ ImuPosition3d AnalysePosition3d(const Problem& problem,
       if (predicted.ok()) {
         out.predicted_stderr_m = predicted->total_m;
         out.predicted_stderr_statistical_m = predicted->statistical_m;
+        out.information = std::make_shared<const Information3d>(*information);
+        out.systematic_sensitivity_m = pre.systematic_stderr_m;
       }
     }
   }

@@ -49,6 +49,7 @@ const Command& ExportProblemCommand();
 const Command& ConvertCommand();
 const Command& BenchCommand();
 const Command& TrackCommand();
+const Command& PlanCommand();
 
 // The process exit code for a status: 0 for OK, 2 for the user's input
 // (invalid argument, not found, failed precondition), 1 otherwise.

@@ -32,6 +32,7 @@ std::vector<const Command*> AllCommands() {
       &ExportProblemCommand(),
       &ConvertCommand(),
       &TrackCommand(),
+      &PlanCommand(),
 #ifdef IMUSYSID_CLI_HAS_BENCH
       &BenchCommand(),
 #endif

@@ -1,0 +1,175 @@
+// `imusysid plan`: the flight that gives the IMU position to a target σ̂
+// (include/imusysid/plan3d.h), written as plan.json, the autopilot's files
+// and a card for people (src/report/plan_files.h).
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "gflags/gflags.h"
+#include "imusysid/log.h"
+#include "imusysid/plan3d.h"
+#include "nlohmann/json.hpp"
+#include "src/cli/common.h"
+#include "src/io/staging_folder.h"
+#include "src/report/plan_files.h"
+#include "src/tools/format.h"
+
+DECLARE_string(log);
+DECLARE_string(out);
+DECLARE_int32(threads);
+DECLARE_uint64(seed);
+DEFINE_double(target_mm,
+              2.0,
+              "plan: the sigma to reach on every axis of the IMU position, "
+              "mm (in (0, 1000]).");
+DEFINE_string(autopilot,
+              "ardupilot",
+              "plan: ardupilot (System ID mode parameter files) or px4 (a "
+              "procedure of stick doublets).");
+
+namespace imusysid {
+namespace cli {
+namespace {
+
+nlohmann::ordered_json Vec3Json(const Eigen::Vector3d& v) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (int i = 0; i < 3; ++i) {
+    if (std::isfinite(v[i])) {
+      a.push_back(v[i]);
+    } else {
+      a.push_back(nullptr);
+    }
+  }
+  return a;
+}
+
+nlohmann::ordered_json PlanResultJson(const PlanResult3d& r) {
+  nlohmann::ordered_json j = FlightPlan3dToJson(r.plan);
+  j["reached"] = r.reached;
+  if (!r.reached) j["shortfall"] = r.shortfall;
+  j["predicted_statistical_m"] = Vec3Json(r.predicted_statistical_m);
+  j["predicted_systematic_m"] = Vec3Json(r.predicted_systematic_m);
+  if (r.has_source) {
+    j["source_instance"] = r.source_instance;
+    j["source_stderr_m"] = Vec3Json(r.source_stderr_m);
+    nlohmann::ordered_json given = nlohmann::ordered_json::array();
+    for (bool d : r.source_determined) given.push_back(d);
+    j["source_determined"] = given;
+  }
+  j["noise_scale"] = r.noise_scale;
+  j["notes"] = r.notes;
+  return j;
+}
+
+int RunPlan(const std::vector<std::string>& positional) {
+  const std::string cmd = "plan";
+  if (!positional.empty()) {
+    return UsageError(cmd, "unexpected argument '" + positional.front() + "'");
+  }
+  if (!(FLAGS_target_mm > 0.0 && FLAGS_target_mm <= 1000.0)) {
+    return UsageError(cmd,
+                      "--target_mm=" + FormatNumber(FLAGS_target_mm) +
+                          "; required in (0, 1000]");
+  }
+  const std::string out = internal::WithoutTrailingSlashes(FLAGS_out);
+  if (!out.empty()) {
+    std::error_code ec;
+    const auto type = std::filesystem::status(out, ec).type();
+    if (type != std::filesystem::file_type::not_found &&
+        type != std::filesystem::file_type::directory) {
+      return ReportError(cmd,
+                         InvalidArgumentError("--out='" + FLAGS_out +
+                                              "' exists and is not a folder"));
+    }
+  }
+  PlanOptions3d options;
+  options.target_stderr_m = Eigen::Vector3d::Constant(FLAGS_target_mm * 1e-3);
+  options.autopilot = FLAGS_autopilot;
+  options.seed = FLAGS_seed;
+  options.num_threads = FLAGS_threads;
+  options.on_progress = [](const std::string& text) {
+    std::cerr << text << "\n";
+  };
+  StatusOr<PlanResult3d> result = FLAGS_log.empty()
+                                      ? PlanFlight3d(nullptr, "", options)
+                                      : PlanFlight3dFromLog(FLAGS_log, options);
+  if (!result.ok()) return ReportError(cmd, result.status());
+
+  const std::vector<PlanFile> files = PlanFiles(result->plan);
+  if (!out.empty()) {
+    StatusOr<std::string> staging = internal::MakeStagingFolder(out);
+    if (!staging.ok()) {
+      return ReportError(cmd, staging.status().WithPrefix("--out"));
+    }
+    auto fail = [&](const Status& status) {
+      std::error_code ec;
+      std::filesystem::remove_all(*staging, ec);
+      return ReportError(cmd, status);
+    };
+    Status s = WriteFileAtomically(*staging + "/plan.json",
+                                   DumpJson(FlightPlan3dToJson(result->plan)));
+    if (!s.ok()) return fail(s);
+    for (const PlanFile& f : files) {
+      s = WriteFileAtomically(*staging + "/" + f.name, f.text);
+      if (!s.ok()) return fail(s);
+    }
+    s = internal::CommitStagingFolder(*staging, out);
+    if (!s.ok()) return fail(s);
+  }
+  Status s = JsonOutput()
+                 ? EmitOutput(DumpJson(PlanResultJson(*result)) + "\n", "")
+                 : EmitOutput(PlanCardText(result->plan), "");
+  if (!s.ok()) return ReportError(cmd, s);
+  if (!JsonOutput()) {
+    for (const std::string& note : result->notes) {
+      std::cout << "note: " << note << "\n";
+    }
+    if (!result->reached) {
+      std::cout << "not reached: " << result->shortfall << "\n";
+    }
+  }
+  if (!out.empty()) {
+    std::cerr << "wrote " << out << "/plan.json";
+    for (const PlanFile& f : files) std::cerr << ", " << f.name;
+    std::cerr << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+const Command& PlanCommand() {
+  static const Command c{
+      "plan",
+      "Plan the flight that gives the IMU position to a target sigma: "
+      "excitation segments, predicted sigma, the autopilot's files.",
+      "imusysid plan [--log=FILE] [--target_mm=2] "
+      "[--autopilot=ardupilot|px4] [--out=DIR] [--format=json|table]",
+      "From a log already flown (its residual level and what it already "
+      "gives) or, without\n--log, the simulator's vehicle: the shortest "
+      "set of chirps (roll, pitch, yaw) whose\nflight, fitted alone with "
+      "`fit --model=rigid3d`, is predicted to give every axis\nof the IMU "
+      "position within --target_mm (docs/plan.md). Each axis's chirp is "
+      "flown by\nthe simulator and fitted as a log is, the lengths are "
+      "searched, and the plan found is\nflown once more; about half a "
+      "minute on two cores. Prints the card (or with\n--format=json the "
+      "plan with its prediction); --out=DIR is a folder, written all or\n"
+      "nothing: DIR/plan.json (`simulate --scenario=sysid_3d "
+      "--plan=DIR/plan.json` flies it),\nDIR/plan.txt, and per ArduPilot "
+      "segment DIR/sid_N_AXIS.parm (SID_AXIS, SID_MAGNITUDE,\n"
+      "SID_F_START_HZ, SID_F_STOP_HZ, SID_T_FADE_IN, SID_T_REC, "
+      "SID_T_FADE_OUT; flight mode\nSystem ID, 25) or for PX4 "
+      "DIR/px4_procedure.txt.",
+      {"log", "target_mm", "autopilot", "out", "seed", "threads", "format"},
+      &RunPlan,
+      false,
+      {}};
+  return c;
+}
+
+}  // namespace cli
+}  // namespace imusysid
