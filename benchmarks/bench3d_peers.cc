@@ -73,24 +73,37 @@ void ScorePeer3d(const Log3d& log, Peer3dRecord* r) {
   }
 }
 
+// A number shown with `decimals` and kept exact (right-aligned in HTML).
+report::HtmlCell PeersNumCell3d(double v, int decimals) {
+  return std::isfinite(v)
+             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
+             : report::HtmlCell("n/a");
+}
+
 }  // namespace
 
-Status CheckPeers3d(const Peers3dSetup& setup) {
+Status FindPeers3dPython(const std::vector<std::string>& pythons,
+                         Peers3dSetup* setup) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(setup.script, ec)) {
+  if (!std::filesystem::is_regular_file(setup->script, ec)) {
     return FailedPreconditionError("--peers: no peers script at '" +
-                                   setup.script + "'");
+                                   setup->script + "'");
   }
-  const std::string probe =
-      Peers3dShellQuote(setup.python) +
-      " -c 'import numpy, scipy.optimize, scipy.linalg' >/dev/null 2>&1";
-  if (std::system(probe.c_str()) != 0) {
-    return FailedPreconditionError(
-        "--peers: no " + setup.python +
-        " with NumPy and SciPy (Debian: apt-get install python3-numpy "
-        "python3-scipy; scripts/setup.sh --with-peers)");
+  std::string tried;
+  for (const std::string& python : pythons) {
+    const std::string probe =
+        Peers3dShellQuote(python) +
+        " -c 'import numpy, scipy.optimize, scipy.linalg' >/dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) {
+      setup->python = python;
+      return Status::Ok();
+    }
+    tried += (tried.empty() ? "" : ", ") + internal::Truncate(python, 40);
   }
-  return Status::Ok();
+  return FailedPreconditionError(
+      "--peers: no python with NumPy and SciPy (tried " + tried +
+      "; Debian: apt-get install python3-numpy python3-scipy; "
+      "scripts/setup.sh --with-peers)");
 }
 
 StatusOr<std::vector<Peer3dRecord>> RunPeers3d(
@@ -219,9 +232,9 @@ report::HtmlTable Peers3dHtmlTable(const std::vector<Peer3dRecord>& records) {
                       r.method,
                       mm3(r.position_m),
                       mm3(r.error_m),
-                      internal::FixedCell(1000.0 * r.error_m.norm(), 2),
+                      PeersNumCell3d(1000.0 * r.error_m.norm(), 2),
                       r.decisions.empty() ? "-" : r.decisions,
-                      internal::FixedCell(1000.0 * r.time_s, 2)});
+                      PeersNumCell3d(1000.0 * r.time_s, 2)});
   }
   return t;
 }

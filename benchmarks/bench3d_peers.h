@@ -39,9 +39,12 @@ struct Peers3dSetup {
   std::string work_dir;  // where the problem files go (removed after)
 };
 
-// FailedPrecondition naming what is missing when `setup.python` cannot
-// import NumPy and SciPy or the script is not there.
-Status CheckPeers3d(const Peers3dSetup& setup);
+// Sets setup->python to the first of `pythons` that imports NumPy and
+// SciPy (a pyenv shim may pick another interpreter per folder: run_peers3d.sh
+// tries python3, then /usr/bin/python3); FailedPrecondition naming what is
+// missing when none does or the script is not there.
+Status FindPeers3dPython(const std::vector<std::string>& pythons,
+                         Peers3dSetup* setup);
 
 // The peers on every log's instance 0 (rigid3d's linear system), after
 // imusysid's rigid3d runs on it from `runs` (instance 0, usable, no

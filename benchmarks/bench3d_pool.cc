@@ -279,6 +279,13 @@ std::string PoolCount3d(int k, int n) {
          (n > 0 ? " (" + FormatFixed(100.0 * k / n, 0) + " %)" : "");
 }
 
+// A number shown with `decimals` and kept exact (right-aligned in HTML).
+report::HtmlCell PoolNumCell3d(double v, int decimals) {
+  return std::isfinite(v)
+             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
+             : report::HtmlCell("n/a");
+}
+
 report::HtmlTable PoolAxesTable3d(const Pools3dResult& result) {
   report::HtmlTable t;
   t.id = "pools3d";
@@ -307,15 +314,15 @@ report::HtmlTable PoolAxesTable3d(const Pools3dResult& result) {
          kPool3dAxes[r.axis],
          std::to_string(r.pools),
          PoolCount3d(r.covered, r.pools),
-         internal::FixedCell(1000.0 * r.mean_stderr_m, 2),
-         internal::FixedCell(1000.0 * r.spread_m, 2),
-         internal::FixedCell(r.stderr_over_spread, 2),
-         internal::FixedCell(1000.0 * r.bias_m, 2),
+         PoolNumCell3d(1000.0 * r.mean_stderr_m, 2),
+         PoolNumCell3d(1000.0 * r.spread_m, 2),
+         PoolNumCell3d(r.stderr_over_spread, 2),
+         PoolNumCell3d(1000.0 * r.bias_m, 2),
          std::to_string(r.given),
          std::to_string(r.confident_wrong),
          std::to_string(r.mean_covered) + "/" + std::to_string(r.mean_pools),
-         internal::FixedCell(1000.0 * r.mean_mean_stderr_m, 2),
-         internal::FixedCell(1000.0 * r.mean_spread_m, 2)});
+         PoolNumCell3d(1000.0 * r.mean_mean_stderr_m, 2),
+         PoolNumCell3d(1000.0 * r.mean_spread_m, 2)});
   }
   return t;
 }
@@ -339,10 +346,10 @@ report::HtmlTable PoolTiltsTable3d(const Pools3dResult& result) {
                       kPool3dAngles[r.angle],
                       std::to_string(r.pools),
                       PoolCount3d(r.covered, r.pools),
-                      internal::FixedCell(r.mean_stderr_deg, 3),
-                      internal::FixedCell(r.spread_deg, 3),
-                      internal::FixedCell(r.stderr_over_spread, 2),
-                      internal::FixedCell(r.bias_deg, 3)});
+                      PoolNumCell3d(r.mean_stderr_deg, 3),
+                      PoolNumCell3d(r.spread_deg, 3),
+                      PoolNumCell3d(r.stderr_over_spread, 2),
+                      PoolNumCell3d(r.bias_deg, 3)});
   }
   return t;
 }

@@ -250,51 +250,94 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
 
 namespace {
 
-// The Monte Carlo's table, built once for the Markdown and the HTML: the
-// cells carry the shown text and the exact value.
-report::HtmlTable MonteCarlo3dTable(
+// The Monte Carlo's two tables, built once for the Markdown and the HTML
+// (the cells carry the shown text and the exact value): the accuracy and,
+// apart so that each fits a page's width, the bound, the in-band residual,
+// the decisions and the time.
+std::vector<report::HtmlTable> MonteCarlo3dTables(
     const std::vector<MonteCarlo3dRecord>& records) {
   auto exact = [](double v, double scale, int decimals) {
     return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
                                                FormatShortest(v))
                             : report::HtmlCell("n/a");
   };
-  report::HtmlTable t;
-  t.id = "monte_carlo3d";
-  t.caption =
-      "3-D Monte Carlo (mm; cover = |error| <= 2σ̂; wrong = given, outside "
-      "3σ̂ and more than 5 mm out; in-band = the largest unexplained "
-      "fraction in the lever-arm band; bound = Cramér–Rao bound with the "
-      "residual's AR noise, white = with white noise)";
-  t.header = {"model",     "estimator", "scenario",     "format",   "IMU",
-              "axis",      "fits",      "given",        "wrong",    "bias mm",
-              "spread mm", "RMSE mm",   "σ̂ mm",         "cover 2σ̂", "σ̂/spread",
-              "bound mm",  "white mm",  "spread/bound", "in-band",  "reasons",
-              "time ms"};
-  for (const MonteCarlo3dRecord& r : records) {
-    t.rows.push_back({r.model,
-                      r.estimator,
-                      r.scenario,
-                      r.format,
-                      std::to_string(r.instance),
-                      kBench3dAxes[r.axis],
-                      std::to_string(r.usable) + "/" + std::to_string(r.seeds),
-                      std::to_string(r.given),
-                      std::to_string(r.confident_wrong),
-                      exact(r.bias_m, 1000.0, 2),
-                      exact(r.spread_m, 1000.0, 2),
-                      exact(r.rmse_m, 1000.0, 2),
-                      exact(r.mean_stderr_m, 1000.0, 2),
-                      exact(r.coverage, 1.0, 2),
-                      exact(r.stderr_over_spread, 1.0, 2),
-                      exact(r.bound_m, 1000.0, 3),
-                      exact(r.white_bound_m, 1000.0, 3),
-                      exact(r.spread_over_bound, 1.0, 2),
-                      exact(r.in_band_max, 1.0, 2),
-                      r.reasons.empty() ? "-" : r.reasons,
-                      exact(r.time_s, 1000.0, 1)});
+  const std::vector<std::string> key = {
+      "model", "estimator", "scenario", "format", "IMU", "axis"};
+  report::HtmlTable accuracy;
+  accuracy.id = "monte_carlo3d";
+  accuracy.caption =
+      "3-D Monte Carlo: accuracy (mm; cover = |error| <= 2σ̂; wrong = "
+      "given, outside 3σ̂ and more than 5 mm out)";
+  accuracy.header = key;
+  for (const char* h : {"fits",
+                        "given",
+                        "wrong",
+                        "bias mm",
+                        "spread mm",
+                        "RMSE mm",
+                        "σ̂ mm",
+                        "cover 2σ̂",
+                        "σ̂/spread"}) {
+    accuracy.header.push_back(h);
   }
-  return t;
+  report::HtmlTable bound;
+  bound.id = "monte_carlo3d_bound";
+  bound.caption =
+      "3-D Monte Carlo: the Cramér–Rao bound (mm; with the residual's AR "
+      "noise, white = with white noise; instance 0), the largest "
+      "unexplained fraction in the lever-arm band, the decisions and the "
+      "median time";
+  bound.header = key;
+  for (const char* h : {"bound mm",
+                        "white mm",
+                        "spread/bound",
+                        "in-band",
+                        "reasons",
+                        "time ms"}) {
+    bound.header.push_back(h);
+  }
+  for (const MonteCarlo3dRecord& r : records) {
+    const std::vector<report::HtmlCell> row_key = {r.model,
+                                                   r.estimator,
+                                                   r.scenario,
+                                                   r.format,
+                                                   std::to_string(r.instance),
+                                                   kBench3dAxes[r.axis]};
+    std::vector<report::HtmlCell> a = row_key;
+    for (report::HtmlCell c :
+         {report::HtmlCell(std::to_string(r.usable) + "/" +
+                           std::to_string(r.seeds)),
+          report::HtmlCell(std::to_string(r.given)),
+          report::HtmlCell(std::to_string(r.confident_wrong)),
+          exact(r.bias_m, 1000.0, 2),
+          exact(r.spread_m, 1000.0, 2),
+          exact(r.rmse_m, 1000.0, 2),
+          exact(r.mean_stderr_m, 1000.0, 2),
+          exact(r.coverage, 1.0, 2),
+          exact(r.stderr_over_spread, 1.0, 2)}) {
+      a.push_back(std::move(c));
+    }
+    accuracy.rows.push_back(std::move(a));
+    std::vector<report::HtmlCell> b = row_key;
+    for (report::HtmlCell c :
+         {exact(r.bound_m, 1000.0, 3),
+          exact(r.white_bound_m, 1000.0, 3),
+          exact(r.spread_over_bound, 1.0, 2),
+          exact(r.in_band_max, 1.0, 2),
+          report::HtmlCell(r.reasons.empty() ? "-" : r.reasons),
+          exact(r.time_s, 1000.0, 1)}) {
+      b.push_back(std::move(c));
+    }
+    bound.rows.push_back(std::move(b));
+  }
+  return {accuracy, bound};
+}
+
+// A number shown with `decimals` and kept exact (right-aligned in HTML).
+report::HtmlCell TiltNumCell3d(double v, int decimals) {
+  return std::isfinite(v)
+             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
+             : report::HtmlCell("n/a");
 }
 
 report::HtmlTable Misalignment3dTable(
@@ -332,11 +375,11 @@ report::HtmlTable Misalignment3dTable(
                       std::to_string(r.fits),
                       count(r.covered, r.fits),
                       count(r.covered_statistical, r.fits),
-                      internal::FixedCell(r.mean_stderr_deg, 3),
-                      internal::FixedCell(r.mean_stderr_statistical_deg, 3),
-                      internal::FixedCell(r.spread_deg, 3),
-                      internal::FixedCell(r.stderr_over_spread, 2),
-                      internal::FixedCell(r.bias_deg, 3)});
+                      TiltNumCell3d(r.mean_stderr_deg, 3),
+                      TiltNumCell3d(r.mean_stderr_statistical_deg, 3),
+                      TiltNumCell3d(r.spread_deg, 3),
+                      TiltNumCell3d(r.stderr_over_spread, 2),
+                      TiltNumCell3d(r.bias_deg, 3)});
   }
   return t;
 }
@@ -357,6 +400,7 @@ std::string Table3dMarkdown(const report::HtmlTable& t) {
 std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                                  int seeds) {
   if (records.empty()) return "";
+  const std::vector<report::HtmlTable> tables = MonteCarlo3dTables(records);
   std::ostringstream out;
   out << "## 3-D Monte Carlo (" << seeds << " seeds, every IMU fitted)\n\n"
       << "Per IMU instance and axis of the IMU's own axes, over the seeds: "
@@ -372,7 +416,8 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
          "estimator. given = seeds whose axis was given; in-band = the "
          "largest in-band residual over the in-band signal; reasons = the "
          "decisions with their counts.\n\n"
-      << Table3dMarkdown(MonteCarlo3dTable(records)) << "\n";
+      << Table3dMarkdown(tables[0]) << "\n"
+      << Table3dMarkdown(tables[1]) << "\n";
   return out.str();
 }
 
@@ -407,9 +452,9 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
                 "estimator",
                 "IMU",
                 "axis",
-                "p",
-                "σ̂",
-                "error",
+                "p mm",
+                "σ̂ mm",
+                "error mm",
                 "decision",
                 "evals",
                 "fit ms",
@@ -439,7 +484,11 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
     }
     tables.push_back(std::move(t));
   }
-  if (!records.empty()) tables.push_back(MonteCarlo3dTable(records));
+  if (!records.empty()) {
+    for (report::HtmlTable& t : MonteCarlo3dTables(records)) {
+      tables.push_back(std::move(t));
+    }
+  }
   const std::vector<Agreement3dRecord> agreement = Agreement3d(runs);
   if (!agreement.empty()) tables.push_back(Agreement3dHtmlTable(agreement));
   report::HtmlTable preprocessing = Preprocess3dHtmlTable(runs);

@@ -202,13 +202,16 @@ void RunPeersInto(const bench::BenchConfig& config,
                   bench::BenchReport* report) {
   bench::Peers3dSetup setup;
   const char* python = std::getenv("PEERS_PYTHON");
-  if (python != nullptr && *python != '\0') setup.python = python;
+  const std::vector<std::string> pythons =
+      python != nullptr && *python != '\0'
+          ? std::vector<std::string>{python}
+          : std::vector<std::string>{"python3", "/usr/bin/python3"};
   setup.script = SourceDir() + "/benchmarks/peers/peers3d.py";
   setup.work_dir = (std::filesystem::temp_directory_path() /
                     ("imusysid_bench_peers3d." +
                      std::to_string(static_cast<long>(::getpid()))))
                        .string();
-  Status s = bench::CheckPeers3d(setup);
+  Status s = bench::FindPeers3dPython(pythons, &setup);
   if (s.ok()) {
     StatusOr<std::vector<bench::Peer3dRecord>> peers =
         bench::RunPeers3d(setup, config, logs, report->runs3d);
