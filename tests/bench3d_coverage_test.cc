@@ -128,6 +128,17 @@ TEST(Bench3dCoverage, MonteCarloOverEveryImuWithReasonsAndMisalignment) {
               HasSubstr("| rigid3d | varpro | figure8_3d | dataflash | 1 "
                         "| z |"));
   EXPECT_THAT(md, HasSubstr("statistical σ̂ alone covers"));
+  // On the page, two tables of a width the page holds (one of 21 columns
+  // ran off its 1040 px), the same rows as the Markdown.
+  const std::vector<report::HtmlTable> tables = Bench3dHtmlTables({}, records);
+  ASSERT_EQ(tables.size(), 2u);
+  EXPECT_EQ(tables[0].id, "monte_carlo3d");
+  EXPECT_EQ(tables[1].id, "monte_carlo3d_bound");
+  for (const report::HtmlTable& t : tables) {
+    EXPECT_LE(t.header.size(), 15u) << t.id;
+    EXPECT_EQ(t.rows.size(), records.size()) << t.id;
+    EXPECT_THAT(md, HasSubstr("| " + t.header.back() + " |")) << t.id;
+  }
 }
 
 TEST(Bench3dCoverage, PoolKindsAreCheckedBeforeAnyFlight) {
