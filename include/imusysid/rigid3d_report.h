@@ -88,8 +88,8 @@ struct Rigid3dReportOptions {
   // flight's own share (statistical and sensitivity) at most √3 × floor =
   // 0.43°, while ±2σ̂ = ±1° is what levelling the frame on the bench gives;
   // a trim less certain than that is no better than a spirit level. The
-  // simulated figure-eights' σ̂ is 0.27-0.30° (given); real logs' statistical
-  // σ̂ of 0.34-1.8° (log171, the Auterion ULog) gives some angles, not all.
+  // realistic simulated figure-eight's σ̂ is 0.27-0.36° (given); log171's
+  // IMU 0 has 0.43/0.89° (roll/pitch), the Auterion ULog 1.8/1.5°.
   double max_misalignment_stderr_deg = 0.5;
   // And when |tilt| is at most this, deg: AHRS_TRIM_X/Y's range, ±0.1745
   // rad (9.998°; PX4's SENS_BOARD_*_OFF declare none), about the
