@@ -393,7 +393,9 @@ void CompareInstances(std::vector<ImuPosition3d>* reports);
 // The JSON object of `fit --model=rigid3d --format=json`:
 // imu_position_frd_m (3 numbers or null), imu_position_frd_stderr_m,
 // warnings (strings), then instance, determined, advice, windows, delay, the
-// nuisance terms, baselines and, last, decisions (per axis: the decision,
+// nuisance terms, the misalignment with misalignment_decisions and trims
+// (AHRS_TRIM_X/Y in rad, the change to SENS_BOARD_X/Y_OFF in deg; null
+// where withheld), baselines and, last, decisions (per axis: the decision,
 // its reason code and advice, the fitted value, σ̂ in its two parts and
 // each gate's evidence).
 nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& report);
