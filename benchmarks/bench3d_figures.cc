@@ -115,8 +115,14 @@ std::string Mc3dSvg(int width, int height, const std::string& name) {
 
 Status DrawMonteCarlo3dFigures(const std::string& gnuplot,
                                const std::string& dir,
-                               const std::vector<MonteCarlo3dRecord>& records,
+                               const std::vector<MonteCarlo3dRecord>& all,
                                std::vector<report::Figure>* drawn) {
+  // IMU instance 0, the one the bound is computed for; the tables hold the
+  // others.
+  std::vector<MonteCarlo3dRecord> records;
+  for (const MonteCarlo3dRecord& r : all) {
+    if (r.instance == 0) records.push_back(r);
+  }
   if (records.empty()) return Status::Ok();
   const Mc3dLayout layout = Mc3dLayoutOf(records);
   int seeds = 0;

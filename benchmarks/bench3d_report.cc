@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "benchmarks/bench3d_groups.h"
+#include "benchmarks/bench3d_peers.h"
+#include "benchmarks/bench3d_pool.h"
 #include "benchmarks/bench3d_preprocess.h"
 #include "benchmarks/bench_internal.h"
 #include "src/tools/format.h"
@@ -134,12 +136,15 @@ Json3d MonteCarlo3dToJson(const MonteCarlo3dRecord& r) {
       {"estimator", r.estimator},
       {"scenario", r.scenario},
       {"format", r.format},
-      {"instance", 0},
+      {"instance", r.instance},
       {"axis", kBench3dAxes[r.axis]},
       {"seeds", r.seeds},
       {"usable", r.usable},
       {"given", r.given},
       {"converged", r.converged},
+      {"confident_wrong", r.confident_wrong},
+      {"in_band_max", Bench3dJsonNum(r.in_band_max)},
+      {"reasons", r.reasons},
       {"truth_m", Bench3dJsonNum(r.truth_m)},
       {"bias_m", Bench3dJsonNum(r.bias_m)},
       {"spread_m", Bench3dJsonNum(r.spread_m)},
@@ -248,68 +253,198 @@ std::string Runs3dMarkdown(const std::vector<Run3dRecord>& runs) {
          Agreement3dMarkdown(Agreement3d(runs)) + Preprocess3dMarkdown(runs);
 }
 
+namespace {
+
+// The Monte Carlo's two tables, built once for the Markdown and the HTML
+// (the cells carry the shown text and the exact value): the accuracy and,
+// apart so that each fits a page's width, the bound, the in-band residual,
+// the decisions and the time.
+std::vector<report::HtmlTable> MonteCarlo3dTables(
+    const std::vector<MonteCarlo3dRecord>& records) {
+  auto exact = [](double v, double scale, int decimals) {
+    return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
+                                               FormatShortest(v))
+                            : report::HtmlCell("n/a");
+  };
+  const std::vector<std::string> key = {
+      "model", "estimator", "scenario", "format", "IMU", "axis"};
+  report::HtmlTable accuracy;
+  accuracy.id = "monte_carlo3d";
+  accuracy.caption =
+      "3-D Monte Carlo: accuracy (mm; cover = |error| <= 2σ̂; wrong = "
+      "given, outside 3σ̂ and more than 5 mm out)";
+  accuracy.header = key;
+  for (const char* h : {"fits",
+                        "given",
+                        "wrong",
+                        "bias mm",
+                        "spread mm",
+                        "RMSE mm",
+                        "σ̂ mm",
+                        "cover 2σ̂",
+                        "σ̂/spread"}) {
+    accuracy.header.push_back(h);
+  }
+  report::HtmlTable bound;
+  bound.id = "monte_carlo3d_bound";
+  bound.caption =
+      "3-D Monte Carlo: the σ̂ each flight's motion predicts (mm; pred/σ̂ "
+      "= the mean of each seed's predicted over its σ̂), the Cramér–Rao "
+      "bound (mm; with the residual's AR noise, white = with white noise; "
+      "instance 0), the largest "
+      "unexplained fraction in the lever-arm band, the decisions and the "
+      "median time";
+  bound.header = key;
+  for (const char* h : {"predicted mm",
+                        "pred/σ̂",
+                        "bound mm",
+                        "white mm",
+                        "spread/bound",
+                        "in-band",
+                        "reasons",
+                        "time ms"}) {
+    bound.header.push_back(h);
+  }
+  for (const MonteCarlo3dRecord& r : records) {
+    const std::vector<report::HtmlCell> row_key = {r.model,
+                                                   r.estimator,
+                                                   r.scenario,
+                                                   r.format,
+                                                   std::to_string(r.instance),
+                                                   kBench3dAxes[r.axis]};
+    std::vector<report::HtmlCell> a = row_key;
+    for (report::HtmlCell c :
+         {report::HtmlCell(std::to_string(r.usable) + "/" +
+                           std::to_string(r.seeds)),
+          report::HtmlCell(std::to_string(r.given)),
+          report::HtmlCell(std::to_string(r.confident_wrong)),
+          exact(r.bias_m, 1000.0, 2),
+          exact(r.spread_m, 1000.0, 2),
+          exact(r.rmse_m, 1000.0, 2),
+          exact(r.mean_stderr_m, 1000.0, 2),
+          exact(r.coverage, 1.0, 2),
+          exact(r.stderr_over_spread, 1.0, 2)}) {
+      a.push_back(std::move(c));
+    }
+    accuracy.rows.push_back(std::move(a));
+    std::vector<report::HtmlCell> b = row_key;
+    for (report::HtmlCell c :
+         {exact(r.mean_predicted_stderr_m, 1000.0, 2),
+          exact(r.predicted_over_stderr, 1.0, 2),
+          exact(r.bound_m, 1000.0, 3),
+          exact(r.white_bound_m, 1000.0, 3),
+          exact(r.spread_over_bound, 1.0, 2),
+          exact(r.in_band_max, 1.0, 2),
+          report::HtmlCell(r.reasons.empty() ? "-" : r.reasons),
+          exact(r.time_s, 1000.0, 1)}) {
+      b.push_back(std::move(c));
+    }
+    bound.rows.push_back(std::move(b));
+  }
+  return {accuracy, bound};
+}
+
+// A number shown with `decimals` and kept exact (right-aligned in HTML).
+report::HtmlCell TiltNumCell3d(double v, int decimals) {
+  return std::isfinite(v)
+             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
+             : report::HtmlCell("n/a");
+}
+
+report::HtmlTable Misalignment3dTable(
+    const std::vector<Misalignment3dRecord>& records) {
+  auto count = [](int k, int n) {
+    return std::to_string(k) + "/" + std::to_string(n) +
+           (n > 0 ? " (" + FormatFixed(100.0 * k / n, 0) + " %)" : "");
+  };
+  report::HtmlTable t;
+  t.id = "misalignment3d";
+  t.caption =
+      "3-D Monte Carlo, thrust-axis misalignment against the truth (deg; σ̂ "
+      "the total, and its statistical part alone)";
+  t.header = {"model",
+              "estimator",
+              "scenario",
+              "format",
+              "IMU",
+              "angle",
+              "fits",
+              "covered ±2σ̂",
+              "statistical σ̂ alone covers",
+              "mean σ̂ °",
+              "mean statistical σ̂ °",
+              "spread °",
+              "σ̂/spread",
+              "mean error °"};
+  for (const Misalignment3dRecord& r : records) {
+    t.rows.push_back({r.model,
+                      r.estimator,
+                      r.scenario,
+                      r.format,
+                      std::to_string(r.instance),
+                      r.angle == 0 ? "roll" : "pitch",
+                      std::to_string(r.fits),
+                      count(r.covered, r.fits),
+                      count(r.covered_statistical, r.fits),
+                      TiltNumCell3d(r.mean_stderr_deg, 3),
+                      TiltNumCell3d(r.mean_stderr_statistical_deg, 3),
+                      TiltNumCell3d(r.spread_deg, 3),
+                      TiltNumCell3d(r.stderr_over_spread, 2),
+                      TiltNumCell3d(r.bias_deg, 3)});
+  }
+  return t;
+}
+
+// A table's shown text as Markdown.
+std::string Table3dMarkdown(const report::HtmlTable& t) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& row : t.rows) {
+    std::vector<std::string> cells;
+    for (const report::HtmlCell& c : row) cells.push_back(c.text);
+    rows.push_back(std::move(cells));
+  }
+  return internal::MarkdownTable(t.header, rows);
+}
+
+}  // namespace
+
 std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
                                  int seeds) {
   if (records.empty()) return "";
+  const std::vector<report::HtmlTable> tables = MonteCarlo3dTables(records);
   std::ostringstream out;
-  out << "## 3-D Monte Carlo (" << seeds << " seeds, IMU instance 0)\n\n"
-      << "Per axis of the IMU's own axes, over the seeds: bias = mean "
-         "error, spread = standard deviation of the fitted values, cover = "
-         "fraction with |error| <= 2σ̂, σ̂/spread = mean σ̂ over the "
-         "spread (1: σ̂ as large as the scatter; the systematic part of σ̂ "
-         "makes it larger). bound = the Cramér–Rao bound at the truth with the "
-         "noise level and correlation of the flight's own residual "
-         "(an AR model per residual axis; docs/benchmarks.md), white = the "
-         "same for white residuals, spread/bound >= 1 up to sampling error "
-         "for an unbiased estimator. predicted = mean σ̂ each flight's motion "
-         "predicts (predict3d.h: the residual's AR noise, the jackknife's "
+  out << "## 3-D Monte Carlo (" << seeds << " seeds, every IMU fitted)\n\n"
+      << "Per IMU instance and axis of the IMU's own axes, over the seeds: "
+         "bias = mean error, spread = standard deviation of the fitted "
+         "values, cover = fraction with |error| <= 2σ̂, σ̂/spread = mean σ̂ "
+         "over the spread (1: σ̂ as large as the scatter; the systematic "
+         "part of σ̂ makes it larger). wrong = given though outside 3σ̂ and "
+         "more than 5 mm from the truth. bound = the Cramér–Rao bound "
+         "(instance 0) at the truth with the noise level and correlation "
+         "of the flight's own residual (an AR model per residual axis; "
+         "docs/benchmarks.md), white = the same for white residuals, "
+         "spread/bound >= 1 up to sampling error for an unbiased "
+         "estimator. predicted = mean σ̂ each flight's motion predicts "
+         "(predict3d.h: the residual's AR noise, the jackknife's "
          "expectation, the systematic part), pred/σ̂ = the mean of each "
-         "seed's predicted over its σ̂. given = seeds whose axis was "
-         "given.\n\n";
-  std::vector<std::vector<std::string>> rows;
-  for (const MonteCarlo3dRecord& r : records) {
-    rows.push_back({r.model,
-                    r.estimator,
-                    r.scenario,
-                    r.format,
-                    kBench3dAxes[r.axis],
-                    std::to_string(r.usable) + "/" + std::to_string(r.seeds),
-                    std::to_string(r.given),
-                    Mm3d(r.bias_m),
-                    Mm3d(r.spread_m),
-                    Mm3d(r.rmse_m),
-                    Mm3d(r.mean_stderr_m),
-                    internal::FixedCell(r.coverage, 2),
-                    internal::FixedCell(r.stderr_over_spread, 2),
-                    Mm3d(r.mean_predicted_stderr_m),
-                    internal::FixedCell(r.predicted_over_stderr, 2),
-                    internal::FixedCell(1000.0 * r.bound_m, 3),
-                    internal::FixedCell(1000.0 * r.white_bound_m, 3),
-                    internal::FixedCell(r.spread_over_bound, 2),
-                    internal::FixedCell(1000.0 * r.time_s, 1)});
-  }
-  out << internal::MarkdownTable({"model",
-                                  "estimator",
-                                  "scenario",
-                                  "format",
-                                  "axis",
-                                  "fits",
-                                  "given",
-                                  "bias mm",
-                                  "spread mm",
-                                  "RMSE mm",
-                                  "σ̂ mm",
-                                  "cover 2σ̂",
-                                  "σ̂/spread",
-                                  "predicted mm",
-                                  "pred/σ̂",
-                                  "bound mm",
-                                  "white mm",
-                                  "spread/bound",
-                                  "time ms"},
-                                 rows)
-      << "\n";
+         "seed's predicted over its σ̂. given = seeds whose axis was given; "
+         "in-band = the "
+         "largest in-band residual over the in-band signal; reasons = the "
+         "decisions with their counts.\n\n"
+      << Table3dMarkdown(tables[0]) << "\n"
+      << Table3dMarkdown(tables[1]) << "\n";
   return out.str();
+}
+
+std::string Misalignment3dMarkdown(
+    const std::vector<Misalignment3dRecord>& records) {
+  if (records.empty()) return "";
+  return "## 3-D Monte Carlo: the misalignment\n\n"
+         "Per IMU instance, the thrust axis's tilt (roll, pitch) against the "
+         "truth over the seeds: how often the truth lies within ±2σ̂ (σ̂ the "
+         "total the fit reports) and within twice its statistical part "
+         "alone, σ̂ against the spread of the error.\n\n" +
+         Table3dMarkdown(Misalignment3dTable(records)) + "\n";
 }
 
 std::vector<report::HtmlTable> Bench3dHtmlTables(
@@ -332,9 +467,9 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
                 "estimator",
                 "IMU",
                 "axis",
-                "p",
-                "σ̂",
-                "error",
+                "p mm",
+                "σ̂ mm",
+                "error mm",
                 "decision",
                 "evals",
                 "fit ms",
@@ -365,50 +500,9 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
     tables.push_back(std::move(t));
   }
   if (!records.empty()) {
-    report::HtmlTable t;
-    t.id = "monte_carlo3d";
-    t.caption =
-        "3-D Monte Carlo, IMU instance 0 (mm; cover = |error| <= 2σ̂; bound "
-        "= Cramér–Rao bound with the residual's AR noise, white = with "
-        "white noise)";
-    t.header = {"model",
-                "estimator",
-                "scenario",
-                "format",
-                "axis",
-                "fits",
-                "given",
-                "bias",
-                "spread",
-                "RMSE",
-                "σ̂",
-                "cover 2σ̂",
-                "σ̂/spread",
-                "bound",
-                "white",
-                "spread/bound",
-                "time ms"};
-    for (const MonteCarlo3dRecord& r : records) {
-      t.rows.push_back(
-          {r.model,
-           r.estimator,
-           r.scenario,
-           r.format,
-           kBench3dAxes[r.axis],
-           std::to_string(r.usable) + "/" + std::to_string(r.seeds),
-           std::to_string(r.given),
-           exact(r.bias_m, 1000.0, 2),
-           exact(r.spread_m, 1000.0, 2),
-           exact(r.rmse_m, 1000.0, 2),
-           exact(r.mean_stderr_m, 1000.0, 2),
-           exact(r.coverage, 1.0, 2),
-           exact(r.stderr_over_spread, 1.0, 2),
-           exact(r.bound_m, 1000.0, 3),
-           exact(r.white_bound_m, 1000.0, 3),
-           exact(r.spread_over_bound, 1.0, 2),
-           exact(r.time_s, 1000.0, 1)});
+    for (report::HtmlTable& t : MonteCarlo3dTables(records)) {
+      tables.push_back(std::move(t));
     }
-    tables.push_back(std::move(t));
   }
   const std::vector<Agreement3dRecord> agreement = Agreement3d(runs);
   if (!agreement.empty()) tables.push_back(Agreement3dHtmlTable(agreement));
@@ -417,16 +511,49 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
   return tables;
 }
 
+std::vector<report::HtmlTable> Bench3dReportHtmlTables(
+    const BenchReport& report) {
+  std::vector<report::HtmlTable> tables =
+      Bench3dHtmlTables(report.runs3d, report.monte_carlo3d);
+  if (!report.misalignment3d.empty()) {
+    tables.push_back(Misalignment3dTable(report.misalignment3d));
+  }
+  for (report::HtmlTable& t : Pools3dHtmlTables(report.pools3d)) {
+    tables.push_back(std::move(t));
+  }
+  if (!report.peers3d.empty()) {
+    tables.push_back(Peers3dHtmlTable(report.peers3d));
+  }
+  return tables;
+}
+
+std::string Bench3dMarkdown(const BenchReport& report) {
+  std::string out =
+      Runs3dMarkdown(report.runs3d) +
+      MonteCarlo3dMarkdown(report.monte_carlo3d, report.config.seeds) +
+      Misalignment3dMarkdown(report.misalignment3d) +
+      Pools3dMarkdown(report.pools3d, report.config.seeds);
+  if (!report.config.sim_args3d.empty() &&
+      (!report.monte_carlo3d.empty() || !report.pools3d.axes.empty())) {
+    out += "Simulator flags on every flight: `" + report.config.sim_args3d +
+           "`\n\n";
+  }
+  out += Peers3dMarkdown(report.peers3d);
+  if (!report.peers3d_note.empty()) {
+    out += "Peers not run: " + report.peers3d_note + "\n\n";
+  }
+  return out;
+}
+
 std::string Bench3dHtmlPage(const std::string& title,
-                            const std::vector<Run3dRecord>& runs,
-                            const std::vector<MonteCarlo3dRecord>& records) {
+                            const BenchReport& report) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta "
           "charset=\"utf-8\">\n<title>"
        << report::HtmlEscape(title) << "</title>\n<style>"
        << report::HtmlStyle() << "</style>\n</head>\n<body>\n<h1>"
        << report::HtmlEscape(title) << "</h1>\n";
-  for (const report::HtmlTable& t : Bench3dHtmlTables(runs, records)) {
+  for (const report::HtmlTable& t : Bench3dReportHtmlTables(report)) {
     html << report::HtmlTableToString(t);
   }
   html << "</body>\n</html>\n";
@@ -470,7 +597,8 @@ std::string Runs3dCsv(const std::vector<Run3dRecord>& runs) {
 
 std::string MonteCarlo3dCsv(const std::vector<MonteCarlo3dRecord>& records) {
   std::ostringstream out;
-  out << "model,estimator,scenario,format,axis,seeds,usable,given,converged,"
+  out << "model,estimator,scenario,format,instance,axis,seeds,usable,given,"
+         "converged,confident_wrong,in_band_max,reasons,"
          "truth_m,bias_m,spread_m,rmse_m,mean_stderr_m,coverage_2sigma,"
          "stderr_over_spread,bound_m,white_bound_m,spread_over_bound,time_s,"
          "fit_time_s\n";
@@ -479,13 +607,36 @@ std::string MonteCarlo3dCsv(const std::vector<MonteCarlo3dRecord>& records) {
   };
   for (const MonteCarlo3dRecord& r : records) {
     out << r.model << "," << r.estimator << "," << r.scenario << "," << r.format
-        << "," << kBench3dAxes[r.axis] << "," << r.seeds << "," << r.usable
-        << "," << r.given << "," << r.converged << "," << num(r.truth_m) << ","
-        << num(r.bias_m) << "," << num(r.spread_m) << "," << num(r.rmse_m)
-        << "," << num(r.mean_stderr_m) << "," << num(r.coverage) << ","
+        << "," << r.instance << "," << kBench3dAxes[r.axis] << "," << r.seeds
+        << "," << r.usable << "," << r.given << "," << r.converged << ","
+        << r.confident_wrong << "," << num(r.in_band_max) << ",\"" << r.reasons
+        << "\"," << num(r.truth_m) << "," << num(r.bias_m) << ","
+        << num(r.spread_m) << "," << num(r.rmse_m) << ","
+        << num(r.mean_stderr_m) << "," << num(r.coverage) << ","
         << num(r.stderr_over_spread) << "," << num(r.bound_m) << ","
         << num(r.white_bound_m) << "," << num(r.spread_over_bound) << ","
         << num(r.time_s) << "," << num(r.fit_time_s) << "\n";
+  }
+  return out.str();
+}
+
+std::string Misalignment3dCsv(
+    const std::vector<Misalignment3dRecord>& records) {
+  std::ostringstream out;
+  out << "model,estimator,scenario,format,instance,angle,fits,covered_2sigma,"
+         "covered_statistical_2sigma,mean_stderr_deg,"
+         "mean_stderr_statistical_deg,spread_deg,stderr_over_spread,"
+         "bias_deg\n";
+  auto num = [](double v) {
+    return std::isfinite(v) ? FormatShortest(v) : std::string();
+  };
+  for (const Misalignment3dRecord& r : records) {
+    out << r.model << "," << r.estimator << "," << r.scenario << "," << r.format
+        << "," << r.instance << "," << (r.angle == 0 ? "roll" : "pitch") << ","
+        << r.fits << "," << r.covered << "," << r.covered_statistical << ","
+        << num(r.mean_stderr_deg) << "," << num(r.mean_stderr_statistical_deg)
+        << "," << num(r.spread_deg) << "," << num(r.stderr_over_spread) << ","
+        << num(r.bias_deg) << "\n";
   }
   return out.str();
 }

@@ -11,6 +11,7 @@
 
 #include "benchmarks/bench3d.h"
 #include "benchmarks/bench3d_sim.h"
+#include "benchmarks/bench_report.h"
 #include "nlohmann/json.hpp"
 #include "src/report/html.h"
 
@@ -30,14 +31,26 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
 std::vector<report::HtmlTable> Bench3dHtmlTables(
     const std::vector<Run3dRecord>& runs,
     const std::vector<MonteCarlo3dRecord>& records);
+
+// "## 3-D Monte Carlo: the misalignment" (empty without records).
+std::string Misalignment3dMarkdown(
+    const std::vector<Misalignment3dRecord>& records);
+
+// Every 3-D part of `report`: the runs, the Monte Carlo with its
+// misalignment, the pooled pairs and the peers, as Markdown, as the HTML
+// tables and as report3d.html.
+std::string Bench3dMarkdown(const BenchReport& report);
+std::vector<report::HtmlTable> Bench3dReportHtmlTables(
+    const BenchReport& report);
 std::string Bench3dHtmlPage(const std::string& title,
-                            const std::vector<Run3dRecord>& runs,
-                            const std::vector<MonteCarlo3dRecord>& records);
+                            const BenchReport& report);
 
 // One row per run (results3d.csv) and per Monte Carlo row
 // (monte_carlo3d.csv).
 std::string Runs3dCsv(const std::vector<Run3dRecord>& runs);
 std::string MonteCarlo3dCsv(const std::vector<MonteCarlo3dRecord>& records);
+// One row per misalignment row (misalignment3d.csv).
+std::string Misalignment3dCsv(const std::vector<Misalignment3dRecord>& records);
 
 }  // namespace bench
 }  // namespace imusysid

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <sstream>
 #include <tuple>
 #include <utility>
 
@@ -13,6 +15,7 @@
 #include "imusysid/extend/model.h"
 #include "imusysid/extend/registry.h"
 #include "imusysid/models.h"
+#include "src/sim/sim3d_effect_flags.h"
 
 namespace imusysid {
 namespace bench {
@@ -35,6 +38,14 @@ struct Seed3dSample {
   Eigen::Vector3d predicted_m = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d truth_m = Eigen::Vector3d::Constant(kNaN);
   std::array<bool, 3> given = {false, false, false};
+  std::array<std::string, 3> reasons;
+  // The in-band residual over the in-band signal (NaN when not computed).
+  double in_band_fraction = kNaN;
+  // Misalignment (roll, pitch): fitted − true, the σ̂ (total, and its
+  // statistical part), deg.
+  Eigen::Vector2d tilt_error_deg = Eigen::Vector2d::Constant(kNaN);
+  Eigen::Vector2d tilt_stderr_deg = Eigen::Vector2d::Constant(kNaN);
+  Eigen::Vector2d tilt_stderr_statistical_deg = Eigen::Vector2d::Constant(kNaN);
   // The flight's Cramér–Rao bound variances (instance 0), NaN without one.
   Eigen::Vector3d bound_var_m2 = Eigen::Vector3d::Constant(kNaN);
   Eigen::Vector3d white_bound_var_m2 = Eigen::Vector3d::Constant(kNaN);
@@ -42,15 +53,20 @@ struct Seed3dSample {
   double fit_time_s = kNaN;
 };
 
+// (model, estimator, scenario, format, IMU instance).
 using Seed3dKey =
-    std::tuple<std::string, std::string, std::string, std::string>;
+    std::tuple<std::string, std::string, std::string, std::string, int>;
+
+// An axis given, outside 3σ̂ and more than 5 mm from the truth.
+constexpr double kConfidentWrongMinErrorM = 0.005;
 
 MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
                                const std::vector<Seed3dSample>& samples,
                                int axis) {
   MonteCarlo3dRecord r;
-  std::tie(r.model, r.estimator, r.scenario, r.format) = key;
+  std::tie(r.model, r.estimator, r.scenario, r.format, r.instance) = key;
   r.axis = axis;
+  std::map<std::string, int> reasons;
   r.seeds = static_cast<int>(samples.size());
   std::vector<double> errors, values, stderrs, times, fit_times;
   std::vector<double> predicted, ratios;
@@ -72,6 +88,16 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
     if (!s.usable || !std::isfinite(s.error_m[axis])) continue;
     ++r.usable;
     if (s.given[axis]) ++r.given;
+    ++reasons[s.reasons[axis]];
+    if (std::isfinite(s.in_band_fraction)) {
+      r.in_band_max = std::isfinite(r.in_band_max)
+                          ? std::max(r.in_band_max, s.in_band_fraction)
+                          : s.in_band_fraction;
+    }
+    if (s.given[axis] && std::abs(s.error_m[axis]) > 3.0 * s.stderr_m[axis] &&
+        std::abs(s.error_m[axis]) > kConfidentWrongMinErrorM) {
+      ++r.confident_wrong;
+    }
     if (s.converged) ++r.converged;
     r.truth_m = s.truth_m[axis];
     errors.push_back(s.error_m[axis]);
@@ -94,6 +120,10 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
   };
   r.mean_predicted_stderr_m = mean_of(predicted);
   r.predicted_over_stderr = mean_of(ratios);
+  for (const auto& [reason, count] : reasons) {
+    r.reasons +=
+        (r.reasons.empty() ? "" : ", ") + reason + " " + std::to_string(count);
+  }
   r.time_s = Bench3dMedian(times);
   r.fit_time_s = Bench3dMedian(fit_times);
   if (bounds > 0) r.bound_m = std::sqrt(bound_sum / bounds);
@@ -131,7 +161,91 @@ MonteCarlo3dRecord Summarize3d(const Seed3dKey& key,
   return r;
 }
 
+Misalignment3dRecord SummarizeTilt3d(const Seed3dKey& key,
+                                     const std::vector<Seed3dSample>& samples,
+                                     int angle) {
+  Misalignment3dRecord r;
+  std::tie(r.model, r.estimator, r.scenario, r.format, r.instance) = key;
+  r.angle = angle;
+  std::vector<double> errors;
+  double se_sum = 0.0, stat_sum = 0.0;
+  for (const Seed3dSample& s : samples) {
+    const double e = s.tilt_error_deg[angle];
+    const double se = s.tilt_stderr_deg[angle];
+    const double st = s.tilt_stderr_statistical_deg[angle];
+    if (!s.usable || !std::isfinite(e) || !std::isfinite(se)) continue;
+    errors.push_back(e);
+    se_sum += se;
+    stat_sum += st;  // NaN when the fit gave none: the mean is then NaN
+    if (std::abs(e) <= 2.0 * se) ++r.covered;
+    if (std::abs(e) <= 2.0 * st) ++r.covered_statistical;
+  }
+  r.fits = static_cast<int>(errors.size());
+  if (r.fits == 0) return r;
+  double sum = 0.0;
+  for (double e : errors) sum += e;
+  r.bias_deg = sum / r.fits;
+  r.mean_stderr_deg = se_sum / r.fits;
+  r.mean_stderr_statistical_deg = stat_sum / r.fits;
+  if (r.fits >= 2) {
+    double var = 0.0;
+    for (double e : errors) var += (e - r.bias_deg) * (e - r.bias_deg);
+    r.spread_deg = std::sqrt(var / (r.fits - 1));
+    if (r.spread_deg > 0.0) {
+      r.stderr_over_spread = r.mean_stderr_deg / r.spread_deg;
+    }
+  }
+  return r;
+}
+
 }  // namespace
+
+Status ApplyBenchSimArgs3d(const std::string& text, Simulator3dOptions* o) {
+  std::vector<std::pair<std::string, std::string>> flags;
+  std::istringstream in(text);
+  std::string word;
+  while (in >> word) {
+    const std::size_t eq = word.find('=');
+    if (word.rfind("--", 0) != 0 || eq == std::string::npos) {
+      return InvalidArgumentError("--sim_args: '" + word.substr(0, 40) +
+                                  "'; required --NAME=VALUE words");
+    }
+    flags.emplace_back(word.substr(2, eq - 2), word.substr(eq + 1));
+  }
+  // The rate first: the effects' frequencies are held below it.
+  for (const auto& [name, value] : flags) {
+    if (name != "rate_hz") continue;
+    char* end = nullptr;
+    const double rate = std::strtod(value.c_str(), &end);
+    if (value.empty() || *end != '\0') {
+      return InvalidArgumentError("--sim_args: --rate_hz='" +
+                                  value.substr(0, 40) + "'; required a number");
+    }
+    IMUSYSID_RETURN_IF_ERROR(sim3d_flags::CheckRateFlag(rate));
+    o->rate_hz = rate;
+  }
+  for (const auto& [name, value] : flags) {
+    Status s = Status::Ok();
+    if (name == "rate_hz") {
+      continue;
+    } else if (name == "flexible_mount") {
+      s = sim3d_flags::ApplyFlexibleMountFlag(value, o);
+    } else if (name == "periodic_force") {
+      s = sim3d_flags::ApplyPeriodicForceFlag(value, o);
+    } else if (name == "estimator_glitch") {
+      s = sim3d_flags::ApplyEstimatorGlitchFlag(value, o);
+    } else if (name == "payload_change") {
+      s = sim3d_flags::ApplyPayloadChangeFlag(value, o);
+    } else {
+      return InvalidArgumentError(
+          "--sim_args: --" + name.substr(0, 40) +
+          "; valid: --flexible_mount, --periodic_force, --estimator_glitch, "
+          "--payload_change, --rate_hz");
+    }
+    if (!s.ok()) return s.WithPrefix("--sim_args");
+  }
+  return Status::Ok();
+}
 
 StatusOr<Simulator3dOptions> BenchScenario3dOptions(const BenchConfig& config,
                                                     const std::string& scenario,
@@ -173,13 +287,11 @@ StatusOr<Simulator3dOptions> BenchScenario3dOptions(const BenchConfig& config,
       static_cast<std::size_t>(config.imus3d) < o->imus.size()) {
     o->imus.resize(static_cast<std::size_t>(config.imus3d));
   }
+  IMUSYSID_RETURN_IF_ERROR(ApplyBenchSimArgs3d(config.sim_args3d, &*o));
   IMUSYSID_RETURN_IF_ERROR(o->Validate());
   return o;
 }
 
-namespace {
-
-// `scenario` flown at `seed`, one Log3d per format.
 StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
                                            const std::string& scenario,
                                            std::uint64_t seed) {
@@ -221,6 +333,8 @@ StatusOr<std::vector<Log3d>> FlyScenario3d(const BenchConfig& config,
   }
   return logs;
 }
+
+namespace {
 
 // The Cramér–Rao bound of one flight's instance 0 in the IMU's own axes
 // (the frame of the model's position and of the truth).
@@ -276,7 +390,9 @@ StatusOr<std::vector<Log3d>> SimulateLogs3d(const BenchConfig& config,
 }
 
 std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
-    const BenchConfig& config, const std::vector<std::string>& models) {
+    const BenchConfig& config,
+    const std::vector<std::string>& models,
+    std::vector<Misalignment3dRecord>* misalignment) {
   const std::size_t seeds = static_cast<std::size_t>(std::max(0, config.seeds));
   const std::size_t tasks = config.scenarios3d.size() * seeds;
   std::mutex mutex;
@@ -303,23 +419,43 @@ std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
             std::vector<Run3dRecord> runs =
                 name == first ? first_runs
                               : FitLog3d(config, log, model, name, nullptr);
-            Seed3dSample s;
+            // One sample per fitted instance (a failed fit: instance 0,
+            // not usable).
             for (const Run3dRecord& r : runs) {
+              Seed3dSample s;
               s.time_s = r.time_s;
-              if (r.instance != 0 || !r.Usable()) continue;
-              s.usable = r.truth_known;
-              s.converged = r.Converged();
-              s.error_m = r.error_m;
-              s.fitted_m = r.imu.position_m;
-              s.stderr_m = r.imu.stderr_m;
-              s.predicted_m = r.imu.predicted_stderr_m;
-              s.truth_m = r.truth_position_m;
-              s.given = r.imu.determined;
-              s.fit_time_s = r.fit_time_s;
+              if (r.Usable()) {
+                const ImuPosition3d& imu = r.imu;
+                s.usable = r.truth_known;
+                s.converged = r.Converged();
+                s.error_m = r.error_m;
+                s.fitted_m = imu.position_m;
+                s.stderr_m = imu.stderr_m;
+                s.predicted_m = imu.predicted_stderr_m;
+                s.truth_m = r.truth_position_m;
+                s.given = imu.determined;
+                s.fit_time_s = r.fit_time_s;
+                for (int a = 0; a < 3; ++a) {
+                  s.reasons[a] = imu.decisions[a].reason;
+                }
+                if (imu.in_band.residual_rms > 0.0 &&
+                    imu.in_band.signal_rms > 0.0) {
+                  s.in_band_fraction =
+                      imu.in_band.residual_rms / imu.in_band.signal_rms;
+                }
+                s.tilt_error_deg = Eigen::Vector2d(r.misalignment_error_deg[0],
+                                                   r.misalignment_error_deg[1]);
+                s.tilt_stderr_deg = imu.misalignment_stderr_deg;
+                s.tilt_stderr_statistical_deg =
+                    imu.misalignment_stderr_statistical_deg;
+              }
+              if (r.instance == 0) {
+                s.bound_var_m2 = flight_bound.var_m2;
+                s.white_bound_var_m2 = flight_bound.white_var_m2;
+              }
+              mine.push_back(
+                  {{model, name, scenario, log.format, r.instance}, s});
             }
-            s.bound_var_m2 = flight_bound.var_m2;
-            s.white_bound_var_m2 = flight_bound.white_var_m2;
-            mine.push_back({{model, name, scenario, log.format}, s});
           }
         }
       }
@@ -342,12 +478,19 @@ std::vector<MonteCarlo3dRecord> RunMonteCarlo3d(
     for (const std::string& scenario : config.scenarios3d) {
       for (const std::string& format : config.formats3d) {
         for (const std::string& name : BuiltinEstimators().Names()) {
-          const auto entry_it =
-              samples.find(Seed3dKey{model, name, scenario, format});
-          if (entry_it == samples.end()) continue;
-          const auto& entry = *entry_it;
-          for (int axis = 0; axis < 3; ++axis) {
-            records.push_back(Summarize3d(entry.first, entry.second, axis));
+          for (const auto& entry : samples) {
+            const Seed3dKey& k = entry.first;
+            if (std::get<0>(k) != model || std::get<1>(k) != name ||
+                std::get<2>(k) != scenario || std::get<3>(k) != format) {
+              continue;
+            }
+            for (int axis = 0; axis < 3; ++axis) {
+              records.push_back(Summarize3d(k, entry.second, axis));
+            }
+            for (int angle = 0; angle < 2 && misalignment != nullptr; ++angle) {
+              Misalignment3dRecord m = SummarizeTilt3d(k, entry.second, angle);
+              if (m.fits > 0) misalignment->push_back(std::move(m));
+            }
           }
         }
       }

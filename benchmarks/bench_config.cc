@@ -116,7 +116,9 @@ Status ValidateBenchConfig(const BenchConfig& config) {
     }
   }
   if (config.logs.empty() &&
-      (any_planar || !any3d || config.scenarios3d.empty())) {
+      (any_planar || !any3d ||
+       (config.scenarios3d.empty() && config.stress3d.empty() &&
+        config.pools3d.empty()))) {
     return InvalidArgumentError("bench: no logs given");
   }
   for (const auto& format : config.formats3d) {

@@ -54,6 +54,15 @@ struct BenchConfig {
   // periodic_force, yaw_reset, velocity_glitch, payload_change): flown once
   // each, in each format, tabled apart; not in the Monte Carlo.
   std::vector<std::string> stress3d;
+  // More simulator flags for every simulated 3-D flight, as `imusysid
+  // simulate` takes them, blank-separated: --flexible_mount=F,A[,DX,DY,DZ],
+  // --periodic_force=F,A[,DX,DY,DZ], --estimator_glitch=T,YAW,V[,D],
+  // --payload_change=T,DM,DX,DY,DZ, --rate_hz=R (bench3d_sim.h).
+  std::string sim_args3d;
+  // Pairs of flights of one vehicle pooled (`fit --log=A --log=B`), judged
+  // against the truth over config.seeds pairs: "SCENARIO.ulg+SCENARIO.bin"
+  // each (bench3d_pool.h).
+  std::vector<std::string> pools3d;
   double maneuver3d_s = 0.0;  // manoeuvre length, s; 0: the scenario's own
   int imus3d = 0;             // IMUs flown; 0: the scenario's three
   // The 3-D models the Monte Carlo flies; empty: every 3-D model in

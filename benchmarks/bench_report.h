@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "benchmarks/bench3d.h"
+#include "benchmarks/bench3d_peers.h"
+#include "benchmarks/bench3d_pool.h"
 #include "benchmarks/bench3d_sim.h"
 #include "benchmarks/bench_config.h"
 #include "benchmarks/bench_context.h"
@@ -41,6 +43,13 @@ struct BenchReport {
   // Monte Carlo rows (bench3d.h, bench3d_sim.h).
   std::vector<Run3dRecord> runs3d;
   std::vector<MonteCarlo3dRecord> monte_carlo3d;
+  // The Monte Carlo's misalignment rows, the pooled pairs
+  // (bench3d_pool.h) and the peers on the same flights (bench3d_peers.h,
+  // filled by the caller: `bench --peers`), with why they were not run.
+  std::vector<Misalignment3dRecord> misalignment3d;
+  Pools3dResult pools3d;
+  std::vector<Peer3dRecord> peers3d;
+  std::string peers3d_note;
 };
 
 }  // namespace bench

@@ -226,7 +226,7 @@ std::vector<report::HtmlTable> BenchTables(
     }
     tables.push_back(std::move(t));
   }
-  for (auto& t : Bench3dHtmlTables(report.runs3d, report.monte_carlo3d)) {
+  for (auto& t : Bench3dReportHtmlTables(report)) {
     tables.push_back(std::move(t));
   }
   return tables;

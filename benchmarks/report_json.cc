@@ -281,6 +281,34 @@ std::string ReportJson(const BenchReport& report) {
     }
     j["monte_carlo_3d"] = mc3d;
   }
+  if (!report.misalignment3d.empty()) {
+    Json rows = Json::array();
+    for (const auto& m : report.misalignment3d) {
+      rows.push_back(
+          {{"model", m.model},
+           {"estimator", m.estimator},
+           {"scenario", m.scenario},
+           {"format", m.format},
+           {"instance", m.instance},
+           {"angle", m.angle == 0 ? "roll" : "pitch"},
+           {"fits", m.fits},
+           {"covered_2sigma", m.covered},
+           {"covered_statistical_2sigma", m.covered_statistical},
+           {"mean_stderr_deg", Num(m.mean_stderr_deg)},
+           {"mean_stderr_statistical_deg", Num(m.mean_stderr_statistical_deg)},
+           {"spread_deg", Num(m.spread_deg)},
+           {"bias_deg", Num(m.bias_deg)}});
+    }
+    j["misalignment_3d"] = rows;
+  }
+  if (!report.pools3d.axes.empty() || report.pools3d.failed > 0) {
+    j["pools_3d"] = Pools3dToJson(report.pools3d);
+  }
+  if (!report.peers3d.empty()) {
+    Json rows = Json::array();
+    for (const auto& p : report.peers3d) rows.push_back(Peer3dToJson(p));
+    j["peers_3d"] = rows;
+  }
   Json scaling = Json::array();
   for (const auto& p : report.scaling) {
     scaling.push_back({{"model", p.model},
@@ -316,7 +344,15 @@ Status WriteOutputs(const BenchReport& report, const std::string& dir) {
     IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
         dir + "/monte_carlo3d.csv", MonteCarlo3dCsv(report.monte_carlo3d)));
   }
-  if (!report.runs3d.empty()) {
+  if (!report.misalignment3d.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(WriteFileAtomically(
+        dir + "/misalignment3d.csv", Misalignment3dCsv(report.misalignment3d)));
+  }
+  if (!report.peers3d.empty()) {
+    IMUSYSID_RETURN_IF_ERROR(
+        WriteFileAtomically(dir + "/peers3d.csv", Peers3dCsv(report.peers3d)));
+  }
+  if (!report.runs3d.empty() || !report.pools3d.axes.empty()) {
     // The Markdown tables, as `bench` prints them, beside the data.
     IMUSYSID_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/report.md", FormatMarkdown(report)));
@@ -324,11 +360,11 @@ Status WriteOutputs(const BenchReport& report, const std::string& dir) {
         dir + "/report3d.html",
         Bench3dHtmlPage(
             "imusysid bench, 3-D models (" + report.config.preset + ")",
-            report.runs3d,
-            report.monte_carlo3d)));
+            report)));
   }
   if (!report.monte_carlo.empty() || !report.displacements.empty() ||
-      !report.gbench.points.empty() || !report.monte_carlo3d.empty()) {
+      !report.gbench.points.empty() || !report.monte_carlo3d.empty() ||
+      !report.peers3d.empty() || !report.pools3d.axes.empty()) {
     IMUSYSID_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/report.json", ReportJson(report)));
   }

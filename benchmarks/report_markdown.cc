@@ -411,9 +411,9 @@ std::string MonteCarloSection(const BenchReport& report) {
 
 std::string FormatMarkdown(const BenchReport& report) {
   std::string out = HeaderSection(report);
-  if (!report.runs3d.empty()) {
-    out += Runs3dMarkdown(report.runs3d) +
-           MonteCarlo3dMarkdown(report.monte_carlo3d, report.config.seeds);
+  if (!report.runs3d.empty() || !report.pools3d.axes.empty() ||
+      report.pools3d.failed > 0) {
+    out += Bench3dMarkdown(report);
     // Only 3-D models: no planar tables.
     if (report.runs.empty()) {
       return out + "total " +

@@ -67,8 +67,21 @@ Status RunBench3dPart(const BenchConfig& config,
         mc_models.push_back(model);
       }
     }
-    report->monte_carlo3d = RunMonteCarlo3d(
-        config, config.monte_carlo_models3d.empty() ? models : mc_models);
+    const std::vector<std::string>& chosen =
+        config.monte_carlo_models3d.empty() ? models : mc_models;
+    report->monte_carlo3d =
+        RunMonteCarlo3d(config, chosen, &report->misalignment3d);
+  }
+  // Pairs pooled: the Monte Carlo's first model (rigid3d in the presets).
+  if (config.seeds >= 2 && !config.pools3d.empty()) {
+    std::string model = models.front();
+    for (const std::string& m : config.monte_carlo_models3d) {
+      if (std::find(models.begin(), models.end(), m) != models.end()) {
+        model = m;
+        break;
+      }
+    }
+    report->pools3d = RunPools3d(config, model);
   }
   return Status::Ok();
 }

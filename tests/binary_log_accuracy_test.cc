@@ -6,16 +6,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "gtest/gtest.h"
+#include "imusysid/autopilot.h"
 #include "imusysid/extend/estimator.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
+#include "imusysid/parameters.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/rigid3d.h"
 #include "imusysid/simulate3d.h"
@@ -155,6 +158,122 @@ TEST(BinaryLogFit, WindowEdgesCarryNoTransient) {
           << "axis " << a << ", edges moved by " << shift << " samples";
     }
     EXPECT_LE(moved.edge_rms, 1.1 * moved.middle_rms) << shift;
+  }
+}
+
+// The board's tilt as each autopilot's trims, through its own file: IMU 0
+// mounted rolled +2° and pitched −3°. ArduPilot logs its IMUs before the
+// AHRS trim, so AHRS_TRIM_X/Y are the whole tilt (rad), whatever the log's
+// trim; PX4 logs sensor_combined after its board rotation, which the ULog
+// sets to SENS_BOARD_X/Y_OFF = +1.5/−1.5°, so the fit sees the rest
+// (+0.5/−1.5°) and the value to set is the log's plus that. A swapped sign or
+// axis, an increment taken for the whole (or the reverse), or a ULog whose
+// data are not rotated by its offsets, is 1.5° or more away at σ̂ ≈ 0.3°.
+struct TrimCase {
+  bool ulog = false;
+  EmitFormat format = EmitFormat::kNone;
+};
+
+AutopilotParameters FitTrims(const Simulator3dOptions& o,
+                             const Sim3dLogOptions& lo,
+                             const TrimCase& c) {
+  StatusOr<Simulated3dFlight> flight = Simulate3d(o);
+  EXPECT_TRUE(flight.ok()) << flight.status().ToString();
+  if (!flight.ok()) return {};
+  StatusOr<std::string> bytes =
+      c.ulog ? FormatSimulated3dUlog(o, *flight, lo)
+             : FormatSimulated3dDataFlash(o, *flight, lo);
+  EXPECT_TRUE(bytes.ok()) << bytes.status().ToString();
+  if (!bytes.ok()) return {};
+  IdentifyOptions options;
+  options.model = kRigid3dModelName;
+  options.emit = c.format;
+  StatusOr<IdentifySummary> s = Identify(
+      IdentifyInput::LogBytes(*bytes, c.ulog ? "T.ulg" : "T.bin"), options);
+  EXPECT_TRUE(s.ok()) << s.status().ToString();
+  if (!s.ok() || !s->emit.has_value() || s->emit->parameters.empty() ||
+      !s->emit->parameters[0].has_value()) {
+    ADD_FAILURE() << "no emit";
+    return {};
+  }
+  return *s->emit->parameters[0];
+}
+
+Simulator3dOptions TiltedImu0() {
+  Simulator3dOptions o = testing::RealisticScenario3d("figure8_3d");
+  o.maneuver_s = 25.0;
+  o.imus.resize(1);
+  o.imus[0].roll_deg = 2.0;
+  o.imus[0].pitch_deg = -3.0;
+  return o;
+}
+
+TEST(BinaryLogFit, TiltAsArduPilotTrims) {
+  const Simulator3dOptions o = TiltedImu0();
+  Sim3dLogOptions lo;
+  // A trim already set: the answer does not build on it.
+  lo.dataflash_ahrs_trim_rad = {0.03, 0.03};
+  const AutopilotParameters p =
+      FitTrims(o, lo, {false, EmitFormat::kArduPilot});
+  ASSERT_EQ(p.trims.size(), 2u);
+  const double truth_rad[2] = {o.imus[0].roll_deg * kDegToRad,
+                               o.imus[0].pitch_deg * kDegToRad};
+  const char* const names[2] = {"AHRS_TRIM_X", "AHRS_TRIM_Y"};
+  for (int a = 0; a < 2; ++a) {
+    const AutopilotTrim& t = p.trims[static_cast<std::size_t>(a)];
+    SCOPED_TRACE(names[a]);
+    EXPECT_EQ(t.parameter, names[a]);
+    EXPECT_EQ(t.unit, "rad");
+    EXPECT_FALSE(t.increment);
+    ASSERT_TRUE(t.given) << t.reason << ": " << t.note;
+    EXPECT_NEAR(t.current, lo.dataflash_ahrs_trim_rad[a], 1e-7);
+    EXPECT_NEAR(t.value, truth_rad[a], 3 * t.stderr);
+    EXPECT_LE(t.stderr, 0.5 * kDegToRad);
+    std::printf("ArduPilot %s: true %.4f, recovered %.4f +/- %.4f rad\n",
+                names[a],
+                truth_rad[a],
+                t.value,
+                t.stderr);
+    // Written as a parameter row of the .parm file.
+    EXPECT_NE(p.snippet.find(std::string("\n") + names[a] + ","),
+              std::string::npos)
+        << p.snippet;
+  }
+}
+
+TEST(BinaryLogFit, TiltAsPx4BoardOffsets) {
+  const Simulator3dOptions o = TiltedImu0();
+  Sim3dLogOptions lo;
+  lo.ulog_board_offset_deg = {1.5, -1.5, 0.0};
+  const AutopilotParameters p = FitTrims(o, lo, {true, EmitFormat::kPx4});
+  ASSERT_EQ(p.trims.size(), 2u);
+  const double truth_deg[2] = {o.imus[0].roll_deg, o.imus[0].pitch_deg};
+  const char* const names[2] = {"SENS_BOARD_X_OFF", "SENS_BOARD_Y_OFF"};
+  for (int a = 0; a < 2; ++a) {
+    const AutopilotTrim& t = p.trims[static_cast<std::size_t>(a)];
+    SCOPED_TRACE(names[a]);
+    EXPECT_EQ(t.parameter, names[a]);
+    EXPECT_EQ(t.unit, "deg");
+    EXPECT_TRUE(t.increment);
+    ASSERT_TRUE(t.given) << t.reason << ": " << t.note;
+    EXPECT_NEAR(t.current, lo.ulog_board_offset_deg[a], 1e-6);
+    // The fit sees what the board offset left; the value set is the whole.
+    EXPECT_NEAR(
+        t.change, truth_deg[a] - lo.ulog_board_offset_deg[a], 3 * t.stderr);
+    EXPECT_NEAR(t.value, truth_deg[a], 3 * t.stderr);
+    EXPECT_LE(t.stderr, 0.5);
+    std::printf(
+        "PX4 %s: true %.3f, recovered %.3f (log %.3f + change %.3f) +/- "
+        "%.3f deg\n",
+        names[a],
+        truth_deg[a],
+        t.value,
+        t.current,
+        t.change,
+        t.stderr);
+    EXPECT_NE(p.snippet.find(std::string("1\t1\t") + names[a] + "\t"),
+              std::string::npos)
+        << p.snippet;
   }
 }
 

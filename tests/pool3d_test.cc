@@ -547,6 +547,20 @@ TEST(PoolFlights, ATiltThatDiffersIsNotShared) {
   EXPECT_TRUE(std::isnan(p.misalignment.angle_deg[1]));
   EXPECT_THAT(p.warnings,
               ::testing::Contains(HasSubstr("disagree on the IMU's tilt")));
+  // The pooled file sets no trim: not the first flight's tilt, since the
+  // flights do not share one.
+  const std::vector<ImuPosition3d> pooled =
+      PooledAsImuPositions(PoolFlights(flights), flights);
+  ASSERT_EQ(pooled.size(), 1u);
+  for (const Rigid3dTiltDecision& d : pooled[0].misalignment_decisions) {
+    EXPECT_FALSE(d.determined);
+    EXPECT_EQ(d.reason, "flights_disagree");
+  }
+  const StatusOr<AutopilotParameters> emitted =
+      Rigid3dAutopilotParameters(pooled, EmitFormat::kArduPilot);
+  ASSERT_TRUE(emitted.ok());
+  for (const AutopilotTrim& t : emitted->trims) EXPECT_FALSE(t.given);
+  EXPECT_THAT(emitted->snippet, ::testing::Not(HasSubstr("\nAHRS_TRIM_Y,")));
   const std::array<bool, kNumSharedParameters> position_only = {
       true, true, true, false, false};
   const StackedFit stacked =

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -735,6 +736,134 @@ TEST(Rigid3dGates, SystematicStderrIsTheSensitivityWithTheFloor) {
                     0);
   EXPECT_FALSE(wider.determined[2]);
   EXPECT_EQ(wider.decisions[2].reason, "stderr");
+}
+
+// A fit whose tilt is (roll_deg, pitch_deg) with whole σ̂ `stderr_deg` on
+// both (the data's sensitivity zero, so the systematic part is the floor),
+// on data it explains.
+ImuPosition3d TiltReport(double roll_deg, double pitch_deg, double stderr_deg) {
+  Preprocess3dResult pre = FigureEightData();
+  pre.misalignment_systematic_stderr_deg.setZero();
+  EstimateResult fit = GateFit(
+      kGateTruthM, Eigen::Vector3d::Constant(1e-3), RmseForFraction(pre, 0.1));
+  fit.parameters[kThrustToX] = -std::sin(pitch_deg * kDegToRad);
+  fit.parameters[kThrustToY] = std::sin(roll_deg * kDegToRad);
+  // The statistical σ̂ that, with the floor in quadrature, makes stderr_deg.
+  const double floor = Rigid3dReportOptions().misalignment_floor_deg;
+  const double statistical =
+      std::sqrt(std::max(stderr_deg * stderr_deg - floor * floor, 0.0));
+  fit.standard_errors[kThrustToX] =
+      statistical * kDegToRad * std::cos(pitch_deg * kDegToRad);
+  fit.standard_errors[kThrustToY] =
+      statistical * kDegToRad * std::cos(roll_deg * kDegToRad);
+  return Rigid3dReport(fit, pre, 0);
+}
+
+// The tilt is given as a trim up to σ̂ = max_misalignment_stderr_deg (twice
+// the floor) and withheld just above, angle by angle; withheld where σ̂ is
+// not finite and beyond AHRS_TRIM's ±0.1745 rad. Given, ArduPilot's file
+// sets AHRS_TRIM_X/Y to the tilt in rad and PX4's sets the log's
+// SENS_BOARD_X/Y_OFF plus the tilt; withheld, neither is written.
+TEST(Rigid3dGates, TiltIsATrimUpToItsThreshold) {
+  const double limit = Rigid3dReportOptions().max_misalignment_stderr_deg;
+  ASSERT_EQ(limit, 2 * Rigid3dReportOptions().misalignment_floor_deg);
+  for (const double se : {limit - 0.01, limit + 0.01}) {
+    SCOPED_TRACE(se);
+    const bool inside = se <= limit;
+    const ImuPosition3d r = TiltReport(2.0, -3.0, se);
+    for (int a = 0; a < 2; ++a) {
+      ASSERT_NEAR(r.misalignment_stderr_deg[a], se, 1e-9);
+      const Rigid3dTiltDecision& d =
+          r.misalignment_decisions[static_cast<std::size_t>(a)];
+      EXPECT_EQ(d.determined, inside) << a;
+      EXPECT_EQ(d.reason, inside ? "given" : "stderr") << a;
+    }
+    const auto ardupilot =
+        Rigid3dAutopilotParameters({r}, EmitFormat::kArduPilot);
+    ASSERT_TRUE(ardupilot.ok());
+    ASSERT_EQ(ardupilot->trims.size(), 2u);
+    const auto px4 = Rigid3dAutopilotParameters(
+        {r},
+        EmitFormat::kPx4,
+        {{"SENS_BOARD_X_OFF", 0.5}, {"SENS_BOARD_Y_OFF", -1.0}});
+    ASSERT_TRUE(px4.ok());
+    ASSERT_EQ(px4->trims.size(), 2u);
+    const nlohmann::ordered_json j = Rigid3dToJson(r);
+    if (inside) {
+      EXPECT_NEAR(ardupilot->trims[0].value, 2.0 * kDegToRad, 1e-12);
+      EXPECT_NEAR(ardupilot->trims[1].value, -3.0 * kDegToRad, 1e-12);
+      EXPECT_NEAR(ardupilot->trims[0].stderr, se * kDegToRad, 1e-9);
+      EXPECT_THAT(ardupilot->snippet,
+                  ::testing::HasSubstr("\nAHRS_TRIM_X,0.0349\n"));
+      EXPECT_THAT(ardupilot->snippet,
+                  ::testing::HasSubstr("\nAHRS_TRIM_Y,-0.0524\n"));
+      EXPECT_NEAR(px4->trims[0].value, 2.5, 1e-9);
+      EXPECT_NEAR(px4->trims[1].value, -4.0, 1e-9);
+      EXPECT_NEAR(px4->trims[1].change, -3.0, 1e-9);
+      EXPECT_THAT(px4->snippet,
+                  ::testing::HasSubstr("1\t1\tSENS_BOARD_X_OFF\t2.5000\t9\n"));
+      EXPECT_THAT(px4->snippet,
+                  ::testing::HasSubstr("1\t1\tSENS_BOARD_Y_OFF\t-4.0000\t9\n"));
+      EXPECT_NEAR(j["trims"]["ardupilot_rad"]["AHRS_TRIM_Y"].get<double>(),
+                  -3.0 * kDegToRad,
+                  1e-12);
+      EXPECT_NEAR(
+          j["trims"]["px4_change_deg"]["SENS_BOARD_X_OFF"].get<double>(),
+          2.0,
+          1e-12);
+      EXPECT_THAT(Rigid3dToText(r),
+                  ::testing::HasSubstr("roll AHRS_TRIM_X = 0.0349"));
+    } else {
+      for (const auto* p : {&*ardupilot, &*px4}) {
+        for (const AutopilotTrim& t : p->trims) {
+          EXPECT_FALSE(t.given) << t.parameter;
+          EXPECT_EQ(t.reason, "stderr");
+          EXPECT_FALSE(std::isfinite(t.value));
+          EXPECT_THAT(p->snippet,
+                      ::testing::HasSubstr(t.parameter + " not written: "));
+        }
+        EXPECT_THAT(p->snippet,
+                    ::testing::Not(::testing::HasSubstr("\nAHRS_TRIM_X,")));
+        EXPECT_THAT(p->snippet,
+                    ::testing::Not(::testing::HasSubstr("\tSENS_BOARD_")));
+      }
+      EXPECT_TRUE(j["trims"]["ardupilot_rad"]["AHRS_TRIM_X"].is_null());
+      EXPECT_EQ(j["misalignment_decisions"][1]["reason"], "stderr");
+    }
+  }
+  // Without the log's value PX4's file says what to add, and sets nothing.
+  const auto unknown = Rigid3dAutopilotParameters({TiltReport(2.0, -3.0, 0.3)},
+                                                  EmitFormat::kPx4);
+  ASSERT_TRUE(unknown.ok());
+  EXPECT_TRUE(unknown->trims[0].given);
+  EXPECT_FALSE(std::isfinite(unknown->trims[0].value));
+  EXPECT_THAT(unknown->snippet, ::testing::HasSubstr("add 2 deg"));
+  EXPECT_THAT(unknown->snippet,
+              ::testing::Not(::testing::HasSubstr("\tSENS_BOARD_")));
+  // σ̂ not finite (no covariance): withheld, saying so.
+  {
+    Preprocess3dResult pre = FigureEightData();
+    EstimateResult fit = GateFit(kGateTruthM,
+                                 Eigen::Vector3d::Constant(1e-3),
+                                 RmseForFraction(pre, 0.1));
+    fit.standard_errors[kThrustToY] = std::numeric_limits<double>::quiet_NaN();
+    const ImuPosition3d r = Rigid3dReport(fit, pre, 0);
+    EXPECT_FALSE(r.misalignment_decisions[0].determined);
+    EXPECT_EQ(r.misalignment_decisions[0].reason, "stderr");
+    EXPECT_THAT(r.misalignment_decisions[0].advice,
+                ::testing::HasSubstr("no standard error"));
+    EXPECT_TRUE(r.misalignment_decisions[1].determined);
+  }
+  // Beyond AHRS_TRIM's range (±0.1745 rad = 9.998°): withheld on that angle.
+  const ImuPosition3d far = TiltReport(10.0, 9.9, 0.3);
+  EXPECT_EQ(far.misalignment_decisions[0].reason, "abs_misalignment");
+  EXPECT_TRUE(far.misalignment_decisions[1].determined);
+  const auto far_emit =
+      Rigid3dAutopilotParameters({far}, EmitFormat::kArduPilot);
+  ASSERT_TRUE(far_emit.ok());
+  EXPECT_FALSE(far_emit->trims[0].given);
+  EXPECT_NEAR(far_emit->trims[1].value, 9.9 * kDegToRad, 1e-12);
+  EXPECT_LE(std::abs(far_emit->trims[1].value), 0.1745);
 }
 
 // Every output that carries σ̂ carries the whole one, statistical and

@@ -261,7 +261,8 @@ TEST(Stress3dCoverage, EstimatorVelocityGlitch) {
 TEST(Stress3dCoverage, FrdCsvReadAsFluIsRefused) {
   // An FRD CSV fitted as FLU (`fit --frame=flu`): gravity reads −g on z,
   // and the fit refuses the log outright rather than give any axis (30 of
-  // 30 seeds in scripts/coverage3d.sh --formats=csv --fit_args=--frame=flu).
+  // 30 seeds of CSV logs fitted with --frame=flu by scripts/coverage3d.sh's
+  // former loop, before it called the bench, which flies binary logs only).
   for (int seed = 1; seed <= 2; ++seed) {
     Simulator3dOptions o = testing::RealisticScenario3d("figure8_3d");
     o.seed = static_cast<std::uint64_t>(seed);

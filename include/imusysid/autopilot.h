@@ -23,6 +23,33 @@ enum class EmitFormat { kNone, kPx4, kArduPilot };
 StatusOr<EmitFormat> EmitFormatFromString(std::string_view text);
 const char* EmitFormatToString(EmitFormat format);  // "none"/"px4"/...
 
+// One trim a 3-D fit's tilt gives (Rigid3dAutopilotParameters): ArduPilot's
+// AHRS_TRIM_X/Y (rad) or PX4's SENS_BOARD_X/Y_OFF (deg).
+struct AutopilotTrim {
+  std::string parameter;  // e.g. "AHRS_TRIM_X"
+  std::string unit;       // "rad" or "deg"
+  // The fit's tilt about this axis (roll for X, pitch for Y) and its 1σ,
+  // deg, given or withheld.
+  double tilt_deg = std::numeric_limits<double>::quiet_NaN();
+  double tilt_stderr_deg = std::numeric_limits<double>::quiet_NaN();
+  // PX4: the tilt is a change to the current value (the log's IMU data are
+  // after the board rotation); ArduPilot: the whole trim (before it).
+  bool increment = false;
+  // The change the fit asks for and its 1σ, in `unit`: the tilt itself.
+  double change = std::numeric_limits<double>::quiet_NaN();
+  double stderr = std::numeric_limits<double>::quiet_NaN();
+  // The log's value (NaN: not in the log, or not read) and the value to
+  // set: the whole trim, or the current value plus the change (NaN where
+  // that is unknown, or the trim is withheld).
+  double current = std::numeric_limits<double>::quiet_NaN();
+  double value = std::numeric_limits<double>::quiet_NaN();
+  bool given = false;
+  // "given", or why withheld: a Rigid3dTiltDecision reason, or "no_imu0"
+  // (the instance the trim is for was not fitted).
+  std::string reason;
+  std::string note;  // why withheld, or how the value is applied (prose)
+};
+
 // What the fit says in the autopilot's terms.
 struct AutopilotParameters {
   EmitFormat format = EmitFormat::kNone;
@@ -49,6 +76,9 @@ struct AutopilotParameters {
   // unknown). Empty / NaN until AddCurrentValues.
   std::vector<std::pair<std::string, double>> current;
   double trim_current = std::numeric_limits<double>::quiet_NaN();
+  // A 3-D fit's trims, roll (X) then pitch (Y); empty for a planar fit,
+  // whose tilt is the prose above.
+  std::vector<AutopilotTrim> trims;
 };
 
 // Restates `result` (a fit in plane "pitch" or "roll") for `format`. The
@@ -67,13 +97,16 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
     const std::string& source);
 
 // Fills p->current and p->trim_current from the parameters a log records
-// (ReadLogParameters in imusysid/log_reader.h).
+// (ReadLogParameters in imusysid/log_reader.h), and each trim's current
+// value (with, for an increment, the value to set: current + change).
 void AddCurrentValues(
     const std::vector<std::pair<std::string, double>>& log_parameters,
     AutopilotParameters* p);
 
 // {"format", "params", "stderr", "omitted", "tilt", "snippet"[, "reason"]
-// [, "current"]}.
+// [, "current"][, "trims"]}: "trims" (3-D fits) one object per trim with
+// parameter, unit, decision, reason, note, tilt_deg, tilt_stderr_deg,
+// increment, change, stderr, current and value (null where not finite).
 nlohmann::ordered_json AutopilotParametersToJson(const AutopilotParameters& p);
 
 // Human-readable lines for the table output: with current values, a table of

@@ -10,6 +10,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Eigen/Core"
@@ -83,6 +84,20 @@ struct Rigid3dReportOptions {
   // of the three scenarios, both formats, was within ±2σ̂ on at least 9 of
   // 10 seeds (0.2°: 8 of 10 for the worst).
   double misalignment_floor_deg = 0.25;
+  // The tilt is given (as the autopilots' trims, AHRS_TRIM_X/Y and
+  // SENS_BOARD_X/Y_OFF) when its σ̂ is at most this, deg: twice the floor.
+  // No flight's σ̂ falls below the floor, and σ̂ = 2 × floor leaves the
+  // flight's own share (statistical and sensitivity) at most √3 × floor =
+  // 0.43°, while ±2σ̂ = ±1° is what levelling the frame on the bench gives;
+  // a trim less certain than that is no better than a spirit level. The
+  // realistic simulated figure-eight's σ̂ is 0.27-0.36° (given); log171's
+  // IMU 0 has 0.43/0.89° (roll/pitch), the Auterion ULog 1.8/1.5°.
+  double max_misalignment_stderr_deg = 0.5;
+  // And when |tilt| is at most this, deg: AHRS_TRIM_X/Y's range, ±0.1745
+  // rad (9.998°; PX4's SENS_BOARD_*_OFF declare none), about the
+  // simulator's ±10° mounts; a board tilted further is mounted at another
+  // orientation (AHRS_ORIENTATION, SENS_BOARD_ROT), not trimmed.
+  double max_abs_misalignment_deg = 0.1745 * 180.0 / 3.14159265358979323846;
   // The jackknife σ̂ of the position (JackknifePositionStderr), m; the
   // report computes none itself. NaN: none (HAC σ̂ alone).
   Eigen::Vector3d jackknife_stderr_m =
@@ -200,6 +215,20 @@ struct Rigid3dAxisDecision {
   double stderr_systematic_m = std::numeric_limits<double>::quiet_NaN();
 };
 
+// Why the tilt about one axis (roll or pitch) is given as a trim or
+// withheld: a stable code, "given", or the first gate that failed:
+// "fit_failed", "unexplained_in_band" / "unexplained_fraction" (the model
+// does not explain the log, as the position's), "stderr" (σ̂ not finite, or
+// above max_misalignment_stderr_deg), "abs_misalignment" (|tilt| above
+// max_abs_misalignment_deg, the trims' range); its advice (prose, "" when
+// given) and every gate judged (Rigid3dGate; statistic and threshold in deg).
+struct Rigid3dTiltDecision {
+  bool determined = false;
+  std::string reason = "fit_failed";
+  std::string advice = "the fit failed";
+  std::vector<Rigid3dGate> evidence;
+};
+
 // The parameters several flights of one IMU share when pooled: the
 // position and the thrust axis seen on x and y (the misalignment), as
 // ImuPosition3d::shared_covariance orders them.
@@ -296,6 +325,9 @@ struct ImuPosition3d {
       Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   Eigen::Vector2d misalignment_stderr_systematic_deg =
       Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  // Whether the tilt (roll, pitch) is determined well enough to be set as
+  // the autopilot's trim (Rigid3dTiltDecision).
+  std::array<Rigid3dTiltDecision, 2> misalignment_decisions;
   // The statistical covariance of the parameters flights of one vehicle
   // share when pooled (pool3d.h), in kSharedParameterNames' order: the
   // position (m) and the misalignment's e_x, e_y (rigid3d.h). The fit's
@@ -381,7 +413,9 @@ void CompareInstances(std::vector<ImuPosition3d>* reports);
 // imu_position_frd_m (3 numbers or null), imu_position_frd_stderr_m,
 // predicted_stderr_m (3 numbers or null: ImuPosition3d::predicted_stderr_m),
 // warnings (strings), then instance, determined, advice, windows, delay, the
-// nuisance terms, baselines and, last, decisions (per axis: the decision,
+// nuisance terms, the misalignment with misalignment_decisions and trims
+// (AHRS_TRIM_X/Y in rad, the change to SENS_BOARD_X/Y_OFF in deg; null
+// where withheld), baselines and, last, decisions (per axis: the decision,
 // its reason code and advice, the fitted value, σ̂ in its two parts and
 // each gate's evidence).
 nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& report);
@@ -391,9 +425,19 @@ std::string Rigid3dToText(const ImuPosition3d& report);
 
 // The position in the autopilot's terms, determined axes only. PX4 has one
 // EKF2_IMU_POS_* (the IMU the estimator uses, instance 0); ArduPilot has
-// INS_POS{instance+1}_*.
+// INS_POS{instance+1}_*. Then the tilt of instance 0 (the IMU both
+// estimators take their attitude from) as trims (AutopilotParameters::
+// trims), each given where misalignment_decisions gives it: ArduPilot's
+// AHRS_TRIM_X/Y (rad) are the whole tilt, as ArduPilot logs its IMUs before
+// the trim (their range is max_abs_misalignment_deg's); PX4's
+// SENS_BOARD_X/Y_OFF (deg) are the current value plus the tilt, as PX4 logs
+// its IMU after the board rotation: with the log's value among
+// `log_parameters` (ReadLogParameters) the file sets the sum, without it the
+// file says what to add. Trims are written as parameter rows only when given.
 StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
-    const std::vector<ImuPosition3d>& reports, EmitFormat format);
+    const std::vector<ImuPosition3d>& reports,
+    EmitFormat format,
+    const std::vector<std::pair<std::string, double>>& log_parameters = {});
 
 }  // namespace imusysid
 

@@ -367,6 +367,13 @@ struct Sim3dLogOptions {
   // (PX4's high-rate / raw-IMU profiles) every raw sample is logged.
   double ulog_raw_imu_rate_hz = 1.0;  // in [0.1, 10]
   bool ulog_high_rate_raw_imu = false;
+  // SENS_BOARD_X/Y/Z_OFF, deg, each in [-10, 10]: written as parameters,
+  // and sensor_combined (the board-rotated topic) is rotated by them as
+  // PX4's VehicleIMU rotates it (v_logged = Rz(z) Ry(y) Rx(x) v_sensor) before
+  // it is logged; sensor_accel / sensor_gyro are the drivers' (before the
+  // board rotation) and stay in the sensor's axes. 0: the autopilot is told
+  // nothing.
+  Eigen::Vector3d ulog_board_offset_deg = Eigen::Vector3d::Zero();
 
   // --- ArduPilot DataFlash ---
   // IMU records (one per instance, field I) at the main-loop rate: the
@@ -377,6 +384,9 @@ struct Sim3dLogOptions {
   double dataflash_imu_filter_hz = 20.0;
   double dataflash_att_rate_hz = 25.0;  // ATT, [1, 50]
   double dataflash_ekf_rate_hz = 10.0;  // XKF1 (core 0), [1, 50]
+  // AHRS_TRIM_X/Y, rad, each in [-0.1745, 0.1745]: written as parameters
+  // only, since ArduPilot logs its IMUs before the AHRS applies the trim.
+  Eigen::Vector2d dataflash_ahrs_trim_rad = Eigen::Vector2d::Zero();
 
   // Added to every time stamp (a log's clock is time since boot), µs.
   std::uint64_t boot_offset_us = 0;
@@ -386,7 +396,8 @@ struct Sim3dLogOptions {
 };
 
 // The flight as a PX4 ULog file image (version 1): info, parameters
-// (EKF2_IMU_POS_* = 0, SENS_BOARD_*_OFF = 0, ...), sensor_combined,
+// (EKF2_IMU_POS_* = 0, SENS_BOARD_*_OFF = ulog_board_offset_deg, ...),
+// sensor_combined,
 // sensor_accel/sensor_gyro per IMU, vehicle_attitude and
 // vehicle_local_position at the estimator's own times, actuator_armed and
 // vehicle_status. InvalidArgument when the options do not validate or the
@@ -397,8 +408,9 @@ StatusOr<std::string> FormatSimulated3dUlog(
     const Sim3dLogOptions& log_options = Sim3dLogOptions());
 
 // The flight as an ArduPilot DataFlash (.bin) file image: FMT, MSG, PARM
-// (INS_POSn_* = 0, ...), IMU per instance, ATT and XKF1 at the estimator's
-// own times, EV arm/disarm, MODE. Errors as FormatSimulated3dUlog.
+// (INS_POSn_* = 0, AHRS_TRIM_X/Y = dataflash_ahrs_trim_rad, ...), IMU per
+// instance, ATT and XKF1 at the estimator's own times, EV arm/disarm, MODE.
+// Errors as FormatSimulated3dUlog.
 StatusOr<std::string> FormatSimulated3dDataFlash(
     const Simulator3dOptions& options,
     const Simulated3dFlight& flight,

@@ -15,6 +15,7 @@
 #include "imusysid/rigid3d.h"
 #include "src/analyse/agreement3d.h"
 #include "src/analyse/joint_fit3d.h"
+#include "src/analyse/position3d.h"
 #include "src/numerics/chi_square.h"
 #include "src/tools/format.h"
 
@@ -423,6 +424,18 @@ std::vector<ImuPosition3d> PooledAsImuPositions(
       r.misalignment_roll_deg = p.misalignment.angle_deg[0];
       r.misalignment_pitch_deg = p.misalignment.angle_deg[1];
       r.misalignment_stderr_deg = p.misalignment.stderr_deg;
+      // The trims the file sets are the pool's tilt, judged as one
+      // flight's is.
+      internal::DecideTilt3dTrim(nullptr, Rigid3dReportOptions(), &r);
+    } else {
+      // Not the first flight's: the flights do not share one tilt.
+      for (Rigid3dTiltDecision& d : r.misalignment_decisions) {
+        d.determined = false;
+        d.reason = p.misalignment.reason;
+        d.advice = p.misalignment.advice.empty() ? "no flight is pooled"
+                                                 : p.misalignment.advice;
+        d.evidence.clear();
+      }
     }
     for (int a = 0; a < 3; ++a) {
       const auto i = static_cast<std::size_t>(a);

@@ -248,6 +248,8 @@ void DecideAxes(const Preprocess3dResult& pre,
         "): the log does not follow rigid-body flight (ground contact, a "
         "wrong frame or units, or unlogged forces); no position is given");
   }
+  internal::DecideTilt3dTrim(
+      explains ? nullptr : &explains_gate, options, &out);
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
     const double se = out.stderr_m[a];
@@ -341,6 +343,62 @@ ImuPosition3d Rigid3dReport(const EstimateResult& result,
 }
 
 namespace internal {
+
+void DecideTilt3dTrim(const Rigid3dGate* unexplained,
+                      const Rigid3dReportOptions& options,
+                      ImuPosition3d* report) {
+  ImuPosition3d& out = *report;
+  const char* const names[2] = {"roll", "pitch"};
+  const double tilt[2] = {out.misalignment_roll_deg,
+                          out.misalignment_pitch_deg};
+  for (int a = 0; a < 2; ++a) {
+    Rigid3dTiltDecision& d =
+        out.misalignment_decisions[static_cast<std::size_t>(a)];
+    const double se = out.misalignment_stderr_deg[a];
+    Rigid3dGate stderr_gate;
+    stderr_gate.gate = "stderr";
+    stderr_gate.statistic = se;
+    stderr_gate.threshold = options.max_misalignment_stderr_deg;
+    stderr_gate.passed =
+        std::isfinite(se) && !(se > options.max_misalignment_stderr_deg);
+    Rigid3dGate range_gate;
+    range_gate.gate = "abs_misalignment";
+    range_gate.statistic = std::abs(tilt[a]);
+    range_gate.threshold = options.max_abs_misalignment_deg;
+    range_gate.passed = std::abs(tilt[a]) <= options.max_abs_misalignment_deg;
+    d.evidence.clear();
+    if (unexplained != nullptr) d.evidence.push_back(*unexplained);
+    d.evidence.push_back(stderr_gate);
+    d.evidence.push_back(range_gate);
+    d.determined = false;
+    const std::string what = std::string("the ") + names[a] + " tilt";
+    if (unexplained != nullptr) {
+      d.reason = unexplained->gate;
+      d.advice = "the model does not explain this log";
+    } else if (!std::isfinite(se)) {
+      d.reason = stderr_gate.gate;
+      d.advice = what + " has no standard error (the fit has no covariance)";
+    } else if (!stderr_gate.passed) {
+      d.reason = stderr_gate.gate;
+      d.advice = what + " is not determined (1-sigma " +
+                 FormatNumber(se, 2, kPositionQuoted) + " deg, above " +
+                 FormatNumber(options.max_misalignment_stderr_deg, 2) +
+                 "): fly longer, with more change of thrust (climbs and "
+                 "descents, doublets)";
+    } else if (!range_gate.passed) {
+      d.reason = range_gate.gate;
+      d.advice = what + " of " + FormatNumber(tilt[a], 3, kPositionQuoted) +
+                 " deg is beyond a trim's range (+/-" +
+                 FormatNumber(options.max_abs_misalignment_deg, 4) +
+                 " deg): check the board's orientation (AHRS_ORIENTATION, "
+                 "SENS_BOARD_ROT)";
+    } else {
+      d.reason = "given";
+      d.advice.clear();
+      d.determined = true;
+    }
+  }
+}
 
 ImuPosition3d AnalysePosition3d(const Problem& problem,
                                 const Estimator& estimator,

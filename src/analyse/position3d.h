@@ -32,6 +32,16 @@ ImuPosition3d AnalysePosition3d(const Problem& problem,
                                 int instance,
                                 Rigid3dReportOptions options);
 
+// Whether the tilt about each axis (roll, pitch) of `out` can be set as the
+// autopilot's trim (ImuPosition3d::misalignment_decisions): the model
+// explains the log (`unexplained`: the gate it failed, null when it
+// passed), σ̂ is finite and at most max_misalignment_stderr_deg, |tilt|
+// within max_abs_misalignment_deg. Rigid3dReport's, and the pool's for its
+// shared tilt.
+void DecideTilt3dTrim(const Rigid3dGate* unexplained,
+                      const Rigid3dReportOptions& options,
+                      ImuPosition3d* out);
+
 // The gates of the flight's pieces (Rigid3dReport, pieces3d.cc) on a usable
 // report `out` of `result`: the windows' and the halves' agreement
 // (window_agreement, halves_agreement), each window's own estimate kept, and

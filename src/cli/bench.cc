@@ -2,6 +2,8 @@
 // command line: presets, flags → BenchConfig, Markdown or JSON on stdout, and
 // with --out the result files, the figures and index.html.
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -15,7 +17,10 @@
 #include <vector>
 
 #include "benchmarks/bench3d_groups.h"
+#include "benchmarks/bench3d_peers.h"
+#include "benchmarks/bench3d_pool.h"
 #include "benchmarks/bench3d_preprocess.h"
+#include "benchmarks/bench3d_sim.h"
 #include "benchmarks/figures.h"
 #include "benchmarks/runner.h"
 #include "imusysid/log.h"
@@ -96,6 +101,35 @@ DEFINE_string(delays,
               "",
               "3-D preprocessing: estimator delays, 'estimated' or s, e.g. "
               "estimated,0.02 (empty: estimated).");
+DEFINE_string(scenarios3d,
+              "",
+              "3-D simulated scenarios flown once and, with --seeds=K, K "
+              "times for the Monte Carlo, instead of the preset's, e.g. "
+              "figure8_3d,pitch_laps_3d/flexible_mount (SCENARIO/CASE: a "
+              "stress case, flexible_mount, periodic_force, yaw_reset, "
+              "velocity_glitch, payload_change).");
+DEFINE_string(formats3d,
+              "",
+              "Formats the simulated 3-D flights are written in: ulog "
+              "(ulg), dataflash (bin); default both.");
+DEFINE_string(sim_args,
+              "",
+              "More simulator flags for every simulated 3-D flight, as "
+              "simulate takes them, e.g. \"--flexible_mount=12,0.001\" "
+              "(--flexible_mount, --periodic_force, --estimator_glitch, "
+              "--payload_change, --rate_hz).");
+DEFINE_string(pools3d,
+              "",
+              "Pairs of simulated flights pooled as fit --log=A --log=B "
+              "pools them and judged against the truth, --seeds pairs "
+              "each: figure8_3d.ulg+figure8_3d.bin,pitch_laps_3d.ulg+"
+              "roll_laps_3d.bin.");
+DEFINE_bool(peers,
+            false,
+            "Run the 3-D peers (benchmarks/peers/peers3d.py: SciPy, an RLS) "
+            "on each 3-D log's IMU 0 beside imusysid's estimators, when a "
+            "python3 with NumPy and SciPy is there (PEERS_PYTHON; else "
+            "said and skipped).");
 DEFINE_bool(figures, true, "Draw the SVG figures into --out.");
 DEFINE_string(scaling,
               "",
@@ -111,6 +145,85 @@ DECLARE_string(covariance);
 namespace imusysid {
 namespace cli {
 namespace {
+
+std::string SourceDir() {
+#ifdef IMUSYSID_SOURCE_DIR
+  return IMUSYSID_SOURCE_DIR;
+#else
+  return ".";
+#endif
+}
+
+// --scenarios3d, --formats3d, --sim_args and --pools3d into `config`,
+// each checked before any flight.
+Status ApplySimulated3dFlags(bench::BenchConfig* config) {
+  if (FlagWasSet("scenarios3d")) {
+    config->scenarios3d = bench::SplitList(FLAGS_scenarios3d);
+    config->stress3d.clear();
+  }
+  if (FlagWasSet("formats3d")) {
+    config->formats3d.clear();
+    for (std::string f : bench::SplitList(FLAGS_formats3d)) {
+      if (f == "ulg") f = "ulog";
+      if (f == "bin") f = "dataflash";
+      if (f != "ulog" && f != "dataflash") {
+        return InvalidArgumentError("--formats3d: '" + f.substr(0, 40) +
+                                    "'; valid: ulog (ulg), dataflash (bin)");
+      }
+      config->formats3d.push_back(f);
+    }
+  }
+  config->sim_args3d = FLAGS_sim_args;
+  std::vector<std::string> flown = config->scenarios3d;
+  flown.insert(flown.end(), config->stress3d.begin(), config->stress3d.end());
+  if (flown.empty() && !FLAGS_sim_args.empty()) flown = {"figure8_3d"};
+  for (const std::string& scenario : flown) {
+    StatusOr<Simulator3dOptions> o =
+        bench::BenchScenario3dOptions(*config, scenario, 1);
+    if (!o.ok()) {
+      return o.status().WithPrefix("simulating '" + scenario.substr(0, 40) +
+                                   "'");
+    }
+  }
+  if (!FLAGS_pools3d.empty()) {
+    config->pools3d = bench::SplitList(FLAGS_pools3d);
+    IMUSYSID_RETURN_IF_ERROR(bench::ValidatePools3d(config->pools3d));
+    if (config->seeds < 2) {
+      return InvalidArgumentError(
+          "--pools3d: the pairs per kind are --seeds; required --seeds >= 2");
+    }
+  }
+  return Status::Ok();
+}
+
+// --peers: the peers on the 3-D logs into the report, or why not.
+void RunPeersInto(const bench::BenchConfig& config,
+                  const std::vector<bench::Log3d>& logs,
+                  bench::BenchReport* report) {
+  bench::Peers3dSetup setup;
+  const char* python = std::getenv("PEERS_PYTHON");
+  const std::vector<std::string> pythons =
+      python != nullptr && *python != '\0'
+          ? std::vector<std::string>{python}
+          : std::vector<std::string>{"python3", "/usr/bin/python3"};
+  setup.script = SourceDir() + "/benchmarks/peers/peers3d.py";
+  setup.work_dir = (std::filesystem::temp_directory_path() /
+                    ("imusysid_bench_peers3d." +
+                     std::to_string(static_cast<long>(::getpid()))))
+                       .string();
+  Status s = bench::FindPeers3dPython(pythons, &setup);
+  if (s.ok()) {
+    StatusOr<std::vector<bench::Peer3dRecord>> peers =
+        bench::RunPeers3d(setup, config, logs, report->runs3d);
+    if (peers.ok()) {
+      report->peers3d = std::move(peers).value();
+      return;
+    }
+    s = peers.status();
+  }
+  report->peers3d_note = s.message();
+  std::cerr << "warning: " << s.message() << "; going on without the peers\n";
+}
 
 std::string DataDir() {
   const char* env = std::getenv("IMUSYSID_DATA_DIR");
@@ -190,6 +303,8 @@ int RunBench(const std::vector<std::string>& positional) {
   }
   config.repeats = FLAGS_repeats;
   if (FLAGS_seeds >= 0) config.seeds = FLAGS_seeds;
+  Status simulated3d = ApplySimulated3dFlags(&config);
+  if (!simulated3d.ok()) return ReportError(cmd, simulated3d);
   if (FlagWasSet("threads")) {
     if (FLAGS_threads < 1) {
       return UsageError(cmd, "--threads must be >= 1");
@@ -247,17 +362,22 @@ int RunBench(const std::vector<std::string>& positional) {
   StatusOr<bench::BenchReport> report = bench::RunBench(config);
   if (!report.ok()) return ReportError(cmd, report.status());
   report->gbench = std::move(gbench);
-  if (!preprocess_variants.empty()) {
+  if (!preprocess_variants.empty() ||
+      (FLAGS_peers && !report->runs3d.empty())) {
     std::vector<std::string> models3d;
     for (const std::string& m : config.models) {
       if (bench::Is3dModel(m)) models3d.push_back(m);
     }
     StatusOr<std::vector<bench::Log3d>> logs3d = bench::BenchLogs3d(config);
     if (!logs3d.ok()) return ReportError(cmd, logs3d.status());
+    if (FLAGS_peers) RunPeersInto(config, *logs3d, &*report);
     for (bench::Run3dRecord& r : bench::RunPreprocessing3d(
              config, models3d, *logs3d, preprocess_variants)) {
       report->runs3d.push_back(std::move(r));
     }
+  } else if (FLAGS_peers) {
+    report->peers3d_note = "--peers: no 3-D runs to set the peers beside";
+    std::cerr << "warning: " << report->peers3d_note << "\n";
   }
   bench::AssignLogGroups3d(groups, &report->runs3d);
   const std::vector<bench::Agreement3dRecord> agreement =
@@ -323,6 +443,8 @@ int RunBench(const std::vector<std::string>& positional) {
       std::cerr << "wrote " << FLAGS_out
                 << "/{results3d.csv,report.md,report3d.html"
                 << (report->monte_carlo3d.empty() ? "" : ",monte_carlo3d.csv")
+                << (report->misalignment3d.empty() ? "" : ",misalignment3d.csv")
+                << (report->peers3d.empty() ? "" : ",peers3d.csv")
                 << (agreement.empty() ? "" : ",agreement3d.csv")
                 << (preprocess_variants.empty() ? "" : ",preprocess3d.csv")
                 << "}\n";
@@ -374,6 +496,9 @@ const Command& BenchCommand() {
           "[--seeds=K] [--threads=N] [--out=DIR] [--scaling=DIR|FILES] "
           "[--groups=A.ulg+B.ulg,...] [--cutoffs_hz=3,5,8] "
           "[--derivative_widths_s=0.03,0.05] [--delays=estimated,0.02] "
+          "[--scenarios3d=figure8_3d,...] [--formats3d=ulog,dataflash] "
+          "[--sim_args=\"--flexible_mount=12,0.001\"] "
+          "[--pools3d=A.ulg+B.bin,...] [--peers] "
           "[--format=table|json]",
       "Fits every log with every model x estimator through the same Estimate "
       "API and prints\nMarkdown tables: per-run accuracy against the truth "
@@ -409,27 +534,22 @@ const Command& BenchCommand() {
       "accuracy measure. --cutoffs_hz=3,5,8 --derivative_widths_s=0.03,0.05\n"
       "--delays=estimated,0.02 refit each 3-D log per combination (the "
       "model's default\nestimator, or --estimators), a row each: the "
-      "preprocessing behind the systematic\npart of stderr. --out adds "
+      "preprocessing behind the systematic\npart of stderr. "
+      "--scenarios3d, --formats3d and --sim_args choose the simulated\n"
+      "flights (the Monte Carlo tables every fitted IMU, the confident "
+      "wrong axes and the\nmisalignment against the truth); --pools3d pools "
+      "pairs of them against the truth;\n--peers puts SciPy and an RLS "
+      "(benchmarks/peers/peers3d.py) beside the estimators.\n--out adds "
       "results3d.csv,\nmonte_carlo3d.csv, "
       "report.md and "
       "report3d.html (the 3-D tables, also in index.html).",
-      WithLogFlags({"preset",
-                    "logs",
-                    "models",
-                    "estimators",
-                    "repeats",
-                    "seeds",
-                    "threads",
-                    "seed",
-                    "covariance",
-                    "groups",
-                    "cutoffs_hz",
-                    "derivative_widths_s",
-                    "delays",
-                    "figures",
-                    "scaling",
-                    "out",
-                    "format"}),
+      WithLogFlags(
+          {"preset",     "logs",        "models",     "estimators",
+           "repeats",    "seeds",       "threads",    "seed",
+           "covariance", "groups",      "cutoffs_hz", "derivative_widths_s",
+           "delays",     "scenarios3d", "formats3d",  "sim_args",
+           "pools3d",    "peers",       "figures",    "scaling",
+           "out",        "format"}),
       &RunBench,
       /*estimator_flags=*/true};
   return c;

@@ -365,16 +365,18 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   summary.model = model_name;
 
   if (options.emit != EmitFormat::kNone) {
-    StatusOr<AutopilotParameters> emitted =
-        Rigid3dAutopilotParameters(summary.imus, options.emit);
-    if (!emitted.ok()) return emitted.status();
+    // The log's parameters first: PX4's board offsets in the file are the
+    // log's values plus the tilt.
+    std::vector<std::pair<std::string, double>> current;
     if (!bytes.empty()) {
-      StatusOr<std::vector<std::pair<std::string, double>>> current =
+      StatusOr<std::vector<std::pair<std::string, double>>> read =
           ParseLogParameters(bytes, input.source());
-      if (current.ok() && !current->empty()) {
-        AddCurrentValues(*current, &*emitted);
-      }
+      if (read.ok()) current = std::move(read).value();
     }
+    StatusOr<AutopilotParameters> emitted =
+        Rigid3dAutopilotParameters(summary.imus, options.emit, current);
+    if (!emitted.ok()) return emitted.status();
+    if (!current.empty()) AddCurrentValues(current, &*emitted);
     IdentifyEmit emit;
     emit.parameters.push_back(std::move(emitted).value());
     emit.best = 0;

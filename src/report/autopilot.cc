@@ -222,6 +222,24 @@ nlohmann::ordered_json AutopilotParametersToJson(const AutopilotParameters& p) {
                {"trim_value", num(p.trim_value)},
                {"trim_unit", p.trim_unit},
                {"note", p.trim_note}};
+  if (!p.trims.empty()) {
+    nlohmann::ordered_json trims = nlohmann::ordered_json::array();
+    for (const AutopilotTrim& t : p.trims) {
+      trims.push_back({{"parameter", t.parameter},
+                       {"unit", t.unit},
+                       {"decision", t.given ? "given" : "withheld"},
+                       {"reason", t.reason},
+                       {"note", t.note},
+                       {"tilt_deg", num(t.tilt_deg)},
+                       {"tilt_stderr_deg", num(t.tilt_stderr_deg)},
+                       {"increment", t.increment},
+                       {"change", num(t.change)},
+                       {"stderr", num(t.stderr)},
+                       {"current", num(t.current)},
+                       {"value", num(t.value)}});
+    }
+    j["trims"] = trims;
+  }
   if (!p.current.empty() || std::isfinite(p.trim_current)) {
     nlohmann::ordered_json current = nlohmann::ordered_json::object();
     for (const auto& [name, value] : p.current) current[name] = num(value);
@@ -246,6 +264,11 @@ void AddCurrentValues(
     p->current.emplace_back(param.first, find(param.first));
   }
   p->trim_current = find(p->trim_parameter);
+  for (AutopilotTrim& t : p->trims) {
+    t.current = find(t.parameter);
+    // An increment's value is known once the current one is.
+    if (t.given && t.increment) t.value = t.current + t.change;
+  }
 }
 
 std::string AutopilotParametersToText(const AutopilotParameters& p) {
@@ -270,7 +293,31 @@ std::string AutopilotParametersToText(const AutopilotParameters& p) {
       << "(m, FRD; the log's values are those in force "
          "at its end)\n";
   }
-  if (std::isfinite(p.trim_current)) {
+  if (!p.trims.empty()) {
+    // The log's trims beside what the fit makes of them.
+    std::vector<std::vector<std::string>> rows;
+    for (const AutopilotTrim& t : p.trims) {
+      const bool known = std::isfinite(t.current);
+      const bool valued = t.given && std::isfinite(t.value);
+      // PX4's change is the difference itself; ArduPilot's is the whole
+      // trim, so the difference needs the log's value.
+      const double difference =
+          t.increment ? t.change : (known ? t.value - t.current : kNaN);
+      rows.push_back({t.parameter + " (" + t.unit + ")",
+                      known ? FormatFixed(t.current, 4, kQuoted) : "not in log",
+                      valued ? FormatFixed(t.value, 4, kQuoted) : "-",
+                      t.given && std::isfinite(difference)
+                          ? FormatFixed(difference, 4, kQuoted)
+                          : "-",
+                      t.given ? FormatNumber(t.stderr, 2, kQuoted) : "-",
+                      t.given
+                          ? (t.increment ? "log value + tilt" : "whole tilt")
+                          : "withheld: " + t.reason});
+    }
+    s << FormatTable(
+        {"trim", "current", "identified", "difference", "1-sigma", "from"},
+        rows);
+  } else if (std::isfinite(p.trim_current)) {
     // PX4's offset from the fit is an increment (it logs after the board
     // rotation); ArduPilot's is the whole trim (it logs before it).
     const bool increment = p.format == EmitFormat::kPx4;

@@ -51,17 +51,25 @@ void AddFigure(Page* page,
 namespace {
 
 // The misalignment with its 1σ̂ (statistical and systematic together) per
-// angle: "roll ± σ̂ / pitch ± σ̂".
+// angle, and whether it is given as a trim (misalignment_decisions): "roll ±
+// σ̂ (trim) / pitch ± σ̂ (no trim: reason)".
 std::string TiltCell(const ImuPosition3d& imu) {
-  auto one = [](double value, double stderr_deg) {
-    if (!std::isfinite(value)) return std::string("not determined");
-    return std::isfinite(stderr_deg)
-               ? FormatNumber(value, 3) + " ± " + FormatNumber(stderr_deg, 2)
-               : FormatNumber(value, 3);
-  };
-  return one(imu.misalignment_roll_deg, imu.misalignment_stderr_deg[0]) +
+  auto one =
+      [](double value, double stderr_deg, const Rigid3dTiltDecision& decision) {
+        if (!std::isfinite(value)) return std::string("not determined");
+        return (std::isfinite(stderr_deg) ? FormatNumber(value, 3) + " ± " +
+                                                FormatNumber(stderr_deg, 2)
+                                          : FormatNumber(value, 3)) +
+               (decision.determined ? " (trim)"
+                                    : " (no trim: " + decision.reason + ")");
+      };
+  return one(imu.misalignment_roll_deg,
+             imu.misalignment_stderr_deg[0],
+             imu.misalignment_decisions[0]) +
          " / " +
-         one(imu.misalignment_pitch_deg, imu.misalignment_stderr_deg[1]);
+         one(imu.misalignment_pitch_deg,
+             imu.misalignment_stderr_deg[1],
+             imu.misalignment_decisions[1]);
 }
 
 std::string DecisionWords(const ImuPosition3d& imu, int axis) {
@@ -122,7 +130,7 @@ void AddTables(const std::vector<Rigid3dPageFlight>& flights,
                   "estimator delay (ms)",
                   "rotor drag (1/s)",
                   "μ (1/m)",
-                  "misalignment roll / pitch (°, ± 1σ̂)",
+                  "misalignment roll / pitch (°, ± 1σ̂; as trim?)",
                   "wind N / E (m/s)"};
   for (const auto& fl : flights) {
     for (const ImuPosition3d& imu : fl.summary->imus) {

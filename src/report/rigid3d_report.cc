@@ -90,6 +90,46 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["misalignment_stderr_systematic_deg"] = {
       {"roll", Num(r.misalignment_stderr_systematic_deg[0])},
       {"pitch", Num(r.misalignment_stderr_systematic_deg[1])}};
+  // The tilt as trims, angle by angle: the decision with its evidence, and
+  // what each autopilot is to be told (null where withheld): ArduPilot's
+  // whole AHRS_TRIM_X/Y in rad, the change to PX4's SENS_BOARD_X/Y_OFF in
+  // deg (--emit=px4 adds the log's value).
+  nlohmann::ordered_json tilt_decisions = nlohmann::ordered_json::array();
+  nlohmann::ordered_json ardupilot = nlohmann::ordered_json::object();
+  nlohmann::ordered_json px4 = nlohmann::ordered_json::object();
+  for (int a = 0; a < 2; ++a) {
+    const Rigid3dTiltDecision& d =
+        r.misalignment_decisions[static_cast<std::size_t>(a)];
+    const double tilt =
+        a == 0 ? r.misalignment_roll_deg : r.misalignment_pitch_deg;
+    nlohmann::ordered_json evidence = nlohmann::ordered_json::array();
+    for (const Rigid3dGate& g : d.evidence) {
+      evidence.push_back({{"gate", g.gate},
+                          {"statistic", Num(g.statistic)},
+                          {"threshold", Num(g.threshold)},
+                          {"passed", g.passed}});
+    }
+    tilt_decisions.push_back({{"angle", a == 0 ? "roll" : "pitch"},
+                              {"decision", d.determined ? "given" : "withheld"},
+                              {"reason", d.reason},
+                              {"advice", d.advice},
+                              {"fitted_deg", Num(tilt)},
+                              {"stderr_deg", Num(r.misalignment_stderr_deg[a])},
+                              {"evidence", std::move(evidence)}});
+    const std::string axis(1, a == 0 ? 'X' : 'Y');
+    ardupilot["AHRS_TRIM_" + axis] =
+        d.determined ? Num(tilt * kDegToRad) : nullptr;
+    px4["SENS_BOARD_" + axis + "_OFF"] = d.determined ? Num(tilt) : nullptr;
+  }
+  j["misalignment_decisions"] = tilt_decisions;
+  j["trims"] = {
+      {"ardupilot_rad", ardupilot},
+      {"ardupilot_stderr_rad",
+       {Num(r.misalignment_stderr_deg[0] * kDegToRad),
+        Num(r.misalignment_stderr_deg[1] * kDegToRad)}},
+      {"px4_change_deg", px4},
+      {"px4_stderr_deg",
+       {Num(r.misalignment_stderr_deg[0]), Num(r.misalignment_stderr_deg[1])}}};
   // Which axes the positions above are in, and the fit in the thrust frame.
   j["position_axes"] =
       "imu: the IMU's own axes as the autopilot applies them (after its "
@@ -238,6 +278,28 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
       << ", systematic "
       << FormatNumber(r.misalignment_stderr_systematic_deg[0], 2) << "/"
       << FormatNumber(r.misalignment_stderr_systematic_deg[1], 2) << ")\n";
+    // The tilt as the autopilots' trims, where it is determined.
+    s << "  tilt as trims (1-sigma):";
+    for (int a = 0; a < 2; ++a) {
+      const Rigid3dTiltDecision& d =
+          r.misalignment_decisions[static_cast<std::size_t>(a)];
+      const double tilt =
+          a == 0 ? r.misalignment_roll_deg : r.misalignment_pitch_deg;
+      const double se = r.misalignment_stderr_deg[a];
+      const char axis = a == 0 ? 'X' : 'Y';
+      s << (a == 0 ? " roll " : "; pitch ");
+      if (d.determined) {
+        s << "AHRS_TRIM_" << axis << " = "
+          << FormatFixed(tilt * kDegToRad, 4, kQuoted) << " +/- "
+          << FormatNumber(se * kDegToRad, 2, kQuoted) << " rad, add "
+          << FormatFixed(tilt, 2, kQuoted) << " +/- "
+          << FormatNumber(se, 2, kQuoted) << " deg to SENS_BOARD_" << axis
+          << "_OFF";
+      } else {
+        s << "withheld (" << d.advice << ")";
+      }
+    }
+    s << "\n";
   }
   for (const ImuPosition3d::Baseline& b : r.baselines) {
     if (!b.difference_m.array().isFinite().any()) continue;
@@ -257,7 +319,9 @@ std::string Rigid3dToText(const ImuPosition3d& r) {
 }
 
 StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
-    const std::vector<ImuPosition3d>& reports, EmitFormat format) {
+    const std::vector<ImuPosition3d>& reports,
+    EmitFormat format,
+    const std::vector<std::pair<std::string, double>>& log_parameters) {
   if (format == EmitFormat::kNone) {
     return FailedPreconditionError("no emit format chosen");
   }
@@ -309,21 +373,92 @@ StatusOr<AutopilotParameters> Rigid3dAutopilotParameters(
     }
     out.omitted_note = "not determined by this log; left unchanged";
   }
-  const ImuPosition3d& first = reports.front();
-  out.tilt_deg = first.misalignment_pitch_deg;
-  out.tilt_stderr_deg = std::numeric_limits<double>::quiet_NaN();
-  out.trim_parameter = px4 ? "SENS_BOARD_Y_OFF" : "AHRS_TRIM_Y";
-  out.trim_unit = px4 ? "deg" : "rad";
-  out.trim_value = px4 ? first.misalignment_pitch_deg
-                       : first.misalignment_pitch_deg * kDegToRad;
-  out.trim_note =
-      "the thrust-axis misalignment the fit finds (pitch " +
-      FormatNumber(first.misalignment_pitch_deg, 3, kQuoted) + " deg, roll " +
-      FormatNumber(first.misalignment_roll_deg, 3, kQuoted) +
-      " deg); it also absorbs accelerometer bias, so it is not written as a "
-      "parameter";
-  s << "# misalignment: " << out.trim_note << "\n";
-  s << internal::ParameterFileRows(format, out.params);
+  // The tilt as trims: instance 0's, the IMU both estimators take their
+  // attitude from. The decision is the analysis's (misalignment_decisions);
+  // here it is put in each autopilot's terms.
+  const ImuPosition3d* imu0 = nullptr;
+  for (const ImuPosition3d& r : reports) {
+    if (r.instance == 0) imu0 = &r;
+  }
+  auto logged = [&log_parameters](const std::string& name) {
+    for (const auto& [n, value] : log_parameters) {
+      if (n == name) return value;
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+  std::vector<std::pair<std::string, double>> rows = out.params;
+  s << "# tilt of the IMU from the thrust axis (instance 0), as "
+    << (px4 ? "PX4's board offsets" : "ArduPilot's AHRS trims") << ":\n";
+  for (int a = 0; a < 2; ++a) {
+    AutopilotTrim t;
+    const char axis = a == 0 ? 'X' : 'Y';
+    t.parameter = px4 ? std::string("SENS_BOARD_") + axis + "_OFF"
+                      : std::string("AHRS_TRIM_") + axis;
+    t.unit = px4 ? "deg" : "rad";
+    t.increment = px4;
+    t.current = logged(t.parameter);
+    if (imu0 == nullptr) {
+      t.reason = "no_imu0";
+      t.note = "IMU 0, whose attitude the estimator uses, was not fitted";
+    } else {
+      const Rigid3dTiltDecision& d =
+          imu0->misalignment_decisions[static_cast<std::size_t>(a)];
+      t.tilt_deg =
+          a == 0 ? imu0->misalignment_roll_deg : imu0->misalignment_pitch_deg;
+      t.tilt_stderr_deg = imu0->misalignment_stderr_deg[a];
+      // Both autopilots turn the logged IMU axes into the vehicle's with
+      // R = Rz(yaw) Ry(pitch) Rx(roll) of their trim (PX4: the board
+      // offset before SENS_BOARD_ROT; ArduPilot: autopilot body to vehicle
+      // body), and the tilt is that rotation from the sensor to the thrust
+      // axis (rigid3d.h): the trim takes its sign as it is.
+      const double scale = px4 ? 1.0 : kDegToRad;
+      t.change = t.tilt_deg * scale;
+      t.stderr = t.tilt_stderr_deg * scale;
+      t.reason = d.reason;
+      t.given = d.determined;
+      if (!t.given) {
+        t.note = d.advice;
+      } else if (!px4) {
+        t.value = t.change;
+        t.note = "the whole trim (ArduPilot logs its IMUs before the trim)";
+      } else if (std::isfinite(t.current)) {
+        t.value = t.current + t.change;
+        t.note =
+            "the log's value plus the tilt (PX4 logs its IMU after the "
+            "board rotation)";
+      } else {
+        t.note = "add " + FormatNumber(t.change, 3, kQuoted) +
+                 " deg to the current value (PX4 logs its IMU after the "
+                 "board rotation; the log does not say what it is)";
+      }
+    }
+    s << "#   " << t.parameter;
+    if (t.given && std::isfinite(t.value)) {
+      s << " = " << FormatFixed(t.value, 4, kQuoted) << " +/- "
+        << FormatNumber(t.stderr, 2, kQuoted) << " " << t.unit;
+      if (t.increment) {
+        s << " (" << FormatFixed(t.current, 4, kQuoted) << " in the log "
+          << (t.change < 0 ? "" : "+") << FormatFixed(t.change, 4, kQuoted)
+          << ")";
+      }
+      s << ": " << t.note << "\n";
+      rows.emplace_back(t.parameter, t.value);
+    } else if (t.given) {
+      s << " not written: " << t.note << " (+/- "
+        << FormatNumber(t.stderr, 2, kQuoted) << " deg)\n";
+    } else {
+      s << " not written: " << t.note << "\n";
+    }
+    out.trims.push_back(std::move(t));
+  }
+  // The legacy single trim (the planar fit's tilt line): the pitch.
+  out.tilt_deg = out.trims[1].tilt_deg;
+  out.tilt_stderr_deg = out.trims[1].tilt_stderr_deg;
+  out.trim_parameter = out.trims[1].parameter;
+  out.trim_unit = out.trims[1].unit;
+  out.trim_value = out.trims[1].change;
+  out.trim_note = out.trims[1].note;
+  s << internal::ParameterFileRows(format, rows);
   out.snippet = s.str();
   return out;
 }

@@ -258,8 +258,13 @@ StatusOr<std::string> FormatSimulated3dDataFlash(
           start_us, "INS_POS" + std::to_string(k + 1) + "_" + axis, 0.0f);
     }
   }
-  out += ParmRecord(start_us, "AHRS_TRIM_X", 0.0f);
-  out += ParmRecord(start_us, "AHRS_TRIM_Y", 0.0f);
+  // The trim is the AHRS's: the IMU records stay in the board's axes.
+  out += ParmRecord(start_us,
+                    "AHRS_TRIM_X",
+                    static_cast<float>(lo.dataflash_ahrs_trim_rad[0]));
+  out += ParmRecord(start_us,
+                    "AHRS_TRIM_Y",
+                    static_cast<float>(lo.dataflash_ahrs_trim_rad[1]));
   out += ParmRecord(start_us, "AHRS_ORIENTATION", 0.0f);
   out += ParmRecord(start_us,
                     "INS_GYRO_FILTER",

@@ -48,6 +48,20 @@ Status Sim3dLogOptions::Validate(const Simulator3dOptions& sim) const {
       "dataflash_att_rate_hz", dataflash_att_rate_hz, 1.0, 50.0));
   IMUSYSID_RETURN_IF_ERROR(LogOptionInRange(
       "dataflash_ekf_rate_hz", dataflash_ekf_rate_hz, 1.0, 50.0));
+  for (int a = 0; a < 3; ++a) {
+    IMUSYSID_RETURN_IF_ERROR(LogOptionInRange(
+        std::string("ulog_board_offset_deg[") + std::to_string(a) + "]",
+        ulog_board_offset_deg[a],
+        -10.0,
+        10.0));
+  }
+  for (int a = 0; a < 2; ++a) {
+    IMUSYSID_RETURN_IF_ERROR(LogOptionInRange(
+        std::string("dataflash_ahrs_trim_rad[") + std::to_string(a) + "]",
+        dataflash_ahrs_trim_rad[a],
+        -0.1745,
+        0.1745));
+  }
   // A stamp must fit the DataFlash / ULog integer fields for a day's flight.
   IMUSYSID_RETURN_IF_ERROR(LogOptionInRange(
       "boot_offset_us", static_cast<double>(boot_offset_us), 0.0, 1e12));

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "Eigen/Geometry"
+#include "imusysid/parameters.h"
 #include "imusysid/simulate3d.h"
 #include "src/sim/sim3d_log_writer.h"
 
@@ -135,14 +137,28 @@ void AppendVector(std::string* out, const Eigen::Vector3d& v) {
   for (int axis = 0; axis < 3; ++axis) Append(out, static_cast<float>(v(axis)));
 }
 
+// PX4's board offset (SENS_BOARD_X/Y/Z_OFF, deg) as the rotation it
+// applies to the sensor's axes: Dcm(Euler(x, y, z)) = Rz Ry Rx.
+Eigen::Matrix3d UlogBoardOffsetRotation(const Eigen::Vector3d& offset_deg) {
+  const Eigen::Vector3d r = offset_deg * kDegToRad;
+  return (Eigen::AngleAxisd(r[2], Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(r[1], Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(r[0], Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
 // sensor_combined from IMU 1: means of n raw samples, as PX4's integrator
-// gives them, stamped at the window's last sample.
+// gives them, stamped at the window's last sample, in the axes of the board
+// rotation (ulog_board_offset_deg): PX4's VehicleIMU rotates the sensor's
+// data by it before sensor_combined is published.
 void AddSensorCombined(const Simulator3dOptions& o,
                        const Sim3dLogOptions& lo,
                        const SimLogInput& in,
                        std::uint16_t msg_id,
                        DataSection* data) {
   const RawImu& imu = in.imus.front();
+  const Eigen::Matrix3d board =
+      UlogBoardOffsetRotation(lo.ulog_board_offset_deg);
   const std::size_t n = static_cast<std::size_t>(
       std::max(1.0, std::round(o.rate_hz / lo.ulog_imu_rate_hz)));
   const std::uint64_t start_us = StampUs(in.log_start_s, in.boot_offset_us);
@@ -159,8 +175,8 @@ void AddSensorCombined(const Simulator3dOptions& o,
       accel_clip |= ClipBits(imu.accel[i], o.accel_clip_mps2);
       gyro_clip |= ClipBits(imu.gyro[i], o.gyro_clip_radps);
     }
-    accel /= static_cast<double>(n);
-    gyro /= static_cast<double>(n);
+    accel = board * accel / static_cast<double>(n);
+    gyro = board * gyro / static_cast<double>(n);
     const std::uint32_t dt_us =
         static_cast<std::uint32_t>(imu.stamp_us[end] - imu.stamp_us[end - n]);
     std::string body;
@@ -358,8 +374,10 @@ StatusOr<std::string> FormatSimulated3dUlog(const Simulator3dOptions& o,
   for (const char* axis : {"X", "Y", "Z"}) {
     out += FloatParameter(std::string("EKF2_IMU_POS_") + axis, 0.0f);
   }
-  for (const char* axis : {"X", "Y", "Z"}) {
-    out += FloatParameter(std::string("SENS_BOARD_") + axis + "_OFF", 0.0f);
+  for (int a = 0; a < 3; ++a) {
+    out += FloatParameter(
+        std::string("SENS_BOARD_") + static_cast<char>('X' + a) + "_OFF",
+        static_cast<float>(lo.ulog_board_offset_deg[a]));
   }
   const std::size_t n = static_cast<std::size_t>(
       std::max(1.0, std::round(o.rate_hz / lo.ulog_imu_rate_hz)));
