@@ -6,6 +6,8 @@
 #include <numeric>
 #include <utility>
 
+#include "Eigen/Cholesky"
+
 namespace imusysid {
 namespace internal {
 namespace {
@@ -25,48 +27,32 @@ double WorstPlanRatio(const Eigen::Vector3d& predicted_m,
 
 }  // namespace
 
-Information3d ScaleInformation3d(const Information3d& information,
-                                 double factor) {
-  Information3d out = information;
-  out.samples = static_cast<std::size_t>(
-      std::llround(static_cast<double>(information.samples) * factor));
-  out.gram *= factor;
-  out.score_covariance *= factor;
-  out.fisher *= factor;
-  for (Information3d::Chunk& c : out.chunks) {
-    c.samples = static_cast<std::size_t>(
-        std::llround(static_cast<double>(c.samples) * factor));
-    c.gram *= factor;
-    c.score_covariance *= factor;
-  }
-  return out;
-}
-
-Information3d ScaleNoise3d(const Information3d& information,
-                           double variance_factor) {
-  Information3d out = information;
-  out.score_covariance *= variance_factor;
-  out.fisher /= variance_factor;
-  for (Information3d::Chunk& c : out.chunks) {
-    c.score_covariance *= variance_factor;
-  }
-  for (std::vector<double>& gamma : out.noise.autocovariance) {
-    for (double& g : gamma) g *= variance_factor;
-  }
-  return out;
-}
-
 std::vector<double> PlanRecordGrid3d() {
-  return {10, 15, 20, 25, 30, 40, 50, 60, 80, 100, 120, 160, 200, 255};
+  return {20, 25, 30, 40, 50, 60, 80, 100, 120, 160, 200, 255};
 }
 
 StatusOr<PlanSearch3dResult> SearchPlanLengths3d(
     const std::vector<PlanCandidate3d>& candidates,
+    const Eigen::MatrixXd& base_gram,
+    const Eigen::MatrixXd& base_score_covariance,
     const Eigen::Vector3d& target_m,
+    const Eigen::Vector3d& inflation,
     double gap_s,
-    const Predict3dOptions& options) {
+    double model_error_floor_m) {
   if (candidates.empty()) {
     return InvalidArgumentError("plan search: no candidate segments");
+  }
+  const Eigen::Index m = base_gram.rows();
+  auto square = [m](const Eigen::MatrixXd& x) {
+    return x.rows() == m && x.cols() == m && x.allFinite();
+  };
+  if (m < 3 || !square(base_gram) || !square(base_score_covariance)) {
+    return InvalidArgumentError("plan search: base forms not square");
+  }
+  for (const PlanCandidate3d& c : candidates) {
+    if (!square(c.gram_per_s) || !square(c.score_covariance_per_s)) {
+      return InvalidArgumentError("plan search: a candidate's forms differ");
+    }
   }
   for (int a = 0; a < 3; ++a) {
     if (!(target_m[a] > 0.0)) {
@@ -102,35 +88,58 @@ StatusOr<PlanSearch3dResult> SearchPlanLengths3d(
         return flight_time(a) < flight_time(b);
       });
 
-  Predict3dOptions one_flight = options;
-  one_flight.shared_nuisance = true;
   PlanSearch3dResult best;
   double best_ratio = std::numeric_limits<double>::infinity();
   for (const std::vector<double>& t : choices) {
-    std::vector<Information3d> pieces;
-    Eigen::Vector3d sensitivity = Eigen::Vector3d::Zero();
+    Eigen::MatrixXd gram = base_gram;
+    Eigen::MatrixXd score = base_score_covariance;
+    Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+    Eigen::Vector3d weights = Eigen::Vector3d::Zero();
+    bool any = false;
     for (std::size_t k = 0; k < n; ++k) {
       if (t[k] <= 0.0) continue;
+      any = true;
       const PlanCandidate3d& c = candidates[k];
-      pieces.push_back(
-          ScaleInformation3d(c.information, t[k] / c.segment.t_rec_s));
+      gram += t[k] * c.gram_per_s;
+      score += t[k] * c.score_covariance_per_s;
       for (int a = 0; a < 3; ++a) {
         const double s = c.sensitivity_m[a];
-        if (std::isfinite(s)) sensitivity[a] = std::max(sensitivity[a], s);
+        const double w = 1.0 / (c.stderr_m[a] * c.stderr_m[a]);
+        if (std::isfinite(s) && std::isfinite(w) && w > 0.0) {
+          weighted[a] += w * s;
+          weights[a] += w;
+        }
       }
     }
-    if (pieces.empty()) continue;
-    StatusOr<PredictedStderr3d> predicted =
-        PredictStderr3d(pieces, sensitivity, one_flight);
-    // A choice that leaves the position undetermined (a singular
-    // information) is not a plan; the next, longer ones may be.
-    if (!predicted.ok()) continue;
-    const double ratio = WorstPlanRatio(predicted->total_m, target_m);
+    Eigen::Vector3d sensitivity = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 3; ++a) {
+      if (weights[a] > 0.0) sensitivity[a] = weighted[a] / weights[a];
+    }
+    if (!any) continue;
+    // A choice that leaves the position undetermined (AᵀA singular) is not
+    // a plan; the next, longer ones may be.
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) continue;
+    const Eigen::MatrixXd rows =
+        ldlt.solve(Eigen::MatrixXd::Identity(m, m)).topRows(3);
+    if (!rows.allFinite()) continue;
+    const Eigen::Matrix3d sandwich = rows * score * rows.transpose();
+    PlanSearch3dResult r;
+    r.t_rec_s = t;
+    r.flight_s = flight_time(t);
+    bool finite = true;
+    for (int a = 0; a < 3; ++a) {
+      if (!(sandwich(a, a) > 0.0)) finite = false;
+      r.statistical_m[a] =
+          inflation[a] * std::sqrt(std::max(0.0, sandwich(a, a)));
+      r.systematic_m[a] = std::hypot(sensitivity[a], model_error_floor_m);
+      r.total_m[a] = std::hypot(r.statistical_m[a], r.systematic_m[a]);
+    }
+    if (!finite) continue;
+    const double ratio = WorstPlanRatio(r.total_m, target_m);
     if (ratio < best_ratio) {
       best_ratio = ratio;
-      best.t_rec_s = t;
-      best.flight_s = flight_time(t);
-      best.predicted = *predicted;
+      best = r;
     }
     if (ratio <= 1.0) {
       best.reached = true;

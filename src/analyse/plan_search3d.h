@@ -16,27 +16,25 @@
 namespace imusysid {
 namespace internal {
 
-// One axis's segment as flown by the simulator: the segment (its t_rec_s
-// the length flown), the information of that flight's fit and the
-// systematic part's sensitivity there.
+// One axis's segment as the simulator flies it: the segment, and what each
+// second of its chirp adds to the least-squares forms of rigid3d's
+// coefficients (AᵀA and Aᵀ Σ A, per second; the difference of two flights
+// whose chirps differ only in length, so the take-off, hover and landing
+// they share cancel), with the systematic part's sensitivity there.
 struct PlanCandidate3d {
   ExcitationSegment3d segment;
-  Information3d information;
+  Eigen::MatrixXd gram_per_s;
+  Eigen::MatrixXd score_covariance_per_s;
   Eigen::Vector3d sensitivity_m = Eigen::Vector3d::Zero();
+  // The statistical σ̂ of that flight alone: how much its sensitivity
+  // counts on each axis where several segments are flown.
+  Eigen::Vector3d stderr_m = Eigen::Vector3d::Ones();
 };
 
-// `information` with every term scaled as `factor` times the samples
-// (gram and score covariance by factor, the Fisher information too).
-Information3d ScaleInformation3d(const Information3d& information,
-                                 double factor);
-
-// `information` as if its residual's variance were `variance_factor` times
-// larger, with the same correlation: the score covariance scaled by it,
-// the Fisher information by its inverse.
-Information3d ScaleNoise3d(const Information3d& information,
-                           double variance_factor);
-
 // The chirp lengths the search tries, s (SID_T_REC's range is 0–255 s).
+// From 20 s: a chirp spends its first two cycles at the start frequency
+// (6.7 s at 0.3 Hz) and fades in and out, so what a second adds is near
+// its average only once the sweep is most of the segment.
 std::vector<double> PlanRecordGrid3d();
 
 struct PlanSearch3dResult {
@@ -44,23 +42,38 @@ struct PlanSearch3dResult {
   // a segment left out.
   std::vector<double> t_rec_s;
   double flight_s = 0.0;  // the segments' time in the air, gaps included
-  PredictedStderr3d predicted;
+  // The least-squares σ̂ (the sandwich) of the choice, times `inflation`;
+  // the systematic part; their root sum of squares. FRD, m.
+  Eigen::Vector3d statistical_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d systematic_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d total_m = Eigen::Vector3d::Zero();
   bool reached = false;
 };
 
 // The shortest choice of lengths (each 0 or on PlanRecordGrid3d) whose
-// information, the candidates' scaled to their lengths and added as one
-// flight (every coefficient shared), predicts a σ̂ at or below `target_m`
-// on every axis; the systematic part is each axis's largest over the
-// segments flown. Where none reaches it, the choice with the smallest
-// largest ratio of predicted to target, reached false. `gap_s` is the
-// hover before each segment and after the last. InvalidArgument for no
-// candidates or a target not positive.
+// forms — `base_gram` and `base_score_covariance` (what the flight around
+// the segments holds) plus each candidate's per second times its length —
+// predict a σ̂ at or below `target_m` on every axis: the sandwich
+// (AᵀA)⁻¹ Aᵀ Σ A (AᵀA)⁻¹ of the position, times `inflation` per axis (the
+// fit's jackknife over the sandwich, as the flown plan showed it), with the
+// systematic part: each axis's sensitivity averaged over the segments
+// flown with weights 1/σ̂² of each segment's own flight on that axis (a
+// segment that does not pin an axis down has a large sensitivity there
+// that the others' information overrules), and `model_error_floor_m`, in
+// quadrature. Where none reaches it,
+// the choice with the smallest largest ratio of predicted to target,
+// reached false. `gap_s` is the hover before each segment and after the
+// last. InvalidArgument for no candidates, forms of another size or a
+// target not positive; FailedPrecondition when no choice determines the
+// position.
 StatusOr<PlanSearch3dResult> SearchPlanLengths3d(
     const std::vector<PlanCandidate3d>& candidates,
+    const Eigen::MatrixXd& base_gram,
+    const Eigen::MatrixXd& base_score_covariance,
     const Eigen::Vector3d& target_m,
+    const Eigen::Vector3d& inflation,
     double gap_s,
-    const Predict3dOptions& options);
+    double model_error_floor_m);
 
 }  // namespace internal
 }  // namespace imusysid

@@ -5,6 +5,7 @@
 #include "imusysid/plan3d.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -27,7 +28,7 @@ using internal::PlanCandidate3d;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The chirp length each axis's segment is first flown with, s.
-constexpr double kPlanProbeRecordS = 20.0;
+constexpr double kPlanProbeRecordS = 30.0;
 // Rounds of lengthening when the plan flown falls short of its search's
 // prediction.
 constexpr int kPlanVerifyRounds = 3;
@@ -156,27 +157,47 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
     }
   }
 
-  // Each axis's segment flown alone, its information at the source's
-  // residual level.
+  // Each axis's segment flown alone at two lengths: the difference is
+  // what a second of its chirp adds (the take-off, hover and landing the
+  // two flights share cancel), at the source's residual level.
   std::vector<PlanCandidate3d> candidates;
+  const Eigen::Index m = kNumRigid3dParameters;
+  Eigen::MatrixXd base_gram = Eigen::MatrixXd::Zero(m, m);
+  Eigen::MatrixXd base_score = Eigen::MatrixXd::Zero(m, m);
+  double scale_sum = 0.0;
   for (const char* axis : {"roll", "pitch", "yaw"}) {
-    progress(std::string("plan: flying a ") + axis + " segment");
-    FlightPlan3d probe = out.plan;
-    probe.segments = {
-        PlanSegment3d(axis, options.autopilot, kPlanProbeRecordS)};
-    StatusOr<FlownPlan3d> flown = FlyAndFitPlan3d(probe, options);
-    if (!flown.ok()) return flown.status();
-    double scale = 1.0;
-    if (std::isfinite(source_variance) && flown->noise_variance > 0.0) {
-      scale = source_variance / flown->noise_variance;
+    progress(std::string("plan: flying ") + axis + " segments");
+    std::array<FlownPlan3d, 2> flown;
+    for (int k = 0; k < 2; ++k) {
+      FlightPlan3d probe = out.plan;
+      probe.segments = {
+          PlanSegment3d(axis, options.autopilot, kPlanProbeRecordS * (k + 1))};
+      StatusOr<FlownPlan3d> f = FlyAndFitPlan3d(probe, options);
+      if (!f.ok()) return f.status();
+      flown[static_cast<std::size_t>(k)] = std::move(f).value();
     }
-    out.noise_scale = scale;
+    const Information3d& one = *flown[0].imu.information;
+    const Information3d& two = *flown[1].imu.information;
+    const double scale =
+        std::isfinite(source_variance) && flown[1].noise_variance > 0.0
+            ? source_variance / flown[1].noise_variance
+            : 1.0;
+    scale_sum += scale;
     PlanCandidate3d c;
-    c.segment = probe.segments.front();
-    c.information = internal::ScaleNoise3d(*flown->imu.information, scale);
-    c.sensitivity_m = flown->imu.systematic_sensitivity_m;
+    c.segment = PlanSegment3d(axis, options.autopilot, kPlanProbeRecordS);
+    c.gram_per_s = (two.gram - one.gram) / kPlanProbeRecordS;
+    c.score_covariance_per_s = scale *
+                               (two.score_covariance - one.score_covariance) /
+                               kPlanProbeRecordS;
+    c.sensitivity_m = flown[1].imu.systematic_sensitivity_m;
+    c.stderr_m = flown[1].imu.predicted_stderr_statistical_m;
+    base_gram += (one.gram - kPlanProbeRecordS * c.gram_per_s) / 3.0;
+    base_score += (scale * one.score_covariance -
+                   kPlanProbeRecordS * c.score_covariance_per_s) /
+                  3.0;
     candidates.push_back(std::move(c));
   }
+  out.noise_scale = scale_sum / 3.0;
   if (out.has_source) {
     out.notes.push_back("residual level of " + source_name + " (IMU " +
                         std::to_string(out.source_instance) +
@@ -184,28 +205,40 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
                         " times the simulator's, in variance");
   }
 
-  Predict3dOptions predict;
+  // Search, fly the plan found, and search again with the statistical part
+  // inflated as the flown plan's own prediction shows (the fit widens the
+  // sandwich to its jackknife where blocks differ); the first flown plan
+  // that meets the target is kept, else the one nearest to it.
   const double gap_s = Simulator3dOptions().sysid_gap_s;
-  StatusOr<internal::PlanSearch3dResult> search = internal::SearchPlanLengths3d(
-      candidates, options.target_stderr_m, gap_s, predict);
-  if (!search.ok()) return search.status();
-  std::vector<double> lengths = search->t_rec_s;
-
-  // The plan flown as a whole: its own prediction is the one kept; where
-  // it falls short of the target, every segment is lengthened by the
-  // square of the shortfall (σ̂ falls as the root of the time) and flown
-  // again.
-  const std::vector<double> grid = internal::PlanRecordGrid3d();
+  const double floor_m = Predict3dOptions().model_error_floor_m;
+  Eigen::Vector3d inflation = Eigen::Vector3d::Ones();
+  double best_worst = std::numeric_limits<double>::infinity();
+  PlanResult3d best = out;
+  std::vector<std::vector<double>> tried;
   for (int round = 0; round < kPlanVerifyRounds; ++round) {
-    out.plan.segments.clear();
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      if (lengths[k] <= 0.0) continue;
-      out.plan.segments.push_back(PlanSegment3d(
-          candidates[k].segment.axis, options.autopilot, lengths[k]));
+    StatusOr<internal::PlanSearch3dResult> search =
+        internal::SearchPlanLengths3d(candidates,
+                                      base_gram,
+                                      base_score,
+                                      options.target_stderr_m,
+                                      inflation,
+                                      gap_s,
+                                      floor_m);
+    if (!search.ok()) return search.status();
+    if (std::find(tried.begin(), tried.end(), search->t_rec_s) != tried.end()) {
+      break;
     }
-    progress("plan: flying the plan (" +
-             std::to_string(out.plan.segments.size()) + " segments)");
-    StatusOr<FlownPlan3d> flown = FlyAndFitPlan3d(out.plan, options);
+    tried.push_back(search->t_rec_s);
+    PlanResult3d attempt = out;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      if (search->t_rec_s[k] <= 0.0) continue;
+      attempt.plan.segments.push_back(PlanSegment3d(
+          candidates[k].segment.axis, options.autopilot, search->t_rec_s[k]));
+    }
+    progress("plan: flying the plan found (" +
+             std::to_string(attempt.plan.segments.size()) + " segments, " +
+             FormatNumber(search->flight_s, 3) + " s)");
+    StatusOr<FlownPlan3d> flown = FlyAndFitPlan3d(attempt.plan, options);
     if (!flown.ok()) return flown.status();
     const ImuPosition3d& imu = flown->imu;
     const double scale =
@@ -219,27 +252,28 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
       const double systematic =
           std::sqrt(std::max(0.0, total * total - statistical * statistical));
       const double scaled = statistical * std::sqrt(scale);
-      out.predicted_statistical_m[a] = scaled;
-      out.predicted_systematic_m[a] = systematic;
-      out.plan.predicted_after_m[a] =
+      attempt.predicted_statistical_m[a] = scaled;
+      attempt.predicted_systematic_m[a] = systematic;
+      attempt.plan.predicted_after_m[a] =
           std::sqrt(scaled * scaled + systematic * systematic);
       worst = std::max(
-          worst, out.plan.predicted_after_m[a] / options.target_stderr_m[a]);
+          worst,
+          attempt.plan.predicted_after_m[a] / options.target_stderr_m[a]);
+      // What the flown plan's statistical part was against the search's.
+      const double searched = search->statistical_m[a] / inflation[a];
+      if (std::isfinite(scaled) && searched > 0.0) {
+        inflation[a] = std::max(inflation[a], scaled / searched);
+      }
     }
-    out.reached = std::isfinite(worst) && worst <= 1.0;
-    if (out.reached) break;
-    // Lengthen; a segment at SID_T_REC's largest stays there.
-    bool longer = false;
-    for (double& t : lengths) {
-      if (t <= 0.0) continue;
-      const double want = std::min(grid.back(), t * worst * worst);
-      const auto next = std::lower_bound(grid.begin(), grid.end(), want);
-      const double chosen = next == grid.end() ? grid.back() : *next;
-      longer |= chosen > t;
-      t = chosen;
+    if (!std::isfinite(worst)) worst = std::numeric_limits<double>::max();
+    attempt.reached = worst <= 1.0;
+    if (worst < best_worst) {
+      best_worst = worst;
+      best = attempt;
     }
-    if (!longer) break;
+    if (attempt.reached) break;
   }
+  out = std::move(best);
   if (!out.reached) {
     std::string why;
     for (int a = 0; a < 3; ++a) {
