@@ -35,7 +35,7 @@ namespace imusysid {
 namespace cli {
 namespace {
 
-nlohmann::ordered_json Vec3Json(const Eigen::Vector3d& v) {
+nlohmann::ordered_json PlanVec3Json(const Eigen::Vector3d& v) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (int i = 0; i < 3; ++i) {
     if (std::isfinite(v[i])) {
@@ -51,11 +51,11 @@ nlohmann::ordered_json PlanResultJson(const PlanResult3d& r) {
   nlohmann::ordered_json j = FlightPlan3dToJson(r.plan);
   j["reached"] = r.reached;
   if (!r.reached) j["shortfall"] = r.shortfall;
-  j["predicted_statistical_m"] = Vec3Json(r.predicted_statistical_m);
-  j["predicted_systematic_m"] = Vec3Json(r.predicted_systematic_m);
+  j["predicted_statistical_m"] = PlanVec3Json(r.predicted_statistical_m);
+  j["predicted_systematic_m"] = PlanVec3Json(r.predicted_systematic_m);
   if (r.has_source) {
     j["source_instance"] = r.source_instance;
-    j["source_stderr_m"] = Vec3Json(r.source_stderr_m);
+    j["source_stderr_m"] = PlanVec3Json(r.source_stderr_m);
     nlohmann::ordered_json given = nlohmann::ordered_json::array();
     for (bool d : r.source_determined) given.push_back(d);
     j["source_determined"] = given;

@@ -26,7 +26,7 @@ namespace {
 
 using internal::PlanCandidate3d;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPlanNaN = std::numeric_limits<double>::quiet_NaN();
 // The chirp length each axis's segment is first flown with, s.
 constexpr double kPlanProbeRecordS = 30.0;
 // Rounds of lengthening when the plan flown falls short of its search's
@@ -59,13 +59,13 @@ ExcitationSegment3d PlanSegment3d(const std::string& axis,
 
 struct FlownPlan3d {
   ImuPosition3d imu;
-  double noise_variance = kNaN;  // the fit residual's, x and y rows summed
+  double noise_variance = kPlanNaN;  // the fit residual's, x and y rows summed
 };
 
 double NoiseVariance3d(const Information3d& information) {
   double v = 0.0;
   for (const std::vector<double>& gamma : information.noise.autocovariance) {
-    if (gamma.empty()) return kNaN;
+    if (gamma.empty()) return kPlanNaN;
     v += gamma[0];
   }
   return v;
@@ -109,7 +109,7 @@ StatusOr<FlownPlan3d> FlyAndFitPlan3d(const FlightPlan3d& plan,
   return out;
 }
 
-std::string Mm(double m) { return FormatFixed(m * 1e3, 2); }
+std::string PlanMm(double m) { return FormatFixed(m * 1e3, 2); }
 
 Status ValidatePlanOptions3d(const PlanOptions3d& o) {
   if (o.autopilot != "ardupilot" && o.autopilot != "px4") {
@@ -145,7 +145,7 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
   out.plan.autopilot = options.autopilot;
   out.plan.source_log = source_name;
   out.plan.target_stderr_m = options.target_stderr_m;
-  double source_variance = kNaN;
+  double source_variance = kPlanNaN;
   if (source != nullptr) {
     out.has_source = true;
     out.source_instance = source->instance;
@@ -280,11 +280,11 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
       const double target = options.target_stderr_m[a];
       if (!(out.plan.predicted_after_m[a] <= target)) {
         why += std::string(why.empty() ? "" : "; ") + "xyz"[a] + " predicted " +
-               Mm(out.plan.predicted_after_m[a]) + " mm against " + Mm(target) +
-               " mm";
+               PlanMm(out.plan.predicted_after_m[a]) + " mm against " +
+               PlanMm(target) + " mm";
         if (out.predicted_systematic_m[a] > target) {
           why += " (its systematic part alone, " +
-                 Mm(out.predicted_systematic_m[a]) +
+                 PlanMm(out.predicted_systematic_m[a]) +
                  " mm, is above the target: longer flying does not lower it)";
         }
       }

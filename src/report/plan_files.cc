@@ -17,23 +17,23 @@ constexpr NonFiniteStyle kPlanQuoted = NonFiniteStyle::kNotAvailable;
 // starts (SYSTEM_ID_DELAY in its System ID mode).
 constexpr double kSidStartDelayS = 1.0;
 
-bool IsYaw(const ExcitationSegment3d& s) { return s.axis == "yaw"; }
-bool IsRate(const ExcitationSegment3d& s) { return s.injection == "rate"; }
+bool PlanIsYaw(const ExcitationSegment3d& s) { return s.axis == "yaw"; }
+bool PlanIsRate(const ExcitationSegment3d& s) { return s.injection == "rate"; }
 
 // The unit of SID_MAGNITUDE for the segment: an attitude injection on
 // roll or pitch is an angle; on yaw it enters the pilot's yaw rate.
-std::string MagnitudeUnit(const ExcitationSegment3d& s) {
-  return IsRate(s) || IsYaw(s) ? "deg/s" : "deg";
+std::string PlanMagnitudeUnit(const ExcitationSegment3d& s) {
+  return PlanIsRate(s) || PlanIsYaw(s) ? "deg/s" : "deg";
 }
 
-std::string Mm(double m) {
+std::string PlanMm(double m) {
   return std::isfinite(m) ? FormatFixed(m * 1e3, 1, kPlanQuoted) : "-";
 }
 
-std::string SegmentLine(const ExcitationSegment3d& s) {
+std::string PlanSegmentLine(const ExcitationSegment3d& s) {
   std::ostringstream o;
-  o << s.axis << " " << (IsRate(s) ? "rate" : "attitude") << " chirp, "
-    << FormatNumber(s.magnitude, 3, kPlanQuoted) << " " << MagnitudeUnit(s)
+  o << s.axis << " " << (PlanIsRate(s) ? "rate" : "attitude") << " chirp, "
+    << FormatNumber(s.magnitude, 3, kPlanQuoted) << " " << PlanMagnitudeUnit(s)
     << ", " << FormatNumber(s.f_start_hz, 3, kPlanQuoted) << " to "
     << FormatNumber(s.f_stop_hz, 3, kPlanQuoted) << " Hz over "
     << FormatNumber(s.t_rec_s, 3, kPlanQuoted) << " s (fade in "
@@ -42,7 +42,8 @@ std::string SegmentLine(const ExcitationSegment3d& s) {
   return o.str();
 }
 
-std::string SegmentFileName(std::size_t index, const ExcitationSegment3d& s) {
+std::string PlanSegmentFileName(std::size_t index,
+                                const ExcitationSegment3d& s) {
   return "sid_" + std::to_string(index + 1) + "_" + s.axis + ".parm";
 }
 
@@ -51,13 +52,13 @@ std::string ArduPilotSegmentFile(const FlightPlan3d& plan, std::size_t index) {
   std::ostringstream o;
   o << internal::ParameterFileTitle(EmitFormat::kArduPilot);
   o << "# imusysid plan, segment " << index + 1 << " of "
-    << plan.segments.size() << ": " << SegmentLine(s) << "\n";
+    << plan.segments.size() << ": " << PlanSegmentLine(s) << "\n";
   o << "# Load, then in a steady hover switch to flight mode System ID ("
     << kArduCopterSystemIdMode << "); the chirp starts after "
     << FormatNumber(kSidStartDelayS, 2, kPlanQuoted)
     << " s and the mode reports \"SystemID Finished\" after about "
     << FormatNumber(SegmentFlightSeconds(s), 3, kPlanQuoted)
-    << " s. SID_MAGNITUDE is in " << MagnitudeUnit(s) << ".\n";
+    << " s. SID_MAGNITUDE is in " << PlanMagnitudeUnit(s) << ".\n";
   o << internal::ParameterFileRows(EmitFormat::kArduPilot,
                                    {{"SID_AXIS", SidAxisOf(s)},
                                     {"SID_MAGNITUDE", s.magnitude},
@@ -89,10 +90,10 @@ std::string Px4Procedure(const FlightPlan3d& plan) {
     const double seconds = s.t_fade_in_s + s.t_rec_s + s.t_fade_out_s;
     total += seconds + 5.0;
     o << i + 1 << ". " << s.axis << ": ";
-    if (IsYaw(s)) {
+    if (PlanIsYaw(s)) {
       o << "yaw rate +/-" << FormatNumber(s.magnitude, 3, kPlanQuoted)
         << " deg/s";
-    } else if (IsRate(s)) {
+    } else if (PlanIsRate(s)) {
       o << "body rate +/-" << FormatNumber(s.magnitude, 3, kPlanQuoted)
         << " deg/s (about +/-"
         << FormatNumber(
@@ -117,7 +118,7 @@ std::string Px4Procedure(const FlightPlan3d& plan) {
 }  // namespace
 
 int SidAxisOf(const ExcitationSegment3d& segment) {
-  const int offset = IsRate(segment) ? 7 : 1;
+  const int offset = PlanIsRate(segment) ? 7 : 1;
   if (segment.axis == "pitch") return offset + 1;
   if (segment.axis == "yaw") return offset + 2;
   return offset;
@@ -137,9 +138,9 @@ std::string PlanCardText(const FlightPlan3d& plan) {
   for (std::size_t i = 0; i < plan.segments.size(); ++i) {
     const ExcitationSegment3d& s = plan.segments[i];
     total += SegmentFlightSeconds(s);
-    o << "  " << i + 1 << ". " << SegmentLine(s);
+    o << "  " << i + 1 << ". " << PlanSegmentLine(s);
     if (plan.autopilot == "ardupilot") {
-      o << "  [" << SegmentFileName(i, s) << ", SID_AXIS " << SidAxisOf(s)
+      o << "  [" << PlanSegmentFileName(i, s) << ", SID_AXIS " << SidAxisOf(s)
         << "]";
     }
     o << "\n";
@@ -150,7 +151,7 @@ std::string PlanCardText(const FlightPlan3d& plan) {
   auto row = [&](const char* label, const Eigen::Vector3d& v) {
     o << "  " << label;
     for (int a = 0; a < 3; ++a) {
-      const std::string cell = Mm(v[a]);
+      const std::string cell = PlanMm(v[a]);
       o << std::string(cell.size() < 7 ? 7 - cell.size() : 1, ' ') << cell;
     }
     o << "\n";
@@ -169,7 +170,7 @@ std::vector<PlanFile> PlanFiles(const FlightPlan3d& plan) {
     files.push_back({"px4_procedure.txt", Px4Procedure(plan)});
   } else {
     for (std::size_t i = 0; i < plan.segments.size(); ++i) {
-      files.push_back({SegmentFileName(i, plan.segments[i]),
+      files.push_back({PlanSegmentFileName(i, plan.segments[i]),
                        ArduPilotSegmentFile(plan, i)});
     }
   }
