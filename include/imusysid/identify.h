@@ -20,6 +20,7 @@
 #include "imusysid/estimator_options.h"
 #include "imusysid/log.h"
 #include "imusysid/models.h"
+#include "imusysid/plan3d.h"
 #include "imusysid/preprocess.h"
 #include "imusysid/preprocess3d.h"
 #include "imusysid/problem_data.h"
@@ -120,6 +121,13 @@ struct IdentifyOptions {
   EmitFormat emit = EmitFormat::kNone;
 
   IdentifyStage stop_after = IdentifyStage::kFit;
+  // A rigid3d fit that withholds an axis for lack of motion (its σ̂ too
+  // large: decision "stderr") ends with the flight that would determine it:
+  // PlanFlight3d (plan3d.h) from the first such IMU, for the log's own
+  // autopilot (a ULog: PX4; else ArduPilot), into IdentifySummary::plan.
+  // A few seconds of simulated flights; off by default (`fit` turns it on).
+  bool plan_withheld = false;
+  double plan_target_stderr_m = 2e-3;  // per axis, m
   // Threads a 3-D fit may use: the IMU instances after the first (which
   // finds the delay and the wind they share) are fitted side by side on up
   // to this many. The results, notes and their order do not depend on it;
@@ -191,6 +199,12 @@ struct IdentifySummary {
   std::optional<PreprocessResult> preprocess;
 
   std::optional<IdentifyEmit> emit;
+
+  // IdentifyOptions::plan_withheld: the plan for the withheld axes (none
+  // where every axis was given or no axis was withheld for lack of
+  // motion); plan_note says why planning failed where it did.
+  std::optional<PlanResult3d> plan;
+  std::string plan_note;
 
   // True when every fit produced parameters (planar) or every IMU is usable.
   bool usable() const;

@@ -104,6 +104,12 @@ DEFINE_int32(threads,
              "instances after the first, fitted side by side (the output "
              "does not depend on it).");
 DEFINE_double(max_time_s, 0, "Wall-time limit per estimator, s; 0: none.");
+DEFINE_bool(plan_withheld,
+            true,
+            "fit --model=rigid3d: where an axis is withheld for lack of "
+            "motion, end with the flight plan that would determine it to "
+            "--target_mm (imusysid plan; a few seconds more).");
+DECLARE_double(target_mm);
 DEFINE_string(covariance,
               "hac",
               "Standard errors: hac (Newey-West sandwich with a Bartlett "
@@ -412,6 +418,13 @@ int RunFit(const std::vector<std::string>& positional) {
   io.configure_problem = [](Problem* problem) { return ApplyBounds(problem); };
   io.allow_damaged = FLAGS_allow_damaged;
   io.emit = emit_format;
+  io.plan_withheld = FLAGS_plan_withheld;
+  if (!(FLAGS_target_mm > 0.0 && FLAGS_target_mm <= 1000.0)) {
+    return UsageError(cmd,
+                      "--target_mm=" + FormatNumber(FLAGS_target_mm) +
+                          "; required in (0, 1000]");
+  }
+  io.plan_target_stderr_m = FLAGS_target_mm * 1e-3;
   if (!from_problem) {
     Status flags = LogOptionsFromFlags(/*all_imus=*/three_d, &io);
     if (!flags.ok()) return ReportError(cmd, flags);
@@ -475,7 +488,8 @@ const Command& FitCommand() {
           "autopilot's attitude and NED\nvelocity: flight windows, estimator "
           "delay and wind are found automatically, every\nIMU of a ULog or "
           "DataFlash log is fitted (--imu picks one), an axis the log does\n"
-          "not determine is withheld (null) with what to fly; without the "
+          "not determine is withheld (null) with what to fly (the plan that "
+          "would determine it,\n--plan_withheld, docs/plan.md); without the "
           "estimator's channels\nit falls back to rigid3d_imu. Default "
           "estimator there: linear (rigid3d_imu: varpro).\n"
           "--log given more than once (or A,B,...) pools flights of one "
@@ -497,6 +511,8 @@ const Command& FitCommand() {
                     "emit_out",
                     "allow_damaged",
                     "estimator_delay_s",
+                    "plan_withheld",
+                    "target_mm",
                     "out"}),
       &RunFit,
       /*estimator_flags=*/true};

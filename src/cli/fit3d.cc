@@ -16,6 +16,7 @@
 #include "imusysid/rigid3d_report.h"
 #include "src/cli/common.h"
 #include "src/cli/log_flags.h"
+#include "src/report/plan_files.h"
 #include "src/report/rigid3d_page.h"
 #include "src/tools/file_probe.h"
 
@@ -103,12 +104,34 @@ int WriteFit3d(const IdentifySummary& summary,
         j[i]["emit"] = AutopilotParametersToJson(*emitted);
       }
     }
+    if (summary.plan.has_value()) {
+      // Beside the IMU it was planned from.
+      for (std::size_t i = 0; i < summary.imus.size(); ++i) {
+        if (summary.imus[i].instance == summary.plan->source_instance) {
+          j[i]["plan"] = PlanResult3dToJson(*summary.plan);
+        }
+      }
+    }
     text = DumpJson(j.size() == 1 ? j[0] : j) + "\n";
   } else {
     for (const ImuPosition3d& r : summary.imus) text += Rigid3dToText(r);
     for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
       text += "IMU " + std::to_string(skipped.instance) +
               ": not fitted: " + skipped.reason + "\n";
+    }
+    if (summary.plan.has_value()) {
+      text += "\nThe flight that would determine the withheld axes (IMU " +
+              std::to_string(summary.plan->source_instance) +
+              "; `imusysid plan --log=" + summary.source +
+              " --out=DIR` writes its files):\n" +
+              PlanCardText(summary.plan->plan);
+      if (!summary.plan->reached) {
+        text += "not reached: " + summary.plan->shortfall + "\n";
+      }
+      text +=
+          "Fly it, then fit the new log alone, or pool it with this one "
+          "(--log=" +
+          summary.source + " --log=NEW).\n";
     }
     if (emitted != nullptr) text += AutopilotParametersToText(*emitted);
   }

@@ -35,36 +35,6 @@ namespace imusysid {
 namespace cli {
 namespace {
 
-nlohmann::ordered_json PlanVec3Json(const Eigen::Vector3d& v) {
-  nlohmann::ordered_json a = nlohmann::ordered_json::array();
-  for (int i = 0; i < 3; ++i) {
-    if (std::isfinite(v[i])) {
-      a.push_back(v[i]);
-    } else {
-      a.push_back(nullptr);
-    }
-  }
-  return a;
-}
-
-nlohmann::ordered_json PlanResultJson(const PlanResult3d& r) {
-  nlohmann::ordered_json j = FlightPlan3dToJson(r.plan);
-  j["reached"] = r.reached;
-  if (!r.reached) j["shortfall"] = r.shortfall;
-  j["predicted_statistical_m"] = PlanVec3Json(r.predicted_statistical_m);
-  j["predicted_systematic_m"] = PlanVec3Json(r.predicted_systematic_m);
-  if (r.has_source) {
-    j["source_instance"] = r.source_instance;
-    j["source_stderr_m"] = PlanVec3Json(r.source_stderr_m);
-    nlohmann::ordered_json given = nlohmann::ordered_json::array();
-    for (bool d : r.source_determined) given.push_back(d);
-    j["source_determined"] = given;
-  }
-  j["noise_scale"] = r.noise_scale;
-  j["notes"] = r.notes;
-  return j;
-}
-
 int RunPlan(const std::vector<std::string>& positional) {
   const std::string cmd = "plan";
   if (!positional.empty()) {
@@ -121,7 +91,7 @@ int RunPlan(const std::vector<std::string>& positional) {
     if (!s.ok()) return fail(s);
   }
   Status s = JsonOutput()
-                 ? EmitOutput(DumpJson(PlanResultJson(*result)) + "\n", "")
+                 ? EmitOutput(DumpJson(PlanResult3dToJson(*result)) + "\n", "")
                  : EmitOutput(PlanCardText(result->plan), "");
   if (!s.ok()) return ReportError(cmd, s);
   if (!JsonOutput()) {

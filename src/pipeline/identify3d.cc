@@ -21,6 +21,7 @@
 #include "imusysid/identify.h"
 #include "imusysid/log_reader.h"
 #include "imusysid/log_sanity.h"
+#include "imusysid/plan3d.h"
 #include "src/analyse/position3d.h"
 #include "src/pipeline/identify_internal.h"
 #include "src/tools/sessions.h"
@@ -363,6 +364,39 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   }
   CompareInstances(&summary.imus);
   summary.model = model_name;
+
+  if (options.plan_withheld) {
+    // The first IMU with an axis withheld for lack of motion (a fit the
+    // model explains, its σ̂ too large), with the information to plan from.
+    const ImuPosition3d* source = nullptr;
+    for (const ImuPosition3d& imu : summary.imus) {
+      if (source != nullptr) break;
+      if (!imu.usable || imu.information == nullptr) continue;
+      for (const Rigid3dAxisDecision& d : imu.decisions) {
+        if (d.reason == "stderr") source = &imu;
+      }
+    }
+    if (source != nullptr) {
+      PlanOptions3d plan;
+      plan.target_stderr_m =
+          Eigen::Vector3d::Constant(options.plan_target_stderr_m);
+      plan.autopilot =
+          !bytes.empty() && DetectLogFormat(bytes) == LogFormat::kUlog
+              ? "px4"
+              : "ardupilot";
+      plan.num_threads = options.num_threads;
+      plan.on_progress = options.on_progress;
+      StatusOr<PlanResult3d> planned =
+          PlanFlight3d(source, input.source(), plan);
+      if (planned.ok()) {
+        summary.plan = std::move(planned).value();
+      } else {
+        summary.plan_note = planned.status().message();
+        Note(options,
+             "no flight plan for the withheld axes: " + summary.plan_note);
+      }
+    }
+  }
 
   if (options.emit != EmitFormat::kNone) {
     // The log's parameters first: PX4's board offsets in the file are the

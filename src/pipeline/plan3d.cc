@@ -31,7 +31,7 @@ constexpr double kPlanNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPlanProbeRecordS = 30.0;
 // Rounds of lengthening when the plan flown falls short of its search's
 // prediction.
-constexpr int kPlanVerifyRounds = 3;
+constexpr int kPlanVerifyRounds = 5;
 
 // The segment a plan flies on `axis`, at the length `t_rec_s`. ArduPilot:
 // the System ID mode's attitude input (roll and pitch ±15°; yaw on the

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "imusysid/flight_plan.h"
+#include "imusysid/plan3d.h"
+#include "nlohmann/json.hpp"
 
 namespace imusysid {
 
@@ -36,6 +38,13 @@ double SegmentFlightSeconds(const ExcitationSegment3d& segment);
 // ("sid_1_roll.parm", ...) or the PX4 procedure ("px4_procedure.txt").
 // plan.json is written by the caller (FlightPlan3dToJson).
 std::vector<PlanFile> PlanFiles(const FlightPlan3d& plan);
+
+// The plan with what it was formed from and whether it meets its target:
+// FlightPlan3dToJson's keys, then "reached" (and "shortfall" where not),
+// "predicted_statistical_m", "predicted_systematic_m", the source's
+// "source_instance", "source_stderr_m" and "source_determined" (with a
+// flown log), "noise_scale" and "notes".
+nlohmann::ordered_json PlanResult3dToJson(const PlanResult3d& result);
 
 // The card alone: what to fly, how long, and σ̂ per axis before and after.
 std::string PlanCardText(const FlightPlan3d& plan);
