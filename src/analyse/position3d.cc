@@ -245,8 +245,10 @@ void DecideAxes(const Preprocess3dResult& pre,
                    " above " + FormatNumber(band.low_hz, 3) +
                    " Hz, where the lever arm acts"
              : "") +
-        "): the log does not follow rigid-body flight (ground contact, a "
-        "wrong frame or units, or unlogged forces); no position is given");
+        "): the lever arm's signal is buried in what the model does not "
+        "hold (vibration or a flexing mount, forces it does not see, or a "
+        "wrong frame or units; this check cannot tell which); no position "
+        "is given");
   }
   internal::DecideTilt3dTrim(
       explains ? nullptr : &explains_gate, options, &out);
