@@ -263,6 +263,9 @@ std::vector<Run3dRecord> FitLog3d(const BenchConfig& config,
           (*solver)->Estimate(problems[which], options.estimator);
       if (again.ok()) {
         run.termination = TerminationToString(again->termination);
+        for (const Warning& w : again->warnings) {
+          if (w.code == "at_bound") run.at_bound.push_back(w.message);
+        }
         run.evaluations = again->cost_evaluations;
         run.iterations = again->iterations;
         run.fit_time_s = again->wall_time_s;

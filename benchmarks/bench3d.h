@@ -83,6 +83,11 @@ struct Run3dRecord {
   // The estimator's own run on this instance's problem (a second solve of
   // the same problem with the same seed: Identify does not return it).
   std::string termination;
+  // Its at_bound warnings: a parameter ended on (or, for an estimator that
+  // does not impose the bounds, outside) the model's bounds. An estimator
+  // that imposes them stops there where the unbounded linear solve goes
+  // beyond, so the two optima differ (docs/benchmarks.md).
+  std::vector<std::string> at_bound;
   std::int64_t evaluations = -1;
   int iterations = -1;
   double fit_time_s = kNaN;  // that solve alone

@@ -90,6 +90,7 @@ Json3d Run3dToJson(const Run3dRecord& run) {
       run.iterations >= 0 ? Json3d(run.iterations) : Json3d(nullptr);
   j["termination"] =
       run.termination.empty() ? Json3d(nullptr) : Json3d(run.termination);
+  j["at_bound"] = run.at_bound;
   Json3d decisions = Json3d::array();
   if (usable) {
     for (int a = 0; a < 3; ++a) {
@@ -195,7 +196,8 @@ std::string Runs3dTable(const std::string& title,
          internal::FixedCell(1000.0 * run.fit_time_s, 1),
          internal::FixedCell(1000.0 * run.time_s, 1),
          run.status.ok()
-             ? (run.termination.empty() ? "-" : run.termination)
+             ? (run.termination.empty() ? "-" : run.termination) +
+                   (run.at_bound.empty() ? "" : " (at a bound)")
              : "failure: " + internal::Truncate(run.status.message(), 60)});
     for (const std::string& s : run.skipped) {
       const std::string note = run.log + ": " + internal::Truncate(s, 120);
@@ -493,7 +495,7 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
              exact(r.fit_time_s, 1000.0, 1),
              exact(r.time_s, 1000.0, 1),
              r.status.ok()
-                 ? r.termination
+                 ? r.termination + (r.at_bound.empty() ? "" : " (at a bound)")
                  : "failure: " + internal::Truncate(r.status.message(), 80)});
       }
     }
