@@ -17,7 +17,8 @@
 // position's sensitivity to the choices the flight cannot settle
 // (Preprocess3dResult::systematic_stderr_m) with the model-error floor, in
 // quadrature. The bench's 3-D Monte Carlo (`imusysid bench --preset=3d
-// --seeds=K`, columns predicted and pred/σ̂) says how well it holds.
+// --seeds=K`, columns predicted and pred/σ̂) says how well it holds;
+// docs/predict-3d.md has its table and the real logs.
 
 #ifndef IMUSYSID_PREDICT3D_H_
 #define IMUSYSID_PREDICT3D_H_
