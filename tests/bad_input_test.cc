@@ -679,6 +679,20 @@ std::vector<BadCase> FlagCases() {
       "simulate --set=mass_kg=-1 --out=/nonexistent/x.csv",
       "mass_kg");
   add("unknown_command", "frobnicate", "unknown command 'frobnicate'");
+  // `plan` refuses its flags before flying anything (no --log: a bad value
+  // must not reach the simulator).
+  add("plan_target_zero",
+      "plan --target_mm=0",
+      "--target_mm=0; required in (0, 1000]");
+  add("plan_target_nan",
+      "plan --target_mm=nan",
+      "--target_mm=nan: the value must be a finite number");
+  add("plan_target_beyond",
+      "plan --target_mm=1001",
+      "--target_mm=1001; required in (0, 1000]");
+  add("plan_autopilot_unknown",
+      "plan --autopilot=foo",
+      "autopilot = 'foo'; required ardupilot or px4");
   return c;
 }
 
@@ -782,6 +796,13 @@ std::vector<BadCase> PathCases() {
       "fit_json_is_dev_zero",
       [](const std::string&) { return "displacement /dev/zero /dev/zero"; },
       "it is a character device"));
+  c.push_back(Case(
+      f,
+      "plan_out_is_a_file",
+      [](const std::string& dir) {
+        return "plan --out=" + Q(Write(dir, "f", "x"));
+      },
+      "exists and is not a folder"));
   c.push_back(Case(
       f,
       "bench_out_is_a_file",

@@ -31,6 +31,7 @@ TEST(Cli, EveryCommandHasHelp) {
                           "fit",
                           "displacement",
                           "export-problem",
+                          "plan",
                           "bench"}) {
     if (std::string(cmd) == "bench" && !testing::kCliHasBench) continue;
     const auto r = RunCli(std::string(cmd) + " --help");
