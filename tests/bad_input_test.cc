@@ -692,7 +692,7 @@ std::vector<BadCase> FlagCases() {
       "--target_mm=1001; required in (0, 1000]");
   add("plan_autopilot_unknown",
       "plan --autopilot=foo",
-      "autopilot = 'foo'; required ardupilot or px4");
+      "--autopilot=foo; required ardupilot or px4");
   return c;
 }
 

@@ -45,6 +45,10 @@ int RunPlan(const std::vector<std::string>& positional) {
                       "--target_mm=" + FormatNumber(FLAGS_target_mm) +
                           "; required in (0, 1000]");
   }
+  if (FLAGS_autopilot != "ardupilot" && FLAGS_autopilot != "px4") {
+    return UsageError(
+        cmd, "--autopilot=" + FLAGS_autopilot + "; required ardupilot or px4");
+  }
   const std::string out = internal::WithoutTrailingSlashes(FLAGS_out);
   if (!out.empty()) {
     std::error_code ec;

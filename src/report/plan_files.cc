@@ -173,7 +173,8 @@ std::string PlanCardText(const FlightPlan3d& plan) {
   row("before (the flown log)        ", plan.predicted_before_m);
   row("after (this flight, fitted)   ", plan.predicted_after_m);
   row("target                        ", plan.target_stderr_m);
-  o << "('-' where the log does not determine the axis)\n";
+  o << "(before: what the flown log's own motion predicts, for the axes "
+       "its fit gives and withholds alike; '-': no prediction)\n";
   return o.str();
 }
 
