@@ -104,14 +104,6 @@ int WriteFit3d(const IdentifySummary& summary,
         j[i]["emit"] = AutopilotParametersToJson(*emitted);
       }
     }
-    if (summary.plan.has_value()) {
-      // Beside the IMU it was planned from.
-      for (std::size_t i = 0; i < summary.imus.size(); ++i) {
-        if (summary.imus[i].instance == summary.plan->source_instance) {
-          j[i]["plan"] = PlanResult3dToJson(*summary.plan);
-        }
-      }
-    }
     text = DumpJson(j.size() == 1 ? j[0] : j) + "\n";
   } else {
     for (const ImuPosition3d& r : summary.imus) text += Rigid3dToText(r);

@@ -6,12 +6,20 @@
 #include "imusysid/identify.h"
 #include "imusysid/report.h"
 #include "imusysid/rigid3d_report.h"
+#include "src/report/plan_files.h"
 
 namespace imusysid {
 
 nlohmann::ordered_json FlightImusToJson(const IdentifySummary& summary) {
   nlohmann::ordered_json imus = nlohmann::ordered_json::array();
-  for (const ImuPosition3d& r : summary.imus) imus.push_back(Rigid3dToJson(r));
+  for (const ImuPosition3d& r : summary.imus) {
+    imus.push_back(Rigid3dToJson(r));
+    // The plan for the withheld axes, beside the IMU it was made from.
+    if (summary.plan.has_value() &&
+        r.instance == summary.plan->source_instance) {
+      imus.back()["plan"] = PlanResult3dToJson(*summary.plan);
+    }
+  }
   for (const IdentifySummary::SkippedImu& skipped : summary.skipped_imus) {
     nlohmann::ordered_json one;
     one["instance"] = skipped.instance;
