@@ -155,6 +155,31 @@ TEST(Rigid3dCli, WithheldAxisIsNullWithAdvice) {
   EXPECT_EQ(gate["passed"], false);
   EXPECT_GT(gate["statistic"].get<double>(), 0.005);
   EXPECT_EQ(j["decisions"][0]["decision"], "given");
+  // The fit ends with the flight that would give y: a plan with a roll or
+  // yaw chirp (y needs one of them), predicted within the 2 mm target on
+  // every axis, and the σ̂ the log's own motion predicts as its "before".
+  ASSERT_TRUE(j.contains("plan")) << r.out;
+  const nlohmann::json& plan = j["plan"];
+  EXPECT_EQ(plan["format"], "imusysid.plan");
+  EXPECT_EQ(plan["autopilot"], "ardupilot") << "a CSV plans for ArduPilot";
+  bool rolls_or_yaws = false;
+  for (const auto& segment : plan["segments"]) {
+    rolls_or_yaws =
+        rolls_or_yaws || segment["axis"] == "roll" || segment["axis"] == "yaw";
+  }
+  EXPECT_TRUE(rolls_or_yaws) << plan.dump();
+  EXPECT_TRUE(plan["reached"].get<bool>()) << plan.dump();
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE(plan["predicted_stderr_m"]["after"][a].get<double>(), 2e-3);
+  }
+  EXPECT_EQ(plan["predicted_stderr_m"]["before"][1],
+            j["predicted_stderr_m"][1]);
+  // Asked not to, the fit plans nothing.
+  const auto quiet = RunCli("fit --log=" + dir +
+                            "/P.csv --model=rigid3d --plan_withheld=false "
+                            "--format=json");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
+  EXPECT_FALSE(nlohmann::json::parse(quiet.out).contains("plan"));
 }
 
 // The emitted parameters of a log with three IMUs, name by name: each
@@ -484,7 +509,7 @@ TEST(Rigid3dRealLogs, BenchLogsAreRefusedAndTheCrashIsCutOut) {
   const auto log171 =
       RunCli("fit --log=" + dir +
              "/dronekit-la-testdata__log171.bin --model=rigid3d "
-             "--emit=ardupilot --format=json");
+             "--emit=ardupilot --plan_withheld=false --format=json");
   ASSERT_EQ(log171.exit_code, 0) << log171.err;
   const nlohmann::json j = nlohmann::json::parse(log171.out);
   ASSERT_TRUE(j.is_array());
