@@ -132,6 +132,8 @@ StatusOr<FlightsSummary> IdentifyFlights(
   // is made below.
   IdentifyOptions one = options;
   one.emit = EmitFormat::kNone;
+  // Nor is a plan for one flight's withheld axes: the pool may give them.
+  one.plan_withheld = false;
   FlightsSummary out;
   std::vector<FlightImus> imus;
   Status first_refusal = Status::Ok();
