@@ -693,6 +693,13 @@ std::vector<BadCase> FlagCases() {
   add("plan_autopilot_unknown",
       "plan --autopilot=foo",
       "--autopilot=foo; required ardupilot or px4");
+  add("plan_mass_zero",
+      "plan --mass_kg=0",
+      "--mass_kg=0; required in [0.1, 50]");
+  add("plan_size_huge", "plan --size_m=5", "--size_m=5; required in [0.05, 3]");
+  add("plan_vehicle_with_log",
+      "plan --log=flight.bin --mass_kg=2",
+      "--mass_kg and --size_m describe a vehicle without --log");
   return c;
 }
 

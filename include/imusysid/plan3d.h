@@ -32,6 +32,12 @@ struct PlanOptions3d {
   // The σ̂ to reach on each FRD axis, m (a plan's, in (0, 1]).
   Eigen::Vector3d target_stderr_m = Eigen::Vector3d::Constant(2e-3);
   std::string autopilot = "ardupilot";  // "ardupilot" | "px4"
+  // The vehicle the segments are flown on: its mass (kg) and size (m, the
+  // diagonal from motor to motor). NaN: the simulator's (1.636 kg,
+  // 0.45 m). Its inertia scales as mass × size² and its largest torques as
+  // mass × size from the simulator's, so the same controller flies it.
+  double mass_kg = std::numeric_limits<double>::quiet_NaN();
+  double size_m = std::numeric_limits<double>::quiet_NaN();
   // The IMU instance of the flown log whose residual level and σ̂ the plan
   // starts from (its first usable one when absent from the fit).
   int imu = 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -26,6 +27,14 @@ DEFINE_double(target_mm,
               2.0,
               "plan: the sigma to reach on every axis of the IMU position, "
               "mm (in (0, 1000]).");
+DEFINE_double(mass_kg,
+              std::numeric_limits<double>::quiet_NaN(),
+              "plan without --log: the vehicle's mass, kg (default the "
+              "simulator's, 1.636).");
+DEFINE_double(size_m,
+              std::numeric_limits<double>::quiet_NaN(),
+              "plan without --log: the vehicle's size, motor to motor, m "
+              "(default the simulator's, 0.45).");
 DEFINE_string(autopilot,
               "ardupilot",
               "plan: ardupilot (System ID mode parameter files) or px4 (a "
@@ -63,6 +72,24 @@ int RunPlan(const std::vector<std::string>& positional) {
   PlanOptions3d options;
   options.target_stderr_m = Eigen::Vector3d::Constant(FLAGS_target_mm * 1e-3);
   options.autopilot = FLAGS_autopilot;
+  if (!FLAGS_log.empty() && (FlagWasSet("mass_kg") || FlagWasSet("size_m"))) {
+    return UsageError(cmd,
+                      "--mass_kg and --size_m describe a vehicle without "
+                      "--log; with a log the plan flies the simulator's "
+                      "vehicle at that log's residual level");
+  }
+  if (FlagWasSet("mass_kg") && !(FLAGS_mass_kg >= 0.1 && FLAGS_mass_kg <= 50)) {
+    return UsageError(
+        cmd,
+        "--mass_kg=" + FormatNumber(FLAGS_mass_kg) + "; required in [0.1, 50]");
+  }
+  if (FlagWasSet("size_m") && !(FLAGS_size_m >= 0.05 && FLAGS_size_m <= 3)) {
+    return UsageError(
+        cmd,
+        "--size_m=" + FormatNumber(FLAGS_size_m) + "; required in [0.05, 3]");
+  }
+  options.mass_kg = FLAGS_mass_kg;
+  options.size_m = FLAGS_size_m;
   options.seed = FLAGS_seed;
   options.num_threads = FLAGS_threads;
   options.on_progress = [](const std::string& text) {
@@ -138,7 +165,15 @@ const Command& PlanCommand() {
       "SID_F_START_HZ, SID_F_STOP_HZ, SID_T_FADE_IN, SID_T_REC, "
       "SID_T_FADE_OUT; flight mode\nSystem ID, 25) or for PX4 "
       "DIR/px4_procedure.txt.",
-      {"log", "target_mm", "autopilot", "out", "seed", "threads", "format"},
+      {"log",
+       "target_mm",
+       "autopilot",
+       "mass_kg",
+       "size_m",
+       "out",
+       "seed",
+       "threads",
+       "format"},
       &RunPlan,
       false,
       {}};

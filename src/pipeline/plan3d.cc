@@ -32,6 +32,9 @@ constexpr double kPlanProbeRecordS = 30.0;
 // Rounds of lengthening when the plan flown falls short of its search's
 // prediction.
 constexpr int kPlanVerifyRounds = 5;
+// The simulator's vehicle's size (motor to motor, m): the paper's test
+// vehicle, a 450-class quadrotor.
+constexpr double kPlanDefaultSizeM = 0.45;
 
 // The segment a plan flies on `axis`, at the length `t_rec_s`. ArduPilot:
 // the System ID mode's attitude input (roll and pitch ±15°; yaw on the
@@ -81,6 +84,15 @@ StatusOr<FlownPlan3d> FlyAndFitPlan3d(const FlightPlan3d& plan,
   o->sensor_profile = "realistic";
   o->rate_hz = 1000.0;
   o->imus.resize(1);
+  // The vehicle described: inertia ∝ m·s², largest torques ∝ m·s (arms
+  // of length ∝ s carrying thrust ∝ m).
+  const double mass_ratio =
+      std::isfinite(options.mass_kg) ? options.mass_kg / o->mass_kg : 1.0;
+  const double size_ratio =
+      std::isfinite(options.size_m) ? options.size_m / kPlanDefaultSizeM : 1.0;
+  o->mass_kg *= mass_ratio;
+  o->inertia_kg_m2 *= mass_ratio * size_ratio * size_ratio;
+  o->max_torque_nm *= mass_ratio * size_ratio;
   IMUSYSID_RETURN_IF_ERROR(o->Validate());
   StatusOr<Simulated3dFlight> flight = Simulate3d(*o);
   if (!flight.ok()) return flight.status().WithPrefix("plan: simulating");
@@ -122,6 +134,20 @@ Status ValidatePlanOptions3d(const PlanOptions3d& o) {
       return InvalidArgumentError(
           "PlanOptions3d::target_stderr_m[" + std::to_string(a) + "] = " +
           FormatNumber(o.target_stderr_m[a], 6) + " m; required in (0, 1]");
+    }
+  }
+  if (!std::isnan(o.mass_kg)) {
+    if (!(o.mass_kg >= 0.1 && o.mass_kg <= 50.0)) {
+      return InvalidArgumentError(
+          "PlanOptions3d::mass_kg = " + FormatNumber(o.mass_kg) +
+          " kg; required in [0.1, 50]");
+    }
+  }
+  if (!std::isnan(o.size_m)) {
+    if (!(o.size_m >= 0.05 && o.size_m <= 3.0)) {
+      return InvalidArgumentError(
+          "PlanOptions3d::size_m = " + FormatNumber(o.size_m) +
+          " m; required in [0.05, 3]");
     }
   }
   if (o.num_threads < 1 || o.num_threads > 256) {
