@@ -970,7 +970,7 @@ TEST(InputPaths, StandardInputIsReadAsDash) {
   const std::string dir = testing::MakeTempDir();
   const std::string log = Write(dir, "log.csv", Csv());
   // RunCli feeds /dev/null to standard input; this runs the tool itself.
-  const std::string cmd = std::string("'") + IMUSYSID_CLI_PATH +
+  const std::string cmd = "'" + testing::CliPath() +
                           "' inspect --format=json - < " + Q(log) + " > " +
                           Q(dir + "/out") + " 2>/dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
@@ -987,7 +987,7 @@ TEST(OutputPaths, ConcurrentSimulateRunsLeaveAMatchingPair) {
   const std::string dir = testing::MakeTempDir();
   const std::string out = dir + "/pair.csv";
   std::string script =
-      "for s in 1 2 3 4; do '" + std::string(IMUSYSID_CLI_PATH) +
+      "for s in 1 2 3 4; do '" + testing::CliPath() +
       "' simulate --scenario=hover_only --seed=$s --out=" + Q(out) +
       " > /dev/null 2>&1 & done; wait";
   ASSERT_EQ(std::system(script.c_str()), 0);

@@ -85,13 +85,17 @@ std::string MakeTempDir() {
   return dir;
 }
 
+std::string CliPath() {
+  const char* cli = std::getenv("IMUSYSID_CLI");
+  return cli != nullptr && *cli != '\0' ? cli : IMUSYSID_CLI_PATH;
+}
+
 CommandResult RunCli(const std::string& args) {
   const std::string dir = MakeTempDir();
   const std::string out_path = dir + "/stdout";
   const std::string err_path = dir + "/stderr";
-  const std::string cmd = std::string("'") + IMUSYSID_CLI_PATH + "' " + args +
-                          " > '" + out_path + "' 2> '" + err_path +
-                          "' < /dev/null";
+  const std::string cmd = "'" + CliPath() + "' " + args + " > '" + out_path +
+                          "' 2> '" + err_path + "' < /dev/null";
   const int status = std::system(cmd.c_str());
   CommandResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

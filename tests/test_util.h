@@ -40,6 +40,9 @@ struct CommandResult {
   std::string err;
 };
 CommandResult RunCli(const std::string& args);
+// The tool the tests run: $IMUSYSID_CLI where set (the sanitized run points
+// it at imusysid-sanitized), else the tool of this build.
+std::string CliPath();
 // The command's stdout as JSON; a test failure (showing stdout and stderr)
 // and a discarded value when it is not JSON.
 nlohmann::json ParseJson(const CommandResult& r);

@@ -445,7 +445,7 @@ class Child {
       close(in[1]);
       close(out[0]);
       std::vector<char*> argv;
-      std::string cli = IMUSYSID_CLI_PATH;
+      std::string cli = testing::CliPath();
       argv.push_back(cli.data());
       std::vector<std::string> copy = args;
       for (std::string& a : copy) argv.push_back(a.data());
