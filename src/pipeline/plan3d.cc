@@ -76,6 +76,14 @@ double NoiseVariance3d(const Information3d& information) {
 
 // The segments flown by the simulator (realistic sensors, one IMU, in the
 // autopilot's own log format) and fitted with rigid3d as `fit` would.
+// The source log's residual level over a flown plan's, in variance: what
+// scales the simulator's noise to the vehicle's (1 without a source).
+double PlanNoiseScale(double source_variance, const FlownPlan3d& flown) {
+  return std::isfinite(source_variance) && flown.noise_variance > 0.0
+             ? source_variance / flown.noise_variance
+             : 1.0;
+}
+
 StatusOr<FlownPlan3d> FlyAndFitPlan3d(const FlightPlan3d& plan,
                                       const PlanOptions3d& options) {
   StatusOr<Simulator3dOptions> o = SysId3dOptions(plan);
@@ -121,7 +129,7 @@ StatusOr<FlownPlan3d> FlyAndFitPlan3d(const FlightPlan3d& plan,
   return out;
 }
 
-std::string PlanMm(double m) { return FormatFixed(m * 1e3, 2); }
+std::string PlanNoteMm(double m) { return FormatFixed(m * 1e3, 2); }
 
 Status ValidatePlanOptions3d(const PlanOptions3d& o) {
   if (o.autopilot != "ardupilot" && o.autopilot != "px4") {
@@ -204,10 +212,7 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
     }
     const Information3d& one = *flown[0].imu.information;
     const Information3d& two = *flown[1].imu.information;
-    const double scale =
-        std::isfinite(source_variance) && flown[1].noise_variance > 0.0
-            ? source_variance / flown[1].noise_variance
-            : 1.0;
+    const double scale = PlanNoiseScale(source_variance, flown[1]);
     scale_sum += scale;
     PlanCandidate3d c;
     c.segment = PlanSegment3d(axis, options.autopilot, kPlanProbeRecordS);
@@ -267,10 +272,7 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
     StatusOr<FlownPlan3d> flown = FlyAndFitPlan3d(attempt.plan, options);
     if (!flown.ok()) return flown.status();
     const ImuPosition3d& imu = flown->imu;
-    const double scale =
-        std::isfinite(source_variance) && flown->noise_variance > 0.0
-            ? source_variance / flown->noise_variance
-            : 1.0;
+    const double scale = PlanNoiseScale(source_variance, *flown);
     double worst = 0.0;
     for (int a = 0; a < 3; ++a) {
       const double total = imu.predicted_stderr_m[a];
@@ -306,11 +308,11 @@ StatusOr<PlanResult3d> PlanFlight3d(const ImuPosition3d* source,
       const double target = options.target_stderr_m[a];
       if (!(out.plan.predicted_after_m[a] <= target)) {
         why += std::string(why.empty() ? "" : "; ") + "xyz"[a] + " predicted " +
-               PlanMm(out.plan.predicted_after_m[a]) + " mm against " +
-               PlanMm(target) + " mm";
+               PlanNoteMm(out.plan.predicted_after_m[a]) + " mm against " +
+               PlanNoteMm(target) + " mm";
         if (out.predicted_systematic_m[a] > target) {
           why += " (its systematic part alone, " +
-                 PlanMm(out.predicted_systematic_m[a]) +
+                 PlanNoteMm(out.predicted_systematic_m[a]) +
                  " mm, is above the target: longer flying does not lower it)";
         }
       }
