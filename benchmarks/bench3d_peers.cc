@@ -73,13 +73,6 @@ void ScorePeer3d(const Log3d& log, Peer3dRecord* r) {
   }
 }
 
-// A number shown with `decimals` and kept exact (right-aligned in HTML).
-report::HtmlCell PeersNumCell3d(double v, int decimals) {
-  return std::isfinite(v)
-             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
-             : report::HtmlCell("n/a");
-}
-
 }  // namespace
 
 Status FindPeers3dPython(const std::vector<std::string>& pythons,
@@ -232,22 +225,15 @@ report::HtmlTable Peers3dHtmlTable(const std::vector<Peer3dRecord>& records) {
                       r.method,
                       mm3(r.position_m),
                       mm3(r.error_m),
-                      PeersNumCell3d(1000.0 * r.error_m.norm(), 2),
+                      internal::NumCell(1000.0 * r.error_m.norm(), 2),
                       r.decisions.empty() ? "-" : r.decisions,
-                      PeersNumCell3d(1000.0 * r.time_s, 2)});
+                      internal::NumCell(1000.0 * r.time_s, 2)});
   }
   return t;
 }
 
 std::string Peers3dMarkdown(const std::vector<Peer3dRecord>& records) {
   if (records.empty()) return "";
-  const report::HtmlTable t = Peers3dHtmlTable(records);
-  std::vector<std::vector<std::string>> rows;
-  for (const auto& row : t.rows) {
-    std::vector<std::string> cells;
-    for (const report::HtmlCell& c : row) cells.push_back(c.text);
-    rows.push_back(std::move(cells));
-  }
   return "## 3-D peers on the same flights\n\n"
          "IMU instance 0 of each log: imusysid's rigid3d estimators (the "
          "bench's runs above) beside benchmarks/peers/peers3d.py on the "
@@ -256,7 +242,7 @@ std::string Peers3dMarkdown(const std::vector<Peer3dRecord>& records) {
          "indiflight's manner without and with forgetting. time = the solve "
          "alone; x / y / z = imusysid's decision per axis (a peer gives "
          "every axis, withheld ones included).\n\n" +
-         internal::MarkdownTable(t.header, rows) + "\n";
+         internal::HtmlTableMarkdown(Peers3dHtmlTable(records)) + "\n";
 }
 
 std::string Peers3dCsv(const std::vector<Peer3dRecord>& records) {

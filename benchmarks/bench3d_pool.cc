@@ -279,13 +279,6 @@ std::string PoolCount3d(int k, int n) {
          (n > 0 ? " (" + FormatFixed(100.0 * k / n, 0) + " %)" : "");
 }
 
-// A number shown with `decimals` and kept exact (right-aligned in HTML).
-report::HtmlCell PoolNumCell3d(double v, int decimals) {
-  return std::isfinite(v)
-             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
-             : report::HtmlCell("n/a");
-}
-
 report::HtmlTable PoolAxesTable3d(const Pools3dResult& result) {
   report::HtmlTable t;
   t.id = "pools3d";
@@ -314,15 +307,15 @@ report::HtmlTable PoolAxesTable3d(const Pools3dResult& result) {
          kPool3dAxes[r.axis],
          std::to_string(r.pools),
          PoolCount3d(r.covered, r.pools),
-         PoolNumCell3d(1000.0 * r.mean_stderr_m, 2),
-         PoolNumCell3d(1000.0 * r.spread_m, 2),
-         PoolNumCell3d(r.stderr_over_spread, 2),
-         PoolNumCell3d(1000.0 * r.bias_m, 2),
+         internal::NumCell(1000.0 * r.mean_stderr_m, 2),
+         internal::NumCell(1000.0 * r.spread_m, 2),
+         internal::NumCell(r.stderr_over_spread, 2),
+         internal::NumCell(1000.0 * r.bias_m, 2),
          std::to_string(r.given),
          std::to_string(r.confident_wrong),
          std::to_string(r.mean_covered) + "/" + std::to_string(r.mean_pools),
-         PoolNumCell3d(1000.0 * r.mean_mean_stderr_m, 2),
-         PoolNumCell3d(1000.0 * r.mean_spread_m, 2)});
+         internal::NumCell(1000.0 * r.mean_mean_stderr_m, 2),
+         internal::NumCell(1000.0 * r.mean_spread_m, 2)});
   }
   return t;
 }
@@ -346,22 +339,12 @@ report::HtmlTable PoolTiltsTable3d(const Pools3dResult& result) {
                       kPool3dAngles[r.angle],
                       std::to_string(r.pools),
                       PoolCount3d(r.covered, r.pools),
-                      PoolNumCell3d(r.mean_stderr_deg, 3),
-                      PoolNumCell3d(r.spread_deg, 3),
-                      PoolNumCell3d(r.stderr_over_spread, 2),
-                      PoolNumCell3d(r.bias_deg, 3)});
+                      internal::NumCell(r.mean_stderr_deg, 3),
+                      internal::NumCell(r.spread_deg, 3),
+                      internal::NumCell(r.stderr_over_spread, 2),
+                      internal::NumCell(r.bias_deg, 3)});
   }
   return t;
-}
-
-std::string PoolTableMarkdown3d(const report::HtmlTable& t) {
-  std::vector<std::vector<std::string>> rows;
-  for (const auto& row : t.rows) {
-    std::vector<std::string> cells;
-    for (const report::HtmlCell& c : row) cells.push_back(c.text);
-    rows.push_back(std::move(cells));
-  }
-  return internal::MarkdownTable(t.header, rows);
 }
 
 nlohmann::ordered_json PoolJsonNum3d(double v) {
@@ -416,9 +399,9 @@ std::string Pools3dMarkdown(const Pools3dResult& result, int pairs) {
          "how often the axis was given, the confident wrong ones (given, "
          "outside 3σ̂ and more than 5 mm out), and beside it the "
          "inverse-variance mean of the flights' own values.\n\n"
-      << PoolTableMarkdown3d(PoolAxesTable3d(result)) << "\n";
+      << internal::HtmlTableMarkdown(PoolAxesTable3d(result)) << "\n";
   if (!result.tilts.empty()) {
-    out << PoolTableMarkdown3d(PoolTiltsTable3d(result)) << "\n";
+    out << internal::HtmlTableMarkdown(PoolTiltsTable3d(result)) << "\n";
   }
   if (result.failed > 0) {
     out << result.failed << " pair(s) gave no pool\n\n";

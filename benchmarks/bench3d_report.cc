@@ -263,11 +263,6 @@ namespace {
 // the decisions and the time.
 std::vector<report::HtmlTable> MonteCarlo3dTables(
     const std::vector<MonteCarlo3dRecord>& records) {
-  auto exact = [](double v, double scale, int decimals) {
-    return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
-                                               FormatShortest(v))
-                            : report::HtmlCell("n/a");
-  };
   const std::vector<std::string> key = {
       "model", "estimator", "scenario", "format", "IMU", "axis"};
   report::HtmlTable accuracy;
@@ -320,37 +315,30 @@ std::vector<report::HtmlTable> MonteCarlo3dTables(
                            std::to_string(r.seeds)),
           report::HtmlCell(std::to_string(r.given)),
           report::HtmlCell(std::to_string(r.confident_wrong)),
-          exact(r.bias_m, 1000.0, 2),
-          exact(r.spread_m, 1000.0, 2),
-          exact(r.rmse_m, 1000.0, 2),
-          exact(r.mean_stderr_m, 1000.0, 2),
-          exact(r.coverage, 1.0, 2),
-          exact(r.stderr_over_spread, 1.0, 2)}) {
+          internal::ScaledCell(r.bias_m, 1000.0, 2),
+          internal::ScaledCell(r.spread_m, 1000.0, 2),
+          internal::ScaledCell(r.rmse_m, 1000.0, 2),
+          internal::ScaledCell(r.mean_stderr_m, 1000.0, 2),
+          internal::ScaledCell(r.coverage, 1.0, 2),
+          internal::ScaledCell(r.stderr_over_spread, 1.0, 2)}) {
       a.push_back(std::move(c));
     }
     accuracy.rows.push_back(std::move(a));
     std::vector<report::HtmlCell> b = row_key;
     for (report::HtmlCell c :
-         {exact(r.mean_predicted_stderr_m, 1000.0, 2),
-          exact(r.predicted_over_stderr, 1.0, 2),
-          exact(r.bound_m, 1000.0, 3),
-          exact(r.white_bound_m, 1000.0, 3),
-          exact(r.spread_over_bound, 1.0, 2),
-          exact(r.in_band_max, 1.0, 2),
+         {internal::ScaledCell(r.mean_predicted_stderr_m, 1000.0, 2),
+          internal::ScaledCell(r.predicted_over_stderr, 1.0, 2),
+          internal::ScaledCell(r.bound_m, 1000.0, 3),
+          internal::ScaledCell(r.white_bound_m, 1000.0, 3),
+          internal::ScaledCell(r.spread_over_bound, 1.0, 2),
+          internal::ScaledCell(r.in_band_max, 1.0, 2),
           report::HtmlCell(r.reasons.empty() ? "-" : r.reasons),
-          exact(r.time_s, 1000.0, 1)}) {
+          internal::ScaledCell(r.time_s, 1000.0, 1)}) {
       b.push_back(std::move(c));
     }
     bound.rows.push_back(std::move(b));
   }
   return {accuracy, bound};
-}
-
-// A number shown with `decimals` and kept exact (right-aligned in HTML).
-report::HtmlCell TiltNumCell3d(double v, int decimals) {
-  return std::isfinite(v)
-             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
-             : report::HtmlCell("n/a");
 }
 
 report::HtmlTable Misalignment3dTable(
@@ -388,24 +376,13 @@ report::HtmlTable Misalignment3dTable(
                       std::to_string(r.fits),
                       count(r.covered, r.fits),
                       count(r.covered_statistical, r.fits),
-                      TiltNumCell3d(r.mean_stderr_deg, 3),
-                      TiltNumCell3d(r.mean_stderr_statistical_deg, 3),
-                      TiltNumCell3d(r.spread_deg, 3),
-                      TiltNumCell3d(r.stderr_over_spread, 2),
-                      TiltNumCell3d(r.bias_deg, 3)});
+                      internal::NumCell(r.mean_stderr_deg, 3),
+                      internal::NumCell(r.mean_stderr_statistical_deg, 3),
+                      internal::NumCell(r.spread_deg, 3),
+                      internal::NumCell(r.stderr_over_spread, 2),
+                      internal::NumCell(r.bias_deg, 3)});
   }
   return t;
-}
-
-// A table's shown text as Markdown.
-std::string Table3dMarkdown(const report::HtmlTable& t) {
-  std::vector<std::vector<std::string>> rows;
-  for (const auto& row : t.rows) {
-    std::vector<std::string> cells;
-    for (const report::HtmlCell& c : row) cells.push_back(c.text);
-    rows.push_back(std::move(cells));
-  }
-  return internal::MarkdownTable(t.header, rows);
 }
 
 }  // namespace
@@ -433,8 +410,8 @@ std::string MonteCarlo3dMarkdown(const std::vector<MonteCarlo3dRecord>& records,
          "in-band = the "
          "largest in-band residual over the in-band signal; reasons = the "
          "decisions with their counts.\n\n"
-      << Table3dMarkdown(tables[0]) << "\n"
-      << Table3dMarkdown(tables[1]) << "\n";
+      << internal::HtmlTableMarkdown(tables[0]) << "\n"
+      << internal::HtmlTableMarkdown(tables[1]) << "\n";
   return out.str();
 }
 
@@ -446,18 +423,13 @@ std::string Misalignment3dMarkdown(
          "truth over the seeds: how often the truth lies within ±2σ̂ (σ̂ the "
          "total the fit reports) and within twice its statistical part "
          "alone, σ̂ against the spread of the error.\n\n" +
-         Table3dMarkdown(Misalignment3dTable(records)) + "\n";
+         internal::HtmlTableMarkdown(Misalignment3dTable(records)) + "\n";
 }
 
 std::vector<report::HtmlTable> Bench3dHtmlTables(
     const std::vector<Run3dRecord>& runs,
     const std::vector<MonteCarlo3dRecord>& records) {
   std::vector<report::HtmlTable> tables;
-  auto exact = [](double v, double scale, int decimals) {
-    return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
-                                               FormatShortest(v))
-                            : report::HtmlCell("n/a");
-  };
   if (!runs.empty()) {
     report::HtmlTable t;
     t.id = "runs3d";
@@ -487,13 +459,15 @@ std::vector<report::HtmlTable> Bench3dHtmlTables(
              r.estimator,
              std::to_string(r.instance),
              kBench3dAxes[a],
-             u ? exact(r.imu.position_m[a], 1000.0, 2) : report::HtmlCell("-"),
-             u ? exact(r.imu.stderr_m[a], 1000.0, 2) : report::HtmlCell("-"),
-             exact(r.error_m[a], 1000.0, 2),
+             u ? internal::ScaledCell(r.imu.position_m[a], 1000.0, 2)
+               : report::HtmlCell("-"),
+             u ? internal::ScaledCell(r.imu.stderr_m[a], 1000.0, 2)
+               : report::HtmlCell("-"),
+             internal::ScaledCell(r.error_m[a], 1000.0, 2),
              u ? r.imu.decisions[a].reason : "-",
              r.evaluations >= 0 ? std::to_string(r.evaluations) : "-",
-             exact(r.fit_time_s, 1000.0, 1),
-             exact(r.time_s, 1000.0, 1),
+             internal::ScaledCell(r.fit_time_s, 1000.0, 1),
+             internal::ScaledCell(r.time_s, 1000.0, 1),
              r.status.ok()
                  ? r.termination + (r.at_bound.empty() ? "" : " (at a bound)")
                  : "failure: " + internal::Truncate(r.status.message(), 80)});

@@ -55,6 +55,28 @@ std::string MarkdownTable(const std::vector<std::string>& header,
   return out.str();
 }
 
+report::HtmlCell NumCell(double v, int decimals) {
+  return std::isfinite(v)
+             ? report::HtmlCell(FormatFixed(v, decimals), FormatShortest(v))
+             : report::HtmlCell("n/a");
+}
+
+report::HtmlCell ScaledCell(double v, double scale, int decimals) {
+  return std::isfinite(v) ? report::HtmlCell(FormatFixed(scale * v, decimals),
+                                             FormatShortest(v))
+                          : report::HtmlCell("n/a");
+}
+
+std::string HtmlTableMarkdown(const report::HtmlTable& t) {
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& row : t.rows) {
+    std::vector<std::string> cells;
+    for (const report::HtmlCell& c : row) cells.push_back(c.text);
+    rows.push_back(std::move(cells));
+  }
+  return MarkdownTable(t.header, rows);
+}
+
 std::string Truncate(const std::string& text, std::size_t n) {
   return text.size() <= n ? text : text.substr(0, n) + "…";
 }

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "src/report/html.h"
+
 namespace imusysid {
 namespace bench {
 namespace internal {
@@ -30,6 +32,17 @@ std::string FixedCell(double v, int decimals);
 // A Markdown table: the header, its rule, the rows (short rows padded).
 std::string MarkdownTable(const std::vector<std::string>& header,
                           const std::vector<std::vector<std::string>>& rows);
+
+// A number shown with `decimals` and kept exact in the cell's title
+// (right-aligned in HTML); "n/a" when not finite.
+report::HtmlCell NumCell(double v, int decimals);
+
+// scale × v shown with `decimals`, v itself kept exact in the cell's title
+// (a length shown in mm, kept in m); "n/a" when not finite.
+report::HtmlCell ScaledCell(double v, double scale, int decimals);
+
+// A table's shown text (its cells' text) as Markdown.
+std::string HtmlTableMarkdown(const report::HtmlTable& t);
 
 // The first n bytes of text and "…" when it is longer.
 std::string Truncate(const std::string& text, std::size_t n);
