@@ -241,14 +241,8 @@ std::string OutFolder() { return internal::WithoutTrailingSlashes(FLAGS_out); }
 int RunBench(const std::vector<std::string>& positional) {
   const std::string cmd = "bench";
   if (!FLAGS_out.empty()) {
-    // Checked before the runs: a file in the way would fail only at the end.
-    std::error_code ec;
-    const auto type = std::filesystem::status(OutFolder(), ec).type();
-    if (type != std::filesystem::file_type::not_found &&
-        type != std::filesystem::file_type::directory) {
-      return ReportError(cmd,
-                         InvalidArgumentError("--out='" + FLAGS_out +
-                                              "' exists and is not a folder"));
+    if (Status s = CheckOutputFolderTarget(FLAGS_out, OutFolder()); !s.ok()) {
+      return ReportError(cmd, s);
     }
   }
   if (FLAGS_repeats < 1 || FLAGS_repeats > 1000) {

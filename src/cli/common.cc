@@ -93,6 +93,19 @@ Status EmitOutput(const std::string& text, const std::string& path) {
   return WriteFileAtomically(path, text);
 }
 
+Status CheckOutputFolderTarget(const std::string& out_flag,
+                               const std::string& folder) {
+  if (folder.empty()) return Status::Ok();
+  std::error_code ec;
+  const auto type = std::filesystem::status(folder, ec).type();
+  if (type != std::filesystem::file_type::not_found &&
+      type != std::filesystem::file_type::directory) {
+    return InvalidArgumentError("--out='" + out_flag +
+                                "' exists and is not a folder");
+  }
+  return Status::Ok();
+}
+
 Status CheckOutputIsNotInput(const std::string& out_flag,
                              const std::string& out,
                              const std::vector<std::string>& inputs) {

@@ -87,6 +87,12 @@ Status CheckOutputIsNotInput(const std::string& out_flag,
                              const std::string& out,
                              const std::vector<std::string>& inputs);
 
+// InvalidArgument naming --out=`out_flag` when `folder` exists and is not a
+// folder: checked before long work, since a file in the way of an output
+// folder would fail only at the end.
+Status CheckOutputFolderTarget(const std::string& out_flag,
+                               const std::string& folder);
+
 // `text` with each line escaped by EscapeForDisplay (control bytes and
 // invalid UTF-8 as \xNN), the line ends kept: for tables that quote strings
 // from files (a ULog's vehicle name, a CSV's column names).

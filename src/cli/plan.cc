@@ -59,15 +59,8 @@ int RunPlan(const std::vector<std::string>& positional) {
         cmd, "--autopilot=" + FLAGS_autopilot + "; required ardupilot or px4");
   }
   const std::string out = internal::WithoutTrailingSlashes(FLAGS_out);
-  if (!out.empty()) {
-    std::error_code ec;
-    const auto type = std::filesystem::status(out, ec).type();
-    if (type != std::filesystem::file_type::not_found &&
-        type != std::filesystem::file_type::directory) {
-      return ReportError(cmd,
-                         InvalidArgumentError("--out='" + FLAGS_out +
-                                              "' exists and is not a folder"));
-    }
+  if (Status s = CheckOutputFolderTarget(FLAGS_out, out); !s.ok()) {
+    return ReportError(cmd, s);
   }
   PlanOptions3d options;
   options.target_stderr_m = Eigen::Vector3d::Constant(FLAGS_target_mm * 1e-3);
