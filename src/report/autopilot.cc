@@ -10,6 +10,7 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
+#include "src/report/json_number.h"
 #include "src/report/parameter_file.h"
 #include "src/tools/format.h"
 
@@ -202,49 +203,49 @@ StatusOr<AutopilotParameters> ToAutopilotParameters(
 }
 
 nlohmann::ordered_json AutopilotParametersToJson(const AutopilotParameters& p) {
-  auto num = [](double v) -> nlohmann::ordered_json {
-    if (!std::isfinite(v)) return nullptr;
-    return v;
-  };
   nlohmann::ordered_json j;
   j["format"] = EmitFormatToString(p.format);
   nlohmann::ordered_json params = nlohmann::ordered_json::object();
   nlohmann::ordered_json se = nlohmann::ordered_json::object();
-  for (const auto& [name, value] : p.params) params[name] = num(value);
-  for (const auto& [name, value] : p.stderrs) se[name] = num(value);
+  for (const auto& [name, value] : p.params)
+    params[name] = report::JsonNumber(value);
+  for (const auto& [name, value] : p.stderrs)
+    se[name] = report::JsonNumber(value);
   j["params"] = params;
   j["stderr"] = se;
   if (!p.withheld_reason.empty()) j["reason"] = p.withheld_reason;
   j["omitted"] = {{p.omitted_axis, p.omitted_note}};
-  j["tilt"] = {{"alpha_deg", num(p.tilt_deg)},
-               {"alpha_stderr_deg", num(p.tilt_stderr_deg)},
+  j["tilt"] = {{"alpha_deg", report::JsonNumber(p.tilt_deg)},
+               {"alpha_stderr_deg", report::JsonNumber(p.tilt_stderr_deg)},
                {"trim_parameter", p.trim_parameter},
-               {"trim_value", num(p.trim_value)},
+               {"trim_value", report::JsonNumber(p.trim_value)},
                {"trim_unit", p.trim_unit},
                {"note", p.trim_note}};
   if (!p.trims.empty()) {
     nlohmann::ordered_json trims = nlohmann::ordered_json::array();
     for (const AutopilotTrim& t : p.trims) {
-      trims.push_back({{"parameter", t.parameter},
-                       {"unit", t.unit},
-                       {"decision", t.given ? "given" : "withheld"},
-                       {"reason", t.reason},
-                       {"note", t.note},
-                       {"tilt_deg", num(t.tilt_deg)},
-                       {"tilt_stderr_deg", num(t.tilt_stderr_deg)},
-                       {"increment", t.increment},
-                       {"change", num(t.change)},
-                       {"stderr", num(t.stderr)},
-                       {"current", num(t.current)},
-                       {"value", num(t.value)}});
+      trims.push_back(
+          {{"parameter", t.parameter},
+           {"unit", t.unit},
+           {"decision", t.given ? "given" : "withheld"},
+           {"reason", t.reason},
+           {"note", t.note},
+           {"tilt_deg", report::JsonNumber(t.tilt_deg)},
+           {"tilt_stderr_deg", report::JsonNumber(t.tilt_stderr_deg)},
+           {"increment", t.increment},
+           {"change", report::JsonNumber(t.change)},
+           {"stderr", report::JsonNumber(t.stderr)},
+           {"current", report::JsonNumber(t.current)},
+           {"value", report::JsonNumber(t.value)}});
     }
     j["trims"] = trims;
   }
   if (!p.current.empty() || std::isfinite(p.trim_current)) {
     nlohmann::ordered_json current = nlohmann::ordered_json::object();
-    for (const auto& [name, value] : p.current) current[name] = num(value);
+    for (const auto& [name, value] : p.current)
+      current[name] = report::JsonNumber(value);
     j["current"] = current;
-    j["tilt"]["trim_current"] = num(p.trim_current);
+    j["tilt"]["trim_current"] = report::JsonNumber(p.trim_current);
   }
   j["snippet"] = p.snippet;
   return j;

@@ -7,6 +7,7 @@
 #include "imusysid/parameters.h"
 #include "imusysid/plan3d.h"
 #include "nlohmann/json.hpp"
+#include "src/report/json_number.h"
 #include "src/report/parameter_file.h"
 #include "src/tools/format.h"
 
@@ -117,18 +118,6 @@ std::string Px4Procedure(const FlightPlan3d& plan) {
   return o.str();
 }
 
-nlohmann::ordered_json PlanVec3Json(const Eigen::Vector3d& v) {
-  nlohmann::ordered_json a = nlohmann::ordered_json::array();
-  for (int i = 0; i < 3; ++i) {
-    if (std::isfinite(v[i])) {
-      a.push_back(v[i]);
-    } else {
-      a.push_back(nullptr);
-    }
-  }
-  return a;
-}
-
 }  // namespace
 
 int SidAxisOf(const ExcitationSegment3d& segment) {
@@ -182,11 +171,11 @@ nlohmann::ordered_json PlanResult3dToJson(const PlanResult3d& r) {
   nlohmann::ordered_json j = FlightPlan3dToJson(r.plan);
   j["reached"] = r.reached;
   if (!r.reached) j["shortfall"] = r.shortfall;
-  j["predicted_statistical_m"] = PlanVec3Json(r.predicted_statistical_m);
-  j["predicted_systematic_m"] = PlanVec3Json(r.predicted_systematic_m);
+  j["predicted_statistical_m"] = report::JsonVector3(r.predicted_statistical_m);
+  j["predicted_systematic_m"] = report::JsonVector3(r.predicted_systematic_m);
   if (r.has_source) {
     j["source_instance"] = r.source_instance;
-    j["source_stderr_m"] = PlanVec3Json(r.source_stderr_m);
+    j["source_stderr_m"] = report::JsonVector3(r.source_stderr_m);
     nlohmann::ordered_json given = nlohmann::ordered_json::array();
     for (bool d : r.source_determined) given.push_back(d);
     j["source_determined"] = given;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "src/report/json_number.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
@@ -21,11 +22,6 @@ std::string PooledTextMm(double metres) {
   return FormatFixed(metres * 1e3, 1, NonFiniteStyle::kPrintf);
 }
 
-nlohmann::ordered_json PooledJsonNum(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  return v;
-}
-
 }  // namespace
 
 nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
@@ -34,8 +30,8 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
   nlohmann::ordered_json se = nlohmann::ordered_json::array();
   nlohmann::ordered_json determined = nlohmann::ordered_json::array();
   for (const PooledAxis& a : imu.axes) {
-    p.push_back(a.determined ? PooledJsonNum(a.position_m) : nullptr);
-    se.push_back(PooledJsonNum(a.stderr_m));
+    p.push_back(a.determined ? report::JsonNumber(a.position_m) : nullptr);
+    se.push_back(report::JsonNumber(a.stderr_m));
     determined.push_back(a.determined);
   }
   j["imu_position_frd_m"] = p;
@@ -53,14 +49,14 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
     d["reason"] = axis.reason;
     d["pool_only"] = axis.pool_only;
     d["advice"] = axis.advice;
-    d["pooled_m"] = PooledJsonNum(axis.position_m);
-    d["stderr_m"] = PooledJsonNum(axis.stderr_m);
-    d["stderr_statistical_m"] = PooledJsonNum(axis.stderr_statistical_m);
-    d["stderr_systematic_m"] = PooledJsonNum(axis.stderr_systematic_m);
+    d["pooled_m"] = report::JsonNumber(axis.position_m);
+    d["stderr_m"] = report::JsonNumber(axis.stderr_m);
+    d["stderr_statistical_m"] = report::JsonNumber(axis.stderr_statistical_m);
+    d["stderr_systematic_m"] = report::JsonNumber(axis.stderr_systematic_m);
     d["flights_pooled"] = axis.flights;
-    d["chi_square"] = PooledJsonNum(axis.chi_square);
+    d["chi_square"] = report::JsonNumber(axis.chi_square);
     d["dof"] = axis.dof;
-    d["p_value"] = PooledJsonNum(axis.p_value);
+    d["p_value"] = report::JsonNumber(axis.p_value);
     nlohmann::ordered_json flights = nlohmann::ordered_json::array();
     for (const PooledImuPosition3d::Flight& f : imu.flights) {
       const PooledFlightAxis& part = f.axes[i];
@@ -68,10 +64,10 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
           {{"log", f.source},
            {"reason", part.reason},
            {"entered", part.entered},
-           {"fitted_m", PooledJsonNum(part.position_m)},
-           {"stderr_m", PooledJsonNum(part.stderr_m)},
-           {"deviation_sigmas", PooledJsonNum(part.deviation_sigmas)},
-           {"chi_square_term", PooledJsonNum(part.chi_square_term)},
+           {"fitted_m", report::JsonNumber(part.position_m)},
+           {"stderr_m", report::JsonNumber(part.stderr_m)},
+           {"deviation_sigmas", report::JsonNumber(part.deviation_sigmas)},
+           {"chi_square_term", report::JsonNumber(part.chi_square_term)},
            {"disagrees", part.disagrees}});
     }
     d["flights"] = std::move(flights);
@@ -85,8 +81,8 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
   tilt["reason"] = m.reason;
   tilt["advice"] = m.advice;
   auto angles = [](const Eigen::Vector2d& v) {
-    return nlohmann::ordered_json{{"roll", PooledJsonNum(v[0])},
-                                  {"pitch", PooledJsonNum(v[1])}};
+    return nlohmann::ordered_json{{"roll", report::JsonNumber(v[0])},
+                                  {"pitch", report::JsonNumber(v[1])}};
   };
   tilt["misalignment_deg"] = angles(m.angle_deg);
   tilt["misalignment_stderr_deg"] = angles(m.stderr_deg);
@@ -111,9 +107,9 @@ nlohmann::ordered_json PooledToJson(const PooledImuPosition3d& imu) {
       {"shared_parameters",
        given ? std::vector<std::string>{"x", "y", "z", "e_x", "e_y"}
              : std::vector<std::string>{"x", "y", "z"}},
-      {"chi_square", PooledJsonNum(imu.joint_chi_square)},
+      {"chi_square", report::JsonNumber(imu.joint_chi_square)},
       {"dof", imu.joint_dof},
-      {"p_value", PooledJsonNum(imu.joint_p_value)}};
+      {"p_value", report::JsonNumber(imu.joint_p_value)}};
   return j;
 }
 

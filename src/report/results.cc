@@ -9,16 +9,11 @@
 #include "imusysid/parameter_info.h"
 #include "imusysid/parameters.h"
 #include "imusysid/report.h"
+#include "src/report/json_number.h"
 #include "src/tools/format.h"
 
 namespace imusysid {
 namespace {
-
-// JSON has no NaN/Inf: those become null.
-nlohmann::ordered_json Num(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  return v;
-}
 
 std::string ParamKey(const std::string& name, const std::string& unit) {
   if (unit == "m") return name + "_m";
@@ -47,7 +42,7 @@ nlohmann::ordered_json FrdPosition(const EstimateResult& result,
   const std::vector<ParameterInfo>& info = result.parameter_info;
   const Eigen::VectorXd& x = result.parameters;
   auto value = [&](double v) {
-    return identifiable ? Num(v) : nlohmann::ordered_json();
+    return identifiable ? report::JsonNumber(v) : nlohmann::ordered_json();
   };
   if (HasPlanarLeverArm(info)) {
     ImuParameters lever_arm;
@@ -93,7 +88,7 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
     if (info[i].nuisance) continue;
     const bool shown = RoleIsImuPlacement(info[i].role) ? identifiable : usable;
     j[ParamKey(info[i].name, info[i].unit)] =
-        shown ? Num(x[static_cast<Eigen::Index>(i)]) : nullptr;
+        shown ? report::JsonNumber(x[static_cast<Eigen::Index>(i)]) : nullptr;
   }
   j["identifiable"] = identifiable;
   nlohmann::ordered_json raw = nlohmann::ordered_json::object();
@@ -101,9 +96,9 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
   for (std::size_t i = 0; i < info.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     const std::string key = ParamKey(info[i].name, info[i].unit);
-    if (usable) raw[key] = Num(x[k]);
+    if (usable) raw[key] = report::JsonNumber(x[k]);
     if (usable && k < result.standard_errors.size()) {
-      se[key] = Num(result.standard_errors[k]);
+      se[key] = report::JsonNumber(result.standard_errors[k]);
     }
   }
   j["stderr"] = se;
@@ -122,17 +117,18 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
     nlohmann::ordered_json position = FrdPosition(result, identifiable);
     if (!position.is_null()) j["imu_position_frd_m"] = std::move(position);
   }
-  j["rmse"] = Num(result.rmse);
-  j["final_cost"] = Num(result.final_cost);
-  j["initial_cost"] = result.initial_cost >= 0 ? Num(result.initial_cost)
-                                               : nlohmann::ordered_json();
+  j["rmse"] = report::JsonNumber(result.rmse);
+  j["final_cost"] = report::JsonNumber(result.final_cost);
+  j["initial_cost"] = result.initial_cost >= 0
+                          ? report::JsonNumber(result.initial_cost)
+                          : nlohmann::ordered_json();
   j["evaluations"] = result.cost_evaluations;
   j["jacobian_evaluations"] = result.jacobian_evaluations;
   j["iterations"] = result.iterations;
   j["wall_ms"] = 1000.0 * result.wall_time_s;
   j["termination"] = TerminationToString(result.termination);
   j["message"] = result.message;
-  j["condition_number"] = Num(result.condition_number);
+  j["condition_number"] = report::JsonNumber(result.condition_number);
   nlohmann::ordered_json warnings = nlohmann::ordered_json::array();
   for (const auto& w : result.warnings) {
     warnings.push_back({{"code", w.code}, {"message", w.message}});
@@ -145,14 +141,14 @@ nlohmann::ordered_json ResultToJson(const EstimateResult& result,
   if (context.include_trace) {
     nlohmann::ordered_json trace = nlohmann::ordered_json::array();
     for (const auto& t : result.trace) {
-      trace.push_back(
-          {{"phase", t.phase},
-           {"iteration", t.iteration},
-           {"evaluations", t.evaluations},
-           {"elapsed_s", t.elapsed_s},
-           {"best_cost", Num(t.best_cost)},
-           {"mean_cost",
-            t.mean_cost >= 0 ? Num(t.mean_cost) : nlohmann::ordered_json()}});
+      trace.push_back({{"phase", t.phase},
+                       {"iteration", t.iteration},
+                       {"evaluations", t.evaluations},
+                       {"elapsed_s", t.elapsed_s},
+                       {"best_cost", report::JsonNumber(t.best_cost)},
+                       {"mean_cost",
+                        t.mean_cost >= 0 ? report::JsonNumber(t.mean_cost)
+                                         : nlohmann::ordered_json()}});
     }
     j["trace"] = trace;
   }

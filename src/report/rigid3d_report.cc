@@ -15,6 +15,7 @@
 #include "imusysid/parameters.h"
 #include "imusysid/rigid3d.h"
 #include "src/analyse/change3d_limits.h"
+#include "src/report/json_number.h"
 #include "src/report/parameter_file.h"
 #include "src/tools/format.h"
 
@@ -26,11 +27,6 @@ const char* const kAxisNames[3] = {"x", "y", "z"};
 
 std::string Mm(double metres) { return FormatFixed(metres * 1e3, 1, kQuoted); }
 
-nlohmann::ordered_json Num(double v) {
-  if (!std::isfinite(v)) return nullptr;
-  return v;
-}
-
 }  // namespace
 
 nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
@@ -41,15 +37,17 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   nlohmann::ordered_json advice = nlohmann::ordered_json::array();
   for (int a = 0; a < 3; ++a) {
     const auto i = static_cast<std::size_t>(a);
-    p.push_back(r.determined[i] ? Num(r.position_m[a]) : nullptr);
-    se.push_back(Num(r.stderr_m[a]));
+    p.push_back(r.determined[i] ? report::JsonNumber(r.position_m[a])
+                                : nullptr);
+    se.push_back(report::JsonNumber(r.stderr_m[a]));
     determined.push_back(r.determined[i]);
     advice.push_back(r.advice[i]);
   }
   j["imu_position_frd_m"] = p;
   j["imu_position_frd_stderr_m"] = se;
   nlohmann::ordered_json predicted = nlohmann::ordered_json::array();
-  for (int a = 0; a < 3; ++a) predicted.push_back(Num(r.predicted_stderr_m[a]));
+  for (int a = 0; a < 3; ++a)
+    predicted.push_back(report::JsonNumber(r.predicted_stderr_m[a]));
   j["predicted_stderr_m"] = predicted;
   j["warnings"] = r.warnings;
   j["instance"] = r.instance;
@@ -60,36 +58,42 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["advice"] = advice;
   // The fitted value of every axis, determined or not, for research use.
   nlohmann::ordered_json raw = nlohmann::ordered_json::array();
-  for (int a = 0; a < 3; ++a) raw.push_back(Num(r.position_m[a]));
+  for (int a = 0; a < 3; ++a)
+    raw.push_back(report::JsonNumber(r.position_m[a]));
   j["fitted_position_frd_m"] = raw;
-  j["rmse_m_s2"] = Num(r.rmse);
-  j["signal_rms_m_s2"] = Num(r.signal_rms);
-  j["in_band"] = {{"low_hz", Num(r.in_band.low_hz)},
-                  {"residual_rms_m_s2", Num(r.in_band.residual_rms)},
-                  {"signal_rms_m_s2", Num(r.in_band.signal_rms)}};
+  j["rmse_m_s2"] = report::JsonNumber(r.rmse);
+  j["signal_rms_m_s2"] = report::JsonNumber(r.signal_rms);
+  j["in_band"] = {
+      {"low_hz", report::JsonNumber(r.in_band.low_hz)},
+      {"residual_rms_m_s2", report::JsonNumber(r.in_band.residual_rms)},
+      {"signal_rms_m_s2", report::JsonNumber(r.in_band.signal_rms)}};
   j["samples"] = r.samples;
   nlohmann::ordered_json windows = nlohmann::ordered_json::array();
   for (const Stretch3d& w : r.windows) {
     windows.push_back({{"t0_s", w.t0}, {"t1_s", w.t1}, {"samples", w.samples}});
   }
   j["windows"] = windows;
-  j["estimator_delay_s"] = Num(r.estimator_delay_s);
+  j["estimator_delay_s"] = report::JsonNumber(r.estimator_delay_s);
   j["estimator_delay_estimated"] = r.delay_estimated;
-  j["estimator_delay_plausible_s"] = {Num(r.estimator_delay_low_s),
-                                      Num(r.estimator_delay_high_s)};
-  j["rotor_drag_per_s"] = Num(r.rotor_drag_per_s);
-  j["mu_per_m"] = Num(r.mu_per_m);
-  j["accel_bias_xy_m_s2"] = {Num(r.bias_m_s2[0]), Num(r.bias_m_s2[1])};
-  j["misalignment_deg"] = {{"roll", Num(r.misalignment_roll_deg)},
-                           {"pitch", Num(r.misalignment_pitch_deg)}};
-  j["misalignment_stderr_deg"] = {{"roll", Num(r.misalignment_stderr_deg[0])},
-                                  {"pitch", Num(r.misalignment_stderr_deg[1])}};
+  j["estimator_delay_plausible_s"] = {
+      report::JsonNumber(r.estimator_delay_low_s),
+      report::JsonNumber(r.estimator_delay_high_s)};
+  j["rotor_drag_per_s"] = report::JsonNumber(r.rotor_drag_per_s);
+  j["mu_per_m"] = report::JsonNumber(r.mu_per_m);
+  j["accel_bias_xy_m_s2"] = {report::JsonNumber(r.bias_m_s2[0]),
+                             report::JsonNumber(r.bias_m_s2[1])};
+  j["misalignment_deg"] = {
+      {"roll", report::JsonNumber(r.misalignment_roll_deg)},
+      {"pitch", report::JsonNumber(r.misalignment_pitch_deg)}};
+  j["misalignment_stderr_deg"] = {
+      {"roll", report::JsonNumber(r.misalignment_stderr_deg[0])},
+      {"pitch", report::JsonNumber(r.misalignment_stderr_deg[1])}};
   j["misalignment_stderr_statistical_deg"] = {
-      {"roll", Num(r.misalignment_stderr_statistical_deg[0])},
-      {"pitch", Num(r.misalignment_stderr_statistical_deg[1])}};
+      {"roll", report::JsonNumber(r.misalignment_stderr_statistical_deg[0])},
+      {"pitch", report::JsonNumber(r.misalignment_stderr_statistical_deg[1])}};
   j["misalignment_stderr_systematic_deg"] = {
-      {"roll", Num(r.misalignment_stderr_systematic_deg[0])},
-      {"pitch", Num(r.misalignment_stderr_systematic_deg[1])}};
+      {"roll", report::JsonNumber(r.misalignment_stderr_systematic_deg[0])},
+      {"pitch", report::JsonNumber(r.misalignment_stderr_systematic_deg[1])}};
   // The tilt as trims, angle by angle: the decision with its evidence, and
   // what each autopilot is to be told (null where withheld): ArduPilot's
   // whole AHRS_TRIM_X/Y in rad, the change to PX4's SENS_BOARD_X/Y_OFF in
@@ -105,50 +109,55 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
     nlohmann::ordered_json evidence = nlohmann::ordered_json::array();
     for (const Rigid3dGate& g : d.evidence) {
       evidence.push_back({{"gate", g.gate},
-                          {"statistic", Num(g.statistic)},
-                          {"threshold", Num(g.threshold)},
+                          {"statistic", report::JsonNumber(g.statistic)},
+                          {"threshold", report::JsonNumber(g.threshold)},
                           {"passed", g.passed}});
     }
-    tilt_decisions.push_back({{"angle", a == 0 ? "roll" : "pitch"},
-                              {"decision", d.determined ? "given" : "withheld"},
-                              {"reason", d.reason},
-                              {"advice", d.advice},
-                              {"fitted_deg", Num(tilt)},
-                              {"stderr_deg", Num(r.misalignment_stderr_deg[a])},
-                              {"evidence", std::move(evidence)}});
+    tilt_decisions.push_back(
+        {{"angle", a == 0 ? "roll" : "pitch"},
+         {"decision", d.determined ? "given" : "withheld"},
+         {"reason", d.reason},
+         {"advice", d.advice},
+         {"fitted_deg", report::JsonNumber(tilt)},
+         {"stderr_deg", report::JsonNumber(r.misalignment_stderr_deg[a])},
+         {"evidence", std::move(evidence)}});
     const std::string axis(1, a == 0 ? 'X' : 'Y');
     ardupilot["AHRS_TRIM_" + axis] =
-        d.determined ? Num(tilt * kDegToRad) : nullptr;
-    px4["SENS_BOARD_" + axis + "_OFF"] = d.determined ? Num(tilt) : nullptr;
+        d.determined ? report::JsonNumber(tilt * kDegToRad) : nullptr;
+    px4["SENS_BOARD_" + axis + "_OFF"] =
+        d.determined ? report::JsonNumber(tilt) : nullptr;
   }
   j["misalignment_decisions"] = tilt_decisions;
   j["trims"] = {
       {"ardupilot_rad", ardupilot},
       {"ardupilot_stderr_rad",
-       {Num(r.misalignment_stderr_deg[0] * kDegToRad),
-        Num(r.misalignment_stderr_deg[1] * kDegToRad)}},
+       {report::JsonNumber(r.misalignment_stderr_deg[0] * kDegToRad),
+        report::JsonNumber(r.misalignment_stderr_deg[1] * kDegToRad)}},
       {"px4_change_deg", px4},
       {"px4_stderr_deg",
-       {Num(r.misalignment_stderr_deg[0]), Num(r.misalignment_stderr_deg[1])}}};
+       {report::JsonNumber(r.misalignment_stderr_deg[0]),
+        report::JsonNumber(r.misalignment_stderr_deg[1])}}};
   // Which axes the positions above are in, and the fit in the thrust frame.
   j["position_axes"] =
       "imu: the IMU's own axes as the autopilot applies them (after its "
       "board rotation), as EKF2_IMU_POS_* and INS_POSn_* take them";
   j["fitted_position_thrust_frd_m"] = {
-      Num(r.fitted_position_thrust_frame_m[0]),
-      Num(r.fitted_position_thrust_frame_m[1]),
-      Num(r.fitted_position_thrust_frame_m[2])};
-  j["wind_ne_m_s"] = {Num(r.wind_ne_m_s[0]), Num(r.wind_ne_m_s[1])};
+      report::JsonNumber(r.fitted_position_thrust_frame_m[0]),
+      report::JsonNumber(r.fitted_position_thrust_frame_m[1]),
+      report::JsonNumber(r.fitted_position_thrust_frame_m[2])};
+  j["wind_ne_m_s"] = {report::JsonNumber(r.wind_ne_m_s[0]),
+                      report::JsonNumber(r.wind_ne_m_s[1])};
   nlohmann::ordered_json baselines = nlohmann::ordered_json::array();
   for (const ImuPosition3d::Baseline& b : r.baselines) {
-    baselines.push_back(
-        {{"to_instance", b.to_instance},
-         {"difference_frd_m",
-          {Num(b.difference_m[0]),
-           Num(b.difference_m[1]),
-           Num(b.difference_m[2])}},
-         {"stderr_m",
-          {Num(b.stderr_m[0]), Num(b.stderr_m[1]), Num(b.stderr_m[2])}}});
+    baselines.push_back({{"to_instance", b.to_instance},
+                         {"difference_frd_m",
+                          {report::JsonNumber(b.difference_m[0]),
+                           report::JsonNumber(b.difference_m[1]),
+                           report::JsonNumber(b.difference_m[2])}},
+                         {"stderr_m",
+                          {report::JsonNumber(b.stderr_m[0]),
+                           report::JsonNumber(b.stderr_m[1]),
+                           report::JsonNumber(b.stderr_m[2])}}});
   }
   j["baselines"] = baselines;
   // Per axis, why it is given or withheld, with each gate's number and
@@ -162,14 +171,15 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
     for (const Rigid3dGate& g : d.evidence) {
       nlohmann::ordered_json e;
       e["gate"] = g.gate;
-      e["statistic"] = Num(g.statistic);
-      e["threshold"] = Num(g.threshold);
+      e["statistic"] = report::JsonNumber(g.statistic);
+      e["threshold"] = report::JsonNumber(g.threshold);
       e["passed"] = g.passed;
       if (g.gate == "window_agreement" || g.gate == "halves_agreement" ||
           g.gate == "position_change") {
-        e["difference_m"] = Num(g.difference_m);
-        e["min_difference_m"] = Num(g.min_difference_m);
-        e["window_s"] = {Num(g.window_t0_s), Num(g.window_t1_s)};
+        e["difference_m"] = report::JsonNumber(g.difference_m);
+        e["min_difference_m"] = report::JsonNumber(g.min_difference_m);
+        e["window_s"] = {report::JsonNumber(g.window_t0_s),
+                         report::JsonNumber(g.window_t1_s)};
       }
       evidence.push_back(std::move(e));
     }
@@ -178,10 +188,10 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
     one["decision"] = r.determined[i] ? "given" : "withheld";
     one["reason"] = d.reason;
     one["advice"] = r.advice[i];
-    one["fitted_m"] = Num(r.position_m[a]);
-    one["stderr_m"] = Num(r.stderr_m[a]);
-    one["stderr_statistical_m"] = Num(d.stderr_statistical_m);
-    one["stderr_systematic_m"] = Num(d.stderr_systematic_m);
+    one["fitted_m"] = report::JsonNumber(r.position_m[a]);
+    one["stderr_m"] = report::JsonNumber(r.stderr_m[a]);
+    one["stderr_statistical_m"] = report::JsonNumber(d.stderr_statistical_m);
+    one["stderr_systematic_m"] = report::JsonNumber(d.stderr_systematic_m);
     one["evidence"] = std::move(evidence);
     decisions.push_back(std::move(one));
   }
@@ -190,25 +200,27 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   // across each choice's range.
   nlohmann::ordered_json systematic = nlohmann::ordered_json::array();
   auto vector = [](const Eigen::Vector3d& v) {
-    return nlohmann::ordered_json{Num(v[0]), Num(v[1]), Num(v[2])};
+    return nlohmann::ordered_json{report::JsonNumber(v[0]),
+                                  report::JsonNumber(v[1]),
+                                  report::JsonNumber(v[2])};
   };
   for (const ChoiceSensitivity3d& c : r.sensitivity) {
     nlohmann::ordered_json one;
     one["choice"] = c.choice;
-    one["used"] = Num(c.used);
-    one["range"] = {Num(c.low), Num(c.high)};
+    one["used"] = report::JsonNumber(c.used);
+    one["range"] = {report::JsonNumber(c.low), report::JsonNumber(c.high)};
     one["shift_at_low_frd_m"] = vector(c.shift_low_m);
     one["shift_at_high_frd_m"] = vector(c.shift_high_m);
     one["stderr_frd_m"] = vector(c.stderr_m);
     one["misalignment_shift_at_low_deg"] = {
-        {"roll", Num(c.misalignment_shift_low_deg[0])},
-        {"pitch", Num(c.misalignment_shift_low_deg[1])}};
+        {"roll", report::JsonNumber(c.misalignment_shift_low_deg[0])},
+        {"pitch", report::JsonNumber(c.misalignment_shift_low_deg[1])}};
     one["misalignment_shift_at_high_deg"] = {
-        {"roll", Num(c.misalignment_shift_high_deg[0])},
-        {"pitch", Num(c.misalignment_shift_high_deg[1])}};
+        {"roll", report::JsonNumber(c.misalignment_shift_high_deg[0])},
+        {"pitch", report::JsonNumber(c.misalignment_shift_high_deg[1])}};
     one["misalignment_stderr_deg"] = {
-        {"roll", Num(c.misalignment_stderr_deg[0])},
-        {"pitch", Num(c.misalignment_stderr_deg[1])}};
+        {"roll", report::JsonNumber(c.misalignment_stderr_deg[0])},
+        {"pitch", report::JsonNumber(c.misalignment_stderr_deg[1])}};
     systematic.push_back(std::move(one));
   }
   j["systematic_sensitivity"] = systematic;
@@ -217,17 +229,17 @@ nlohmann::ordered_json Rigid3dToJson(const ImuPosition3d& r) {
   j["position_change"] = {
       {"tested", c.tested},
       {"found", c.found},
-      {"t_s", Num(c.t_s)},
+      {"t_s", report::JsonNumber(c.t_s)},
       {"before_frd_m", vector(c.before_m)},
       {"before_stderr_m", vector(c.before_stderr_m)},
       {"after_frd_m", vector(c.after_m)},
       {"after_stderr_m", vector(c.after_stderr_m)},
       {"judged", {c.judged[0], c.judged[1], c.judged[2]}},
-      {"chi_square", Num(c.chi_square)},
+      {"chi_square", report::JsonNumber(c.chi_square)},
       {"dof", c.dof},
-      {"p_value_over_splits", Num(c.p_value_adjusted)},
+      {"p_value_over_splits", report::JsonNumber(c.p_value_adjusted)},
       {"splits", c.splits},
-      {"largest_difference_m", Num(c.largest_difference_m)},
+      {"largest_difference_m", report::JsonNumber(c.largest_difference_m)},
       {"threshold_p", internal::kChangeAlpha},
       {"min_difference_m", internal::kChangeMinDifferenceM}};
   return j;
