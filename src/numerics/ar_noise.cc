@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
@@ -82,63 +83,126 @@ StatusOr<ArNoise> FitArNoise(const Eigen::VectorXd& series, int max_order) {
   return full;
 }
 
-Eigen::MatrixXd PrewhitenAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
-  const int q = noise.order();
-  // Time along the columns, so that each step reads contiguous samples.
-  const Eigen::MatrixXd in = m.transpose();
-  Eigen::MatrixXd out(in.rows(), in.cols());
-  Eigen::VectorXd acc(in.rows());
-  for (Eigen::Index t = 0; t < in.cols(); ++t) {
-    // Sample t is predicted from its min(t, q) predecessors: the innovations
-    // form of the exact Gaussian likelihood (L is the Cholesky factor of
-    // Σ⁻¹ read backwards).
-    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
-    const std::vector<double>& phi = noise.predictors[k];
-    acc = in.col(t);
-    for (std::size_t j = 1; j <= k; ++j) {
-      acc.noalias() -= phi[j - 1] * in.col(t - static_cast<Eigen::Index>(j));
-    }
-    out.col(t) = acc / std::sqrt(noise.variances[k]);
-  }
-  return out.transpose();
-}
+namespace {
 
-Eigen::MatrixXd ColorAr(const Eigen::MatrixXd& m, const ArNoise& noise) {
-  // Lᵀ z = m with L_tt = 1/s_t and L_{t,t−j} = −φ⁽ᵏ⁽ᵗ⁾⁾_j / s_t
-  // (s_t = √v_k(t), k(t) = min(t, q)): from the last row back,
-  // z_s = s_s (m_s + Σ_{t=s+1..s+q} φ⁽ᵏ⁽ᵗ⁾⁾_{t−s} z_t / s_t).
+// Samples whitened at a time in PrewhitenAr: the tile and its q
+// predecessors stay in the first-level cache while each lag passes over it.
+constexpr Eigen::Index kArPrewhitenTile = 256;
+
+// One step of ColorAr's back substitution for a row of `Cols` columns
+// (padded to `stride`): acc += Σ_t coefficient_t z_t over the later rows, in
+// the order of t, as the loop over columns of a general width does it (the
+// same sums, so the same bits, whatever the width).
+template <int Cols>
+void ArColorRows(const Eigen::Ref<const Eigen::MatrixXd>& m,
+                 const ArNoise& noise,
+                 Eigen::Index stride,
+                 double* scaled) {
   const int q = noise.order();
-  const Eigen::MatrixXd in = m.transpose();
-  const Eigen::Index n = in.cols();
-  Eigen::MatrixXd scaled(in.rows(), n);  // z_t / s_t
-  Eigen::VectorXd acc(in.rows());
+  const Eigen::Index n = m.rows();
+  const Eigen::Index cols = Cols > 0 ? Cols : m.cols();
+  const Eigen::Index outer = m.outerStride();
+  const double* in = m.data();
+  std::vector<double> acc_buffer(static_cast<std::size_t>(stride));
+  double* acc = acc_buffer.data();
   for (Eigen::Index s = n - 1; s >= 0; --s) {
-    acc = in.col(s);
+    for (Eigen::Index i = 0; i < cols; ++i) acc[i] = in[s + i * outer];
     const Eigen::Index last = std::min<Eigen::Index>(s + q, n - 1);
     for (Eigen::Index t = s + 1; t <= last; ++t) {
       const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
-      acc.noalias() +=
-          noise.predictors[k][static_cast<std::size_t>(t - s - 1)] *
-          scaled.col(t);
+      const double c = noise.predictors[k][static_cast<std::size_t>(t - s - 1)];
+      const double* z = scaled + t * stride;
+      for (Eigen::Index i = 0; i < cols; ++i) acc[i] += c * z[i];
     }
-    scaled.col(s) = acc;
+    double* out = scaled + s * stride;
+    for (Eigen::Index i = 0; i < cols; ++i) out[i] = acc[i];
   }
-  Eigen::MatrixXd out(n, in.rows());
-  for (Eigen::Index s = 0; s < n; ++s) {
-    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(s, q));
-    out.row(s) = std::sqrt(noise.variances[k]) * scaled.col(s).transpose();
+}
+
+}  // namespace
+
+Eigen::MatrixXd PrewhitenAr(const Eigen::Ref<const Eigen::MatrixXd>& m,
+                            const ArNoise& noise) {
+  // Sample t is predicted from its min(t, q) predecessors: the innovations
+  // form of the exact Gaussian likelihood (L is the Cholesky factor of
+  // Σ⁻¹ read backwards). Each column alone, along time (contiguous), each
+  // sample's lags subtracted in order of lag.
+  const int q = noise.order();
+  const Eigen::Index n = m.rows();
+  Eigen::MatrixXd out(n, m.cols());
+  const Eigen::Index head = std::min<Eigen::Index>(n, q);
+  const std::vector<double>& phi = noise.predictors.back();
+  const double scale = std::sqrt(noise.variances.back());
+  double acc[kArPrewhitenTile];
+  for (Eigen::Index c = 0; c < m.cols(); ++c) {
+    const double* x = m.data() + c * m.outerStride();
+    double* y = out.data() + c * out.outerStride();
+    // The first q samples, each with the predictor of its own length.
+    for (Eigen::Index t = 0; t < head; ++t) {
+      const auto k = static_cast<std::size_t>(t);
+      const std::vector<double>& phi_k = noise.predictors[k];
+      double a = x[t];
+      for (std::size_t j = 1; j <= k; ++j) {
+        a -= phi_k[j - 1] * x[t - static_cast<Eigen::Index>(j)];
+      }
+      y[t] = a / std::sqrt(noise.variances[k]);
+    }
+    for (Eigen::Index t0 = head; t0 < n; t0 += kArPrewhitenTile) {
+      const Eigen::Index len = std::min(kArPrewhitenTile, n - t0);
+      for (Eigen::Index u = 0; u < len; ++u) acc[u] = x[t0 + u];
+      for (int j = 1; j <= q; ++j) {
+        const double p = phi[static_cast<std::size_t>(j - 1)];
+        const double* xs = x + t0 - j;
+        for (Eigen::Index u = 0; u < len; ++u) acc[u] -= p * xs[u];
+      }
+      for (Eigen::Index u = 0; u < len; ++u) y[t0 + u] = acc[u] / scale;
+    }
   }
   return out;
 }
 
-Eigen::MatrixXd ArInformation(const Eigen::MatrixXd& a, const ArNoise& noise) {
+Eigen::MatrixXd ColorAr(const Eigen::Ref<const Eigen::MatrixXd>& m,
+                        const ArNoise& noise) {
+  // Lᵀ z = m with L_tt = 1/s_t and L_{t,t−j} = −φ⁽ᵏ⁽ᵗ⁾⁾_j / s_t
+  // (s_t = √v_k(t), k(t) = min(t, q)): from the last row back,
+  // z_s = s_s (m_s + Σ_{t=s+1..s+q} φ⁽ᵏ⁽ᵗ⁾⁾_{t−s} z_t / s_t).
+  // z_t / s_t is kept time-major (a sample's columns side by side, padded
+  // to an even count) so that each step reads the later samples in order.
+  const int q = noise.order();
+  const Eigen::Index n = m.rows();
+  const Eigen::Index cols = m.cols();
+  const Eigen::Index stride = (cols + 1) / 2 * 2;
+  std::vector<double> scaled(static_cast<std::size_t>(stride * n), 0.0);
+  switch (cols) {
+    case 11:
+      ArColorRows<11>(m, noise, stride, scaled.data());
+      break;
+    case 12:
+      ArColorRows<12>(m, noise, stride, scaled.data());
+      break;
+    default:
+      ArColorRows<0>(m, noise, stride, scaled.data());
+      break;
+  }
+  Eigen::MatrixXd out(n, cols);
+  for (Eigen::Index s = 0; s < n; ++s) {
+    const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(s, q));
+    const double root = std::sqrt(noise.variances[k]);
+    const double* z = scaled.data() + s * stride;
+    for (Eigen::Index i = 0; i < cols; ++i) out(s, i) = root * z[i];
+  }
+  return out;
+}
+
+Eigen::MatrixXd ArInformation(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                              const ArNoise& noise) {
   const Eigen::MatrixXd w = PrewhitenAr(a, noise);
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(a.cols(), a.cols());
   out.selfadjointView<Eigen::Lower>().rankUpdate(w.transpose());
   return out.selfadjointView<Eigen::Lower>();
 }
 
-Eigen::MatrixXd ArScoreCovariance(const Eigen::MatrixXd& a,
+Eigen::MatrixXd ArScoreCovariance(const Eigen::Ref<const Eigen::MatrixXd>& a,
                                   const ArNoise& noise) {
   const Eigen::MatrixXd z = ColorAr(a, noise);
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(a.cols(), a.cols());
