@@ -38,6 +38,22 @@ Rigid3dImuModel::Rigid3dImuModel(std::shared_ptr<const ProblemData> data)
   for (std::size_t k = 0; k < this->data().size(); ++k) {
     if (m.fitted.empty() || m.fitted[k] != 0) ++num_fitted_;
   }
+  const Eigen::Index rows = 2 * num_fitted_;
+  a_.resize(rows, kM);
+  Eigen::Index row = 0;
+  for (std::size_t i = 0; i < this->data().size(); ++i) {
+    if (!(m.fitted.empty() || m.fitted[i] != 0)) continue;
+    const double wx = m.omega[0][i], wy = m.omega[1][i], wz = m.omega[2][i];
+    const double ax = m.omega_dot[0][i], ay = m.omega_dot[1][i],
+                 az = m.omega_dot[2][i];
+    const double fz = m.f[2][i];
+    a_.row(row) << -(wy * wy + wz * wz), wx * wy - az, wx * wz + ay, 1.0, 0.0,
+        fz, 0.0;
+    a_.row(num_fitted_ + row) << wx * wy + az, -(wx * wx + wz * wz),
+        wy * wz - ax, 0.0, 1.0, 0.0, fz;
+    ++row;
+  }
+  a_finite_ = a_.allFinite();
 }
 
 const std::vector<ParameterInfo>& Rigid3dImuModel::parameter_info() const {
@@ -58,7 +74,10 @@ bool Rigid3dImuModel::Drag(const double* q,
   const int rows = num_fitted_;
   if (drag->size() != 2 * rows) drag->resize(2 * rows);
   const bool derive = d_drag != nullptr;
-  if (derive) d_drag->setZero(2 * rows, kQ);
+  // Every row is written below.
+  if (derive && (d_drag->rows() != 2 * rows || d_drag->cols() != kQ)) {
+    d_drag->resize(2 * rows, kQ);
+  }
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   Eigen::Matrix<double, 3, kQ> s = Eigen::Matrix<double, 3, kQ>::Zero();
   Eigen::Matrix<double, 3, kQ> dw = Eigen::Matrix<double, 3, kQ>::Zero();
@@ -126,12 +145,13 @@ bool Rigid3dImuModel::Evaluate(const double* x,
   // Scratch kept per thread: a fit evaluates thousands of times, and fresh
   // buffers of this size (megabytes) were returned to the system and
   // faulted back in on every call. ∂A/∂q is zero, so it is not formed.
-  thread_local Eigen::MatrixXd a;
   thread_local Eigen::VectorXd target;
   thread_local Eigen::MatrixXd d_target;
-  if (!FillSystem(q, &a, &target, jacobian != nullptr ? &d_target : nullptr)) {
+  if (!FillSystem(
+          q, nullptr, &target, jacobian != nullptr ? &d_target : nullptr)) {
     return false;
   }
+  const Eigen::MatrixXd& a = a_;
   Eigen::Matrix<double, kM, 1> c;
   for (int j = 0; j < kM; ++j) c[j] = x[kCoefficientParameter[j]];
   const Eigen::Index rows = a.rows();
@@ -215,30 +235,22 @@ bool Rigid3dImuModel::FillSystem(const double* p,
                                  Eigen::VectorXd* target,
                                  Eigen::MatrixXd* d_target) const {
   thread_local Eigen::VectorXd drag;  // scratch, as in Evaluate
-  thread_local Eigen::MatrixXd d_drag;
-  if (!Drag(p, &drag, d_target != nullptr ? &d_drag : nullptr)) return false;
+  // D's derivatives are formed in d_target and negated there.
+  if (!Drag(p, &drag, d_target)) return false;
   const ProblemData& d = data();
   const Motion3d& m = d.motion;
   const Eigen::Index rows = 2 * num_fitted_;
-  if (a->rows() != rows || a->cols() != kM) a->resize(rows, kM);
+  if (a != nullptr) *a = a_;
   if (target->size() != rows) target->resize(rows);
   Eigen::Index row = 0;
   for (std::size_t i = 0; i < d.size(); ++i) {
     if (!(m.fitted.empty() || m.fitted[i] != 0)) continue;
-    const double wx = m.omega[0][i], wy = m.omega[1][i], wz = m.omega[2][i];
-    const double ax = m.omega_dot[0][i], ay = m.omega_dot[1][i],
-                 az = m.omega_dot[2][i];
-    const double fz = m.f[2][i];
-    a->row(row) << -(wy * wy + wz * wz), wx * wy - az, wx * wz + ay, 1.0, 0.0,
-        fz, 0.0;
-    a->row(num_fitted_ + row) << wx * wy + az, -(wx * wx + wz * wz),
-        wy * wz - ax, 0.0, 1.0, 0.0, fz;
     (*target)[row] = m.f[0][i] - drag[row];
     (*target)[num_fitted_ + row] = m.f[1][i] - drag[num_fitted_ + row];
     ++row;
   }
-  if (d_target != nullptr) *d_target = -d_drag;
-  return a->allFinite() && target->allFinite();
+  if (d_target != nullptr) *d_target = -*d_target;
+  return a_finite_ && target->allFinite();
 }
 
 bool Rigid3dImuModel::TriangularFactor(const double* p,

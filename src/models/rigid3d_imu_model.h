@@ -71,6 +71,7 @@ class Rigid3dImuModel : public Model, public LinearStructure {
                 const std::vector<int>* columns,
                 double* jacobian) const;
   // LinearSystem without ∂A/∂q, which is zero (Evaluate does not form it).
+  // A does not depend on q either: `a` null leaves it at a_ (regressors()).
   bool FillSystem(const double* p,
                   Eigen::MatrixXd* a,
                   Eigen::VectorXd* target,
@@ -85,6 +86,10 @@ class Rigid3dImuModel : public Model, public LinearStructure {
             double* body_vx = nullptr) const;
 
   int num_fitted_ = 0;
+  // A (x rows then y rows of the fitted samples), formed once: it depends
+  // on the data alone, and a fit evaluates the model thousands of times.
+  Eigen::MatrixXd a_;
+  bool a_finite_ = false;
 };
 
 StatusOr<std::unique_ptr<Model>> NewRigid3dImuModel(
