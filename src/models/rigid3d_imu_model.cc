@@ -1,6 +1,7 @@
 #include "src/models/rigid3d_imu_model.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
@@ -66,6 +67,40 @@ bool Rigid3dImuModel::Drag(const double* q,
                            Eigen::MatrixXd* d_drag,
                            double* body_vx) const {
   if (!AllFinite(q, kQ)) return false;
+  if (body_vx != nullptr) return ComputeDrag(q, drag, d_drag, body_vx);
+  const bool derive = d_drag != nullptr;
+  {
+    std::lock_guard<std::mutex> lock(cache_mutex_);
+    for (const DragEntry& e : drag_cache_) {
+      if (!e.valid || (derive && !e.has_derivatives) ||
+          std::memcmp(e.q.data(), q, sizeof(double) * kQ) != 0) {
+        continue;
+      }
+      *drag = e.drag;
+      if (derive) *d_drag = e.d_drag;
+      return e.drag_finite && (!derive || e.derivatives_finite);
+    }
+  }
+  const bool ok = ComputeDrag(q, drag, d_drag, nullptr);
+  const bool drag_finite = drag->allFinite();
+  const bool derivatives_finite = derive && d_drag->allFinite();
+  std::lock_guard<std::mutex> lock(cache_mutex_);
+  DragEntry& e = drag_cache_[drag_cache_next_];
+  drag_cache_next_ = (drag_cache_next_ + 1) % drag_cache_.size();
+  std::memcpy(e.q.data(), q, sizeof(double) * kQ);
+  e.valid = true;
+  e.has_derivatives = derive;
+  e.drag_finite = drag_finite;
+  e.derivatives_finite = derivatives_finite;
+  e.drag = *drag;
+  if (derive) e.d_drag = *d_drag;
+  return ok;
+}
+
+bool Rigid3dImuModel::ComputeDrag(const double* q,
+                                  Eigen::VectorXd* drag,
+                                  Eigen::MatrixXd* d_drag,
+                                  double* body_vx) const {
   const double mu = q[0], k = q[1];
   const Eigen::Vector3d wind(q[2], q[3], 0.0);
   const ProblemData& d = data();

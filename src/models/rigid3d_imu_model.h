@@ -7,7 +7,9 @@
 #ifndef IMUSYSID_SRC_MODELS_RIGID3D_IMU_MODEL_H_
 #define IMUSYSID_SRC_MODELS_RIGID3D_IMU_MODEL_H_
 
+#include <array>
 #include <memory>
+#include <mutex>
 #include <string_view>
 #include <vector>
 
@@ -84,12 +86,32 @@ class Rigid3dImuModel : public Model, public LinearStructure {
             Eigen::VectorXd* drag,
             Eigen::MatrixXd* d_drag,
             double* body_vx = nullptr) const;
+  // Drag's computation, uncached.
+  bool ComputeDrag(const double* q,
+                   Eigen::VectorXd* drag,
+                   Eigen::MatrixXd* d_drag,
+                   double* body_vx) const;
 
   int num_fitted_ = 0;
   // A (x rows then y rows of the fitted samples), formed once: it depends
   // on the data alone, and a fit evaluates the model thousands of times.
   Eigen::MatrixXd a_;
   bool a_finite_ = false;
+  // The drags last formed, by q's bits: a fit evaluates the same q again
+  // (the Jacobian where the residuals were, the cost where the Jacobian
+  // was), and the drag is most of an evaluation. Guarded by cache_mutex_.
+  struct DragEntry {
+    std::array<double, 4> q{};
+    bool valid = false;
+    bool has_derivatives = false;
+    bool drag_finite = false;
+    bool derivatives_finite = false;
+    Eigen::VectorXd drag;
+    Eigen::MatrixXd d_drag;
+  };
+  mutable std::array<DragEntry, 2> drag_cache_;
+  mutable std::size_t drag_cache_next_ = 0;
+  mutable std::mutex cache_mutex_;
 };
 
 StatusOr<std::unique_ptr<Model>> NewRigid3dImuModel(
