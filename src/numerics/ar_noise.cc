@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,33 +90,72 @@ namespace {
 // predecessors stay in the first-level cache while each lag passes over it.
 constexpr Eigen::Index kArPrewhitenTile = 256;
 
-// One step of ColorAr's back substitution for a row of `Cols` columns
-// (padded to `stride`): acc += Σ_t coefficient_t z_t over the later rows, in
-// the order of t, as the loop over columns of a general width does it (the
-// same sums, so the same bits, whatever the width).
-template <int Cols>
+// ColorAr's back substitution over rows of `Stride` values (the columns,
+// then zeros to an even count): acc += Σ_t coefficient_t z_t over the later
+// rows, in the order of t, each column alone (the padding's sums are zeros
+// and unused). The accumulator stays in registers, and past the first q
+// rows every step reads φ itself.
+template <int Stride>
 void ArColorRows(const Eigen::Ref<const Eigen::MatrixXd>& m,
                  const ArNoise& noise,
-                 Eigen::Index stride,
                  double* scaled) {
   const int q = noise.order();
   const Eigen::Index n = m.rows();
-  const Eigen::Index cols = Cols > 0 ? Cols : m.cols();
+  const Eigen::Index cols = m.cols();
   const Eigen::Index outer = m.outerStride();
   const double* in = m.data();
-  std::vector<double> acc_buffer(static_cast<std::size_t>(stride));
-  double* acc = acc_buffer.data();
+  const double* phi = noise.predictors.back().data();
+  double acc[Stride];
   for (Eigen::Index s = n - 1; s >= 0; --s) {
-    for (Eigen::Index i = 0; i < cols; ++i) acc[i] = in[s + i * outer];
+    for (Eigen::Index i = 0; i < Stride; ++i) {
+      acc[i] = i < cols ? in[s + i * outer] : 0.0;
+    }
+    const Eigen::Index last = std::min<Eigen::Index>(s + q, n - 1);
+    Eigen::Index t = s + 1;
+    for (; t <= last && t < q; ++t) {
+      const double c = noise.predictors[static_cast<std::size_t>(t)]
+                                       [static_cast<std::size_t>(t - s - 1)];
+      const double* z = scaled + t * Stride;
+      for (int i = 0; i < Stride; ++i) acc[i] += c * z[i];
+    }
+    for (; t <= last; ++t) {
+      const double c = phi[t - s - 1];
+      const double* z = scaled + t * Stride;
+      for (int i = 0; i < Stride; ++i) acc[i] += c * z[i];
+    }
+    double* out = scaled + s * Stride;
+    for (int i = 0; i < Stride; ++i) out[i] = acc[i];
+  }
+}
+
+// The same for any width (stride ≥ cols).
+void ArColorRowsAnyWidth(const Eigen::Ref<const Eigen::MatrixXd>& m,
+                         const ArNoise& noise,
+                         Eigen::Index stride,
+                         double* scaled) {
+  const int q = noise.order();
+  const Eigen::Index n = m.rows();
+  const Eigen::Index cols = m.cols();
+  const Eigen::Index outer = m.outerStride();
+  const double* in = m.data();
+  std::vector<double> acc(static_cast<std::size_t>(stride));
+  for (Eigen::Index s = n - 1; s >= 0; --s) {
+    for (Eigen::Index i = 0; i < cols; ++i) {
+      acc[static_cast<std::size_t>(i)] = in[s + i * outer];
+    }
     const Eigen::Index last = std::min<Eigen::Index>(s + q, n - 1);
     for (Eigen::Index t = s + 1; t <= last; ++t) {
       const auto k = static_cast<std::size_t>(std::min<Eigen::Index>(t, q));
       const double c = noise.predictors[k][static_cast<std::size_t>(t - s - 1)];
       const double* z = scaled + t * stride;
-      for (Eigen::Index i = 0; i < cols; ++i) acc[i] += c * z[i];
+      for (Eigen::Index i = 0; i < cols; ++i) {
+        acc[static_cast<std::size_t>(i)] += c * z[i];
+      }
     }
     double* out = scaled + s * stride;
-    for (Eigen::Index i = 0; i < cols; ++i) out[i] = acc[i];
+    for (Eigen::Index i = 0; i < cols; ++i) {
+      out[i] = acc[static_cast<std::size_t>(i)];
+    }
   }
 }
 
@@ -147,6 +187,22 @@ Eigen::MatrixXd PrewhitenAr(const Eigen::Ref<const Eigen::MatrixXd>& m,
       }
       y[t] = a / std::sqrt(noise.variances[k]);
     }
+    // A constant column (a bias's ones, another axis's zeros) whitens to
+    // one value past the first q samples: the same operations on the same
+    // numbers at every t.
+    bool constant = n > head;
+    for (Eigen::Index t = 1; constant && t < n; ++t) {
+      constant = std::memcmp(x + t, x, sizeof(double)) == 0;
+    }
+    if (constant) {
+      double a = x[head];
+      for (int j = 1; j <= q; ++j) {
+        a -= phi[static_cast<std::size_t>(j - 1)] * x[head - j];
+      }
+      const double value = a / scale;
+      for (Eigen::Index t = head; t < n; ++t) y[t] = value;
+      continue;
+    }
     for (Eigen::Index t0 = head; t0 < n; t0 += kArPrewhitenTile) {
       const Eigen::Index len = std::min(kArPrewhitenTile, n - t0);
       for (Eigen::Index u = 0; u < len; ++u) acc[u] = x[t0 + u];
@@ -173,15 +229,12 @@ Eigen::MatrixXd ColorAr(const Eigen::Ref<const Eigen::MatrixXd>& m,
   const Eigen::Index cols = m.cols();
   const Eigen::Index stride = (cols + 1) / 2 * 2;
   std::vector<double> scaled(static_cast<std::size_t>(stride * n), 0.0);
-  switch (cols) {
-    case 11:
-      ArColorRows<11>(m, noise, stride, scaled.data());
-      break;
+  switch (stride) {
     case 12:
-      ArColorRows<12>(m, noise, stride, scaled.data());
+      ArColorRows<12>(m, noise, scaled.data());
       break;
     default:
-      ArColorRows<0>(m, noise, stride, scaled.data());
+      ArColorRowsAnyWidth(m, noise, stride, scaled.data());
       break;
   }
   Eigen::MatrixXd out(n, cols);
