@@ -67,40 +67,73 @@ bool Rigid3dImuModel::Drag(const double* q,
                            Eigen::MatrixXd* d_drag,
                            double* body_vx) const {
   if (!AllFinite(q, kQ)) return false;
-  if (body_vx != nullptr) return ComputeDrag(q, drag, d_drag, body_vx);
+  if (body_vx != nullptr) {
+    std::vector<double> trace;
+    DragPass(q, drag, body_vx, &trace);
+    if (d_drag != nullptr) DragDerivativePass(q, trace, d_drag);
+    return drag->allFinite() && (d_drag == nullptr || d_drag->allFinite());
+  }
   const bool derive = d_drag != nullptr;
+  std::shared_ptr<const std::vector<double>> trace;
   {
     std::lock_guard<std::mutex> lock(cache_mutex_);
     for (const DragEntry& e : drag_cache_) {
-      if (!e.valid || (derive && !e.has_derivatives) ||
-          std::memcmp(e.q.data(), q, sizeof(double) * kQ) != 0) {
+      if (!e.valid || std::memcmp(e.q.data(), q, sizeof(double) * kQ) != 0) {
         continue;
       }
       *drag = e.drag;
-      if (derive) *d_drag = e.d_drag;
-      return e.drag_finite && (!derive || e.derivatives_finite);
+      if (!derive) return e.drag_finite;
+      if (e.has_derivatives) {
+        *d_drag = e.d_drag;
+        return e.drag_finite && e.derivatives_finite;
+      }
+      trace = e.trace;
+      break;
     }
   }
-  const bool ok = ComputeDrag(q, drag, d_drag, nullptr);
-  const bool drag_finite = drag->allFinite();
-  const bool derivatives_finite = derive && d_drag->allFinite();
+  bool drag_finite = false;
+  if (trace == nullptr) {
+    // Not seen: the drag's pass, its intermediates kept for the
+    // derivatives' (now or at a later call at the same q).
+    auto fresh = std::make_shared<std::vector<double>>();
+    DragPass(q, drag, nullptr, fresh.get());
+    trace = std::move(fresh);
+  }
+  drag_finite = drag->allFinite();
+  bool derivatives_finite = false;
+  if (derive) {
+    DragDerivativePass(q, *trace, d_drag);
+    derivatives_finite = d_drag->allFinite();
+  }
   std::lock_guard<std::mutex> lock(cache_mutex_);
-  DragEntry& e = drag_cache_[drag_cache_next_];
-  drag_cache_next_ = (drag_cache_next_ + 1) % drag_cache_.size();
-  std::memcpy(e.q.data(), q, sizeof(double) * kQ);
-  e.valid = true;
-  e.has_derivatives = derive;
-  e.drag_finite = drag_finite;
-  e.derivatives_finite = derivatives_finite;
-  e.drag = *drag;
-  if (derive) e.d_drag = *d_drag;
-  return ok;
+  DragEntry* entry = nullptr;
+  for (DragEntry& e : drag_cache_) {
+    if (e.valid && std::memcmp(e.q.data(), q, sizeof(double) * kQ) == 0) {
+      entry = &e;
+    }
+  }
+  if (entry == nullptr) {
+    entry = &drag_cache_[drag_cache_next_];
+    drag_cache_next_ = (drag_cache_next_ + 1) % drag_cache_.size();
+    std::memcpy(entry->q.data(), q, sizeof(double) * kQ);
+    entry->valid = true;
+    entry->has_derivatives = false;
+    entry->drag = *drag;
+    entry->drag_finite = drag_finite;
+    entry->trace = trace;
+  }
+  if (derive && !entry->has_derivatives) {
+    entry->has_derivatives = true;
+    entry->d_drag = *d_drag;
+    entry->derivatives_finite = derivatives_finite;
+  }
+  return drag_finite && (!derive || derivatives_finite);
 }
 
-bool Rigid3dImuModel::ComputeDrag(const double* q,
-                                  Eigen::VectorXd* drag,
-                                  Eigen::MatrixXd* d_drag,
-                                  double* body_vx) const {
+void Rigid3dImuModel::DragPass(const double* q,
+                               Eigen::VectorXd* drag,
+                               double* body_vx,
+                               std::vector<double>* trace) const {
   const double mu = q[0], k = q[1];
   const Eigen::Vector3d wind(q[2], q[3], 0.0);
   const ProblemData& d = data();
@@ -108,16 +141,9 @@ bool Rigid3dImuModel::ComputeDrag(const double* q,
   const std::size_t n = d.size();
   const int rows = num_fitted_;
   if (drag->size() != 2 * rows) drag->resize(2 * rows);
-  const bool derive = d_drag != nullptr;
-  // Every row is written below.
-  if (derive && (d_drag->rows() != 2 * rows || d_drag->cols() != kQ)) {
-    d_drag->resize(2 * rows, kQ);
-  }
+  trace->resize(4 * n);
+  double* kept = trace->data();
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
-  Eigen::Matrix<double, 3, kQ> s = Eigen::Matrix<double, 3, kQ>::Zero();
-  Eigen::Matrix<double, 3, kQ> dw = Eigen::Matrix<double, 3, kQ>::Zero();
-  dw(0, 2) = 1.0;
-  dw(1, 3) = 1.0;
   int row = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d north(m.north[0][i], m.north[1][i], m.north[2][i]);
@@ -129,45 +155,79 @@ bool Rigid3dImuModel::ComputeDrag(const double* q,
     if (body_vx != nullptr) body_vx[i] = (r.transpose() * v).x();
     const Eigen::Vector3d u = r.transpose() * (v - wind);
     const double speed = u.norm();
+    kept[4 * i] = u.x();
+    kept[4 * i + 1] = u.y();
+    kept[4 * i + 2] = u.z();
+    kept[4 * i + 3] = speed;
     const Eigen::Vector3d dr(-k * u.x() - mu * speed * u.x(),
                              -k * u.y() - mu * speed * u.y(),
                              -mu * speed * u.z());
-    Eigen::Matrix<double, 3, kQ> d_dr;
-    if (derive) {
-      Eigen::Matrix3d d_du = Eigen::Matrix3d::Zero();
-      d_du(0, 0) = d_du(1, 1) = -k;
-      if (speed > 0) {
-        d_du -= mu * (speed * Eigen::Matrix3d::Identity() +
-                      u * u.transpose() / speed);
-      }
-      const Eigen::Matrix<double, 3, kQ> du = r.transpose() * (s - dw);
-      d_dr = d_du * du;
-      d_dr.col(0) += -speed * u;
-      d_dr.col(1) += Eigen::Vector3d(-u.x(), -u.y(), 0.0);
-    }
     if (m.fitted.empty() || m.fitted[i] != 0) {
       (*drag)[row] = dr.x();
       (*drag)[rows + row] = dr.y();
-      if (derive) {
-        d_drag->row(row) = d_dr.row(0);
-        d_drag->row(rows + row) = d_dr.row(1);
-      }
       ++row;
     }
     if (i + 1 < n) {
       const double dt = d.t_s[i + 1] - d.t_s[i];
       const Eigen::Vector3d a(dr.x(), dr.y(), m.f[2][i] + dr.z());
       v += dt * (r * a + Eigen::Vector3d(0.0, 0.0, d.gravity));
-      if (derive) s += dt * (r * d_dr);
       // Altitude hold: the vertical channel integrates the z
       // accelerometer's bias and the thrust's error without a drag to
       // bound it (1.5 m/s after 50 s of a 0.03 m/s² bias), so it is held
       // at zero, as `consistent` holds altitude.
       v.z() = 0.0;
-      if (derive) s.row(2).setZero();
     }
   }
-  return drag->allFinite() && (!derive || d_drag->allFinite());
+}
+
+void Rigid3dImuModel::DragDerivativePass(const double* q,
+                                         const std::vector<double>& trace,
+                                         Eigen::MatrixXd* d_drag) const {
+  const double mu = q[0], k = q[1];
+  const ProblemData& d = data();
+  const Motion3d& m = d.motion;
+  const std::size_t n = d.size();
+  const int rows = num_fitted_;
+  // Every row is written below.
+  if (d_drag->rows() != 2 * rows || d_drag->cols() != kQ) {
+    d_drag->resize(2 * rows, kQ);
+  }
+  Eigen::Matrix<double, 3, kQ> s = Eigen::Matrix<double, 3, kQ>::Zero();
+  Eigen::Matrix<double, 3, kQ> dw = Eigen::Matrix<double, 3, kQ>::Zero();
+  dw(0, 2) = 1.0;
+  dw(1, 3) = 1.0;
+  int row = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d north(m.north[0][i], m.north[1][i], m.north[2][i]);
+    const Eigen::Vector3d east(m.east[0][i], m.east[1][i], m.east[2][i]);
+    Eigen::Matrix3d r;  // as DragPass's
+    r.row(0) = north.transpose();
+    r.row(1) = east.transpose();
+    r.row(2) = north.cross(east).transpose();
+    const Eigen::Vector3d u(trace[4 * i], trace[4 * i + 1], trace[4 * i + 2]);
+    const double speed = trace[4 * i + 3];
+    Eigen::Matrix<double, 3, kQ> d_dr;
+    Eigen::Matrix3d d_du = Eigen::Matrix3d::Zero();
+    d_du(0, 0) = d_du(1, 1) = -k;
+    if (speed > 0) {
+      d_du -= mu *
+              (speed * Eigen::Matrix3d::Identity() + u * u.transpose() / speed);
+    }
+    const Eigen::Matrix<double, 3, kQ> du = r.transpose() * (s - dw);
+    d_dr = d_du * du;
+    d_dr.col(0) += -speed * u;
+    d_dr.col(1) += Eigen::Vector3d(-u.x(), -u.y(), 0.0);
+    if (m.fitted.empty() || m.fitted[i] != 0) {
+      d_drag->row(row) = d_dr.row(0);
+      d_drag->row(rows + row) = d_dr.row(1);
+      ++row;
+    }
+    if (i + 1 < n) {
+      const double dt = d.t_s[i + 1] - d.t_s[i];
+      s += dt * (r * d_dr);
+      s.row(2).setZero();  // altitude hold, as DragPass's
+    }
+  }
 }
 
 bool Rigid3dImuModel::Evaluate(const double* x,

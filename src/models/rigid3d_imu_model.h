@@ -86,11 +86,16 @@ class Rigid3dImuModel : public Model, public LinearStructure {
             Eigen::VectorXd* drag,
             Eigen::MatrixXd* d_drag,
             double* body_vx = nullptr) const;
-  // Drag's computation, uncached.
-  bool ComputeDrag(const double* q,
-                   Eigen::VectorXd* drag,
-                   Eigen::MatrixXd* d_drag,
-                   double* body_vx) const;
+  // Drag's two passes along the flight: the drag (and body_vx), keeping
+  // u and |u| of every sample in `trace`; then, from them, the derivatives
+  // (the same operations as one pass, so the same numbers).
+  void DragPass(const double* q,
+                Eigen::VectorXd* drag,
+                double* body_vx,
+                std::vector<double>* trace) const;
+  void DragDerivativePass(const double* q,
+                          const std::vector<double>& trace,
+                          Eigen::MatrixXd* d_drag) const;
 
   int num_fitted_ = 0;
   // A (x rows then y rows of the fitted samples), formed once: it depends
@@ -99,7 +104,8 @@ class Rigid3dImuModel : public Model, public LinearStructure {
   bool a_finite_ = false;
   // The drags last formed, by q's bits: a fit evaluates the same q again
   // (the Jacobian where the residuals were, the cost where the Jacobian
-  // was), and the drag is most of an evaluation. Guarded by cache_mutex_.
+  // was), and the drag is most of an evaluation; the derivatives at a q
+  // whose drag is kept take only their own pass. Guarded by cache_mutex_.
   struct DragEntry {
     std::array<double, 4> q{};
     bool valid = false;
@@ -108,6 +114,8 @@ class Rigid3dImuModel : public Model, public LinearStructure {
     bool derivatives_finite = false;
     Eigen::VectorXd drag;
     Eigen::MatrixXd d_drag;
+    // DragPass's trace, for the derivatives at a later call.
+    std::shared_ptr<const std::vector<double>> trace;
   };
   mutable std::array<DragEntry, 2> drag_cache_;
   mutable std::size_t drag_cache_next_ = 0;
