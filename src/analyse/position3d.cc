@@ -436,10 +436,15 @@ ImuPosition3d AnalysePosition3d(const Problem& problem,
     Predict3dOptions predict;
     predict.model_error_floor_m = options.model_error_floor_m;
     predict.jackknife_blocks = options.jackknife_blocks;
+    // The model's regressors formed once for the noise and the
+    // information.
+    StatusOr<ModelSystem3d> system = ModelSystem3dOf(problem.model());
     StatusOr<ResidualNoise3d> noise =
-        ResidualNoise3dOfModel(problem.model(), result.parameters, predict);
+        system.ok() ? ResidualNoise3dOfSystem(
+                          problem.model(), *system, result.parameters, predict)
+                    : StatusOr<ResidualNoise3d>(system.status());
     StatusOr<Information3d> information =
-        noise.ok() ? Information3dOfModel(problem.model(), *noise)
+        noise.ok() ? Information3dOfSystem(*system, *noise)
                    : StatusOr<Information3d>(noise.status());
     if (information.ok()) {
       StatusOr<PredictedStderr3d> predicted =

@@ -195,6 +195,13 @@ StatusOr<std::shared_ptr<const Model>> PredictModelOf(
 
 namespace internal {
 
+StatusOr<ModelSystem3d> ModelSystem3dOf(const Model& model) {
+  ModelSystem3d system;
+  IMUSYSID_RETURN_IF_ERROR(
+      PredictLinearSystem(model, &system.a, &system.target));
+  return system;
+}
+
 StatusOr<ResidualNoise3d> ResidualNoise3dOfModel(
     const Model& model,
     const Eigen::VectorXd& parameters,
@@ -206,12 +213,27 @@ StatusOr<ResidualNoise3d> ResidualNoise3dOfModel(
   if (options.max_ar_order < 0) {
     return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
   }
-  Eigen::MatrixXd a;
-  Eigen::VectorXd target;
-  IMUSYSID_RETURN_IF_ERROR(PredictLinearSystem(model, &a, &target));
+  StatusOr<ModelSystem3d> system = ModelSystem3dOf(model);
+  if (!system.ok()) return system.status();
+  return ResidualNoise3dOfSystem(model, *system, parameters, options);
+}
+
+StatusOr<ResidualNoise3d> ResidualNoise3dOfSystem(
+    const Model& model,
+    const ModelSystem3d& system,
+    const Eigen::VectorXd& parameters,
+    const Predict3dOptions& options) {
+  if (parameters.size() != kNumRigid3dParameters || !parameters.allFinite()) {
+    return InvalidArgumentError(
+        "predict3d: parameters must be rigid3d's 11, finite");
+  }
+  if (options.max_ar_order < 0) {
+    return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
+  }
+  const Eigen::MatrixXd& a = system.a;
   const Eigen::VectorXd b =
       model.linear_structure()->CoefficientsFromParameters(parameters.data());
-  const Eigen::VectorXd residual = target - a * b;
+  const Eigen::VectorXd residual = system.target - a * b;
   if (!residual.allFinite()) {
     return FailedPreconditionError(
         "predict3d: the residual at the fit is not finite");
@@ -231,9 +253,14 @@ StatusOr<ResidualNoise3d> ResidualNoise3dOfModel(
 
 StatusOr<Information3d> Information3dOfModel(const Model& model,
                                              const ResidualNoise3d& noise) {
-  Eigen::MatrixXd a;
-  Eigen::VectorXd target;
-  IMUSYSID_RETURN_IF_ERROR(PredictLinearSystem(model, &a, &target));
+  StatusOr<ModelSystem3d> system = ModelSystem3dOf(model);
+  if (!system.ok()) return system.status();
+  return Information3dOfSystem(*system, noise);
+}
+
+StatusOr<Information3d> Information3dOfSystem(const ModelSystem3d& system,
+                                              const ResidualNoise3d& noise) {
+  const Eigen::MatrixXd& a = system.a;
   const Eigen::Index n = a.rows() / 2;
   const Eigen::Index m = a.cols();
   Information3d out;
@@ -252,7 +279,8 @@ StatusOr<Information3d> Information3dOfModel(const Model& model,
   for (int axis = 0; axis < 2; ++axis) {
     StatusOr<ArNoise> ar = PredictArOfAxis(noise, axis);
     if (!ar.ok()) return InvalidArgumentError(ar.status().message());
-    const Eigen::MatrixXd block = a.middleRows(axis * n, n);
+    // The axis's rows in place (a copy was 13 MB on a ten-minute log).
+    const auto block = a.middleRows(axis * n, n);
     const Eigen::MatrixXd colored = ColorAr(block, *ar);
     for (std::size_t c = 0; c < chunks; ++c) {
       const auto i0 = static_cast<Eigen::Index>(out.samples * c / chunks);
@@ -300,10 +328,19 @@ StatusOr<Information3d> Information3dAtFit(
   StatusOr<std::shared_ptr<const Model>> model =
       PredictModelOf(std::move(data));
   if (!model.ok()) return model.status();
+  if (parameters.size() != kNumRigid3dParameters || !parameters.allFinite()) {
+    return InvalidArgumentError(
+        "predict3d: parameters must be rigid3d's 11, finite");
+  }
+  if (options.max_ar_order < 0) {
+    return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
+  }
+  StatusOr<internal::ModelSystem3d> system = internal::ModelSystem3dOf(**model);
+  if (!system.ok()) return system.status();
   StatusOr<ResidualNoise3d> noise =
-      internal::ResidualNoise3dOfModel(**model, parameters, options);
+      internal::ResidualNoise3dOfSystem(**model, *system, parameters, options);
   if (!noise.ok()) return noise.status();
-  return internal::Information3dOfModel(**model, *noise);
+  return internal::Information3dOfSystem(*system, *noise);
 }
 
 StatusOr<PredictedStderr3d> PredictStderr3d(

@@ -23,6 +23,21 @@ StatusOr<ResidualNoise3d> ResidualNoise3dOfModel(
 StatusOr<Information3d> Information3dOfModel(const Model& model,
                                              const ResidualNoise3d& noise);
 
+// Both on the model's regressors A and target formed once (2n × 11 and 2n:
+// tens of megabytes on a long log), the same numbers as each forming them.
+struct ModelSystem3d {
+  Eigen::MatrixXd a;
+  Eigen::VectorXd target;
+};
+StatusOr<ModelSystem3d> ModelSystem3dOf(const Model& model);
+StatusOr<ResidualNoise3d> ResidualNoise3dOfSystem(
+    const Model& model,
+    const ModelSystem3d& system,
+    const Eigen::VectorXd& parameters,
+    const Predict3dOptions& options);
+StatusOr<Information3d> Information3dOfSystem(const ModelSystem3d& system,
+                                              const ResidualNoise3d& noise);
+
 }  // namespace internal
 }  // namespace imusysid
 

@@ -1,6 +1,7 @@
 #include "src/calibration/calibration3d.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "estimators/internal/thread_pool.h"
 #include "imusysid/extend/problem.h"
 #include "imusysid/extend/registry.h"
 #include "imusysid/parameters.h"
@@ -154,31 +156,55 @@ Status FindDelay(const Conditioned3d& thin,
                  double wind_e,
                  Calibration3d* out) {
   std::vector<double> delays, rmse;
-  auto try_delay = [&](double d) -> Status {
-    for (double seen : delays) {
-      if (std::abs(seen - d) < 1e-9) return Status::Ok();
+  // The delays not tried before among `wanted`, fitted (side by side where
+  // there are threads) and taken in order: the first failure in that order
+  // is the answer, as when each was tried in turn.
+  auto try_delays = [&](const std::vector<double>& wanted) -> Status {
+    std::vector<double> fresh;
+    for (double d : wanted) {
+      bool seen_before = false;
+      for (double seen : delays) seen_before |= std::abs(seen - d) < 1e-9;
+      for (double seen : fresh) seen_before |= std::abs(seen - d) < 1e-9;
+      if (!seen_before) fresh.push_back(d);
     }
-    StatusOr<ProblemData> data = DataAt(thin, d, wind_n, wind_e);
-    if (!data.ok()) return data.status();
-    StatusOr<LinearFit3d> fit = FitRigid3dLinear(*data, /*find_wind=*/false);
-    if (!fit.ok()) return fit.status();
-    delays.push_back(d);
-    rmse.push_back(fit->rmse);
+    std::vector<Status> statuses(fresh.size(), Status::Ok());
+    std::vector<double> fitted_rmse(fresh.size(), 0.0);
+    ForEachCalibrationTask(fresh.size(), [&](std::size_t k) {
+      StatusOr<ProblemData> data = DataAt(thin, fresh[k], wind_n, wind_e);
+      if (!data.ok()) {
+        statuses[k] = data.status();
+        return;
+      }
+      StatusOr<LinearFit3d> fit = FitRigid3dLinear(*data, /*find_wind=*/false);
+      if (!fit.ok()) {
+        statuses[k] = fit.status();
+        return;
+      }
+      fitted_rmse[k] = fit->rmse;
+    });
+    for (std::size_t k = 0; k < fresh.size(); ++k) {
+      if (!statuses[k].ok()) return statuses[k];
+      delays.push_back(fresh[k]);
+      rmse.push_back(fitted_rmse[k]);
+    }
     return Status::Ok();
   };
   constexpr double kCoarseS = 0.01;
+  std::vector<double> coarse;
   for (double d = 0.0; d <= max_delay_s + 1e-12; d += kCoarseS) {
-    IMUSYSID_RETURN_IF_ERROR(try_delay(d));
+    coarse.push_back(d);
   }
+  IMUSYSID_RETURN_IF_ERROR(try_delays(coarse));
   const double coarse_best = delays[static_cast<std::size_t>(
       std::min_element(rmse.begin(), rmse.end()) - rmse.begin())];
   const double step = std::clamp(1.0 / rate_hz, 0.0025, 0.005);
+  std::vector<double> fine;
   for (double d = coarse_best - kCoarseS; d <= coarse_best + kCoarseS + 1e-12;
        d += step) {
-    if (d >= -1e-12 && d <= max_delay_s + 1e-12) {
-      IMUSYSID_RETURN_IF_ERROR(try_delay(std::max(0.0, d)));
-    }
+    if (d >= -1e-12 && d <= max_delay_s + 1e-12)
+      fine.push_back(std::max(0.0, d));
   }
+  IMUSYSID_RETURN_IF_ERROR(try_delays(fine));
   // In delay order for the parabola.
   std::vector<std::size_t> order(delays.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -225,7 +251,34 @@ Status FindDelay(const Conditioned3d& thin,
   return Status::Ok();
 }
 
+thread_local int calibration3d_task_threads = 1;
+
 }  // namespace
+
+int CalibrationThreads() { return calibration3d_task_threads; }
+
+CalibrationThreadsScope::CalibrationThreadsScope(int num_threads)
+    : saved_(calibration3d_task_threads) {
+  calibration3d_task_threads = std::max(1, num_threads);
+}
+
+CalibrationThreadsScope::~CalibrationThreadsScope() {
+  calibration3d_task_threads = saved_;
+}
+
+void ForEachCalibrationTask(std::size_t count,
+                            const std::function<void(std::size_t)>& task) {
+  const auto threads = static_cast<std::size_t>(CalibrationThreads());
+  if (threads < 2 || count < 2) {
+    for (std::size_t k = 0; k < count; ++k) task(k);
+    return;
+  }
+  std::atomic<std::size_t> claimed{0};
+  ThreadPool pool(static_cast<int>(std::min(threads, count)));
+  pool.Run([&](int /*worker*/) {
+    for (std::size_t k = claimed++; k < count; k = claimed++) task(k);
+  });
+}
 
 double ResidualCorrelationSamples(const Eigen::VectorXd& residuals,
                                   std::size_t max_lag) {

@@ -8,6 +8,7 @@
 #ifndef IMUSYSID_SRC_CALIBRATION_CALIBRATION3D_H_
 #define IMUSYSID_SRC_CALIBRATION_CALIBRATION3D_H_
 
+#include <functional>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -142,6 +143,29 @@ Conditioned3d SearchCopy(const Conditioned3d& conditioned);
 StatusOr<Calibration3d> Calibrate3d(const Conditioned3d& conditioned,
                                     const Conditioned3d& thin,
                                     const Preprocess3dOptions& options);
+
+// The threads the calibration's delay search and the sensitivity's variants
+// run on, for work started on the calling thread: 1 unless a
+// CalibrationThreadsScope there says more (the pipeline's num_threads for
+// the instance the others wait for). Each candidate is fitted alone and
+// the results are taken in order, so they do not depend on it.
+int CalibrationThreads();
+
+class CalibrationThreadsScope {
+ public:
+  explicit CalibrationThreadsScope(int num_threads);
+  ~CalibrationThreadsScope();
+  CalibrationThreadsScope(const CalibrationThreadsScope&) = delete;
+  CalibrationThreadsScope& operator=(const CalibrationThreadsScope&) = delete;
+
+ private:
+  int saved_;
+};
+
+// Runs task(k) for k in [0, count) on up to CalibrationThreads() threads
+// (each k once, on any of them).
+void ForEachCalibrationTask(std::size_t count,
+                            const std::function<void(std::size_t)>& task);
 
 }  // namespace internal
 }  // namespace imusysid

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <functional>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,16 +52,26 @@ class VariantData {
                         options.cutoff_hz == thin_.options.cutoff_hz &&
                         options.filter_order == thin_.options.filter_order;
     if (shared) {
-      for (const ProblemData& data : kept_) {
-        if (!SameTimes(windows, data.t_s)) continue;
-        ProblemData d = data;
-        SetImu(windows, &d);
-        return d;
+      std::optional<ProblemData> found;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (const ProblemData& data : kept_) {
+          if (!SameTimes(windows, data.t_s)) continue;
+          found = data;
+          break;
+        }
+      }
+      if (found.has_value()) {
+        SetImu(windows, &*found);
+        return std::move(*found);
       }
     }
     StatusOr<ProblemData> d =
         DataAt(thin_, windows, options, delay_s, wind_n_, wind_e_);
-    if (d.ok() && shared) kept_.push_back(*d);
+    if (d.ok() && shared) {
+      std::lock_guard<std::mutex> lock(mutex_);
+      kept_.push_back(*d);
+    }
     return d;
   }
 
@@ -112,6 +125,10 @@ class VariantData {
   const double delay_s_;
   const double wind_n_;
   const double wind_e_;
+  // Variants are formed side by side (CalibrationThreads): kept_ is
+  // guarded by mutex_. A variant that misses the data another is adding
+  // forms them itself, the same numbers.
+  std::mutex mutex_;
   std::vector<ProblemData> kept_;
 };
 
@@ -260,7 +277,89 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     if (!windows.ok()) return windows.status();
     return FitOf(data.At(*windows, variant, delay));
   };
-  StatusOr<LinearFit3d> mid_base = from_mid(o, 0.0);
+  // Every variant's fit is independent of the others': they are formed
+  // first (side by side where the calibration has threads), then taken in
+  // the order they were always formed in, the first failure in that order
+  // being the answer.
+  const double low = out->estimator_delay_low_s;
+  const double high = out->estimator_delay_high_s;
+  const double edge = std::isfinite(calibration.longest_delay_searched_s)
+                          ? calibration.longest_delay_searched_s
+                          : o.max_estimator_delay_s;
+  const bool cutoff_varied = o.cutoff_hz > 0;
+  const bool delay_varied = high > low;
+  const bool at_edge_varied = edge > 0 && high >= edge - 1e-9;
+  Preprocess3dOptions cutoff_low = o;
+  cutoff_low.cutoff_hz = o.cutoff_hz * o.systematic_low_factor;
+  Preprocess3dOptions cutoff_high = o;
+  cutoff_high.cutoff_hz = o.cutoff_hz * o.systematic_high_factor;
+  Preprocess3dOptions width_low = o;
+  width_low.derivative_half_width_s =
+      o.derivative_half_width_s * o.systematic_low_factor;
+  Preprocess3dOptions width_high = o;
+  width_high.derivative_half_width_s =
+      o.derivative_half_width_s * o.systematic_high_factor;
+  enum Variant {
+    kMidBase,
+    kCutoffLow,
+    kCutoffHigh,
+    kWidthLow,
+    kWidthHigh,
+    kDelayLow,
+    kDelayHigh,
+    kEdge,
+    kBeforeEdge,
+    kVariants
+  };
+  std::vector<std::function<StatusOr<LinearFit3d>()>> form(kVariants);
+  form[kMidBase] = [&] { return from_mid(o, 0.0); };
+  if (cutoff_varied) {
+    form[kCutoffLow] = [&] {
+      return from_mid(cutoff_low, cutoff_low.cutoff_hz);
+    };
+    // Every window refiltered at the log's rate, kept every `step`.
+    form[kCutoffHigh] = [&]() -> StatusOr<LinearFit3d> {
+      std::vector<WindowImu> windows;
+      windows.reserve(out->windows.size());
+      for (const Stretch3d& w : out->windows) {
+        StatusOr<WindowImu> imu = ImuOfWindow(*conditioned.log,
+                                              w,
+                                              out->gyro_bias_frd,
+                                              cutoff_high,
+                                              out->sample_rate_hz,
+                                              step);
+        if (!imu.ok()) return imu.status();
+        windows.push_back(std::move(*imu));
+      }
+      return FitOf(data.At(windows, cutoff_high, delay));
+    };
+  }
+  form[kWidthLow] = [&] { return from_mid(width_low, 0.0); };
+  form[kWidthHigh] = [&] { return from_mid(width_high, 0.0); };
+  if (delay_varied) {
+    form[kDelayLow] = [&] { return fit_at(low); };
+    form[kDelayHigh] = [&] { return fit_at(high); };
+  }
+  if (at_edge_varied) {
+    form[kEdge] = [&] { return fit_at(edge); };
+    form[kBeforeEdge] = [&] { return fit_at(std::max(0.0, edge - kEdgeS)); };
+  }
+  std::vector<std::size_t> wanted;
+  for (std::size_t v = 0; v < form.size(); ++v) {
+    // The lower cutoff's variant is the base where it is not lower.
+    if (v == kCutoffLow && !(cutoff_low.cutoff_hz < o.cutoff_hz)) continue;
+    if (form[v]) wanted.push_back(v);
+  }
+  std::vector<StatusOr<LinearFit3d>> fits(
+      form.size(), StatusOr<LinearFit3d>(InternalError("not formed")));
+  ForEachCalibrationTask(wanted.size(), [&](std::size_t k) {
+    fits[wanted[k]] = form[wanted[k]]();
+  });
+  if (cutoff_varied && !(cutoff_low.cutoff_hz < o.cutoff_hz)) {
+    fits[kCutoffLow] = fits[kMidBase];
+  }
+
+  const StatusOr<LinearFit3d>& mid_base = fits[kMidBase];
   if (!mid_base.ok()) return mid_base.status();
   auto share_of_range = [](ChoiceSensitivity3d* c) {
     c->stderr_m =
@@ -273,33 +372,15 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   };
   // The cutoff: lower by a further low-pass on the filtered signals, higher
   // by refiltering the log's own samples (against the full-rate base).
-  if (o.cutoff_hz > 0) {
+  if (cutoff_varied) {
     ChoiceSensitivity3d c;
     c.choice = "cutoff_hz";
     c.used = o.cutoff_hz;
-    c.low = o.cutoff_hz * o.systematic_low_factor;
-    c.high = o.cutoff_hz * o.systematic_high_factor;
-    Preprocess3dOptions low = o;
-    low.cutoff_hz = c.low;
-    StatusOr<LinearFit3d> p_low =
-        c.low < o.cutoff_hz ? from_mid(low, c.low) : mid_base;
+    c.low = cutoff_low.cutoff_hz;
+    c.high = cutoff_high.cutoff_hz;
+    const StatusOr<LinearFit3d>& p_low = fits[kCutoffLow];
     if (!p_low.ok()) return p_low.status();
-    Preprocess3dOptions high = o;
-    high.cutoff_hz = c.high;
-    // Every window refiltered at the log's rate, kept every `step`.
-    std::vector<WindowImu> windows;
-    windows.reserve(out->windows.size());
-    for (const Stretch3d& w : out->windows) {
-      StatusOr<WindowImu> imu = ImuOfWindow(*conditioned.log,
-                                            w,
-                                            out->gyro_bias_frd,
-                                            high,
-                                            out->sample_rate_hz,
-                                            step);
-      if (!imu.ok()) return imu.status();
-      windows.push_back(std::move(*imu));
-    }
-    StatusOr<LinearFit3d> p_high = FitOf(data.At(windows, high, delay));
+    const StatusOr<LinearFit3d>& p_high = fits[kCutoffHigh];
     if (!p_high.ok()) return p_high.status();
     SetShifts(*p_low, *mid_base, *p_high, *p0, &c);
     share_of_range(&c);
@@ -310,14 +391,11 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
     ChoiceSensitivity3d c;
     c.choice = "derivative_half_width_s";
     c.used = o.derivative_half_width_s;
-    c.low = c.used * o.systematic_low_factor;
-    c.high = c.used * o.systematic_high_factor;
-    Preprocess3dOptions variant = o;
-    variant.derivative_half_width_s = c.low;
-    StatusOr<LinearFit3d> p_low = from_mid(variant, 0.0);
+    c.low = width_low.derivative_half_width_s;
+    c.high = width_high.derivative_half_width_s;
+    const StatusOr<LinearFit3d>& p_low = fits[kWidthLow];
     if (!p_low.ok()) return p_low.status();
-    variant.derivative_half_width_s = c.high;
-    StatusOr<LinearFit3d> p_high = from_mid(variant, 0.0);
+    const StatusOr<LinearFit3d>& p_high = fits[kWidthHigh];
     if (!p_high.ok()) return p_high.status();
     SetShifts(*p_low, *mid_base, *p_high, *mid_base, &c);
     share_of_range(&c);
@@ -326,17 +404,15 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
 
   // The delay: the plausible range is a 2σ interval, so a quarter of the
   // position's change across it.
-  const double low = out->estimator_delay_low_s;
-  const double high = out->estimator_delay_high_s;
-  if (high > low) {
+  if (delay_varied) {
     ChoiceSensitivity3d c;
     c.choice = "estimator_delay_s";
     c.used = delay;
     c.low = low;
     c.high = high;
-    StatusOr<LinearFit3d> at_low = fit_at(low);
+    const StatusOr<LinearFit3d>& at_low = fits[kDelayLow];
     if (!at_low.ok()) return at_low.status();
-    StatusOr<LinearFit3d> at_high = fit_at(high);
+    const StatusOr<LinearFit3d>& at_high = fits[kDelayHigh];
     if (!at_high.ok()) return at_high.status();
     SetShifts(*at_low, *p0, *at_high, *p0, &c);
     c.stderr_m = (at_high->position_m - at_low->position_m).cwiseAbs() / 4.0;
@@ -347,13 +423,10 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   // Where the plausible delays reach the longest searched (for another IMU
   // of the log, the first one's range says so): does the position still
   // move there?
-  const double edge = std::isfinite(calibration.longest_delay_searched_s)
-                          ? calibration.longest_delay_searched_s
-                          : o.max_estimator_delay_s;
-  if (edge > 0 && high >= edge - 1e-9) {
-    StatusOr<LinearFit3d> at_edge = fit_at(edge);
+  if (at_edge_varied) {
+    const StatusOr<LinearFit3d>& at_edge = fits[kEdge];
     if (!at_edge.ok()) return at_edge.status();
-    StatusOr<LinearFit3d> before = fit_at(std::max(0.0, edge - kEdgeS));
+    const StatusOr<LinearFit3d>& before = fits[kBeforeEdge];
     if (!before.ok()) return before.status();
     out->delay_edge_shift_m = at_edge->position_m - before->position_m;
   }

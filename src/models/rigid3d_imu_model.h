@@ -7,7 +7,9 @@
 #ifndef IMUSYSID_SRC_MODELS_RIGID3D_IMU_MODEL_H_
 #define IMUSYSID_SRC_MODELS_RIGID3D_IMU_MODEL_H_
 
+#include <array>
 #include <memory>
+#include <mutex>
 #include <string_view>
 #include <vector>
 
@@ -71,6 +73,7 @@ class Rigid3dImuModel : public Model, public LinearStructure {
                 const std::vector<int>* columns,
                 double* jacobian) const;
   // LinearSystem without ∂A/∂q, which is zero (Evaluate does not form it).
+  // A does not depend on q either: `a` null leaves it at a_ (regressors()).
   bool FillSystem(const double* p,
                   Eigen::MatrixXd* a,
                   Eigen::VectorXd* target,
@@ -83,8 +86,40 @@ class Rigid3dImuModel : public Model, public LinearStructure {
             Eigen::VectorXd* drag,
             Eigen::MatrixXd* d_drag,
             double* body_vx = nullptr) const;
+  // Drag's two passes along the flight: the drag (and body_vx), keeping
+  // u and |u| of every sample in `trace`; then, from them, the derivatives
+  // (the same operations as one pass, so the same numbers).
+  void DragPass(const double* q,
+                Eigen::VectorXd* drag,
+                double* body_vx,
+                std::vector<double>* trace) const;
+  void DragDerivativePass(const double* q,
+                          const std::vector<double>& trace,
+                          Eigen::MatrixXd* d_drag) const;
 
   int num_fitted_ = 0;
+  // A (x rows then y rows of the fitted samples), formed once: it depends
+  // on the data alone, and a fit evaluates the model thousands of times.
+  Eigen::MatrixXd a_;
+  bool a_finite_ = false;
+  // The drags last formed, by q's bits: a fit evaluates the same q again
+  // (the Jacobian where the residuals were, the cost where the Jacobian
+  // was), and the drag is most of an evaluation; the derivatives at a q
+  // whose drag is kept take only their own pass. Guarded by cache_mutex_.
+  struct DragEntry {
+    std::array<double, 4> q{};
+    bool valid = false;
+    bool has_derivatives = false;
+    bool drag_finite = false;
+    bool derivatives_finite = false;
+    Eigen::VectorXd drag;
+    Eigen::MatrixXd d_drag;
+    // DragPass's trace, for the derivatives at a later call.
+    std::shared_ptr<const std::vector<double>> trace;
+  };
+  mutable std::array<DragEntry, 2> drag_cache_;
+  mutable std::size_t drag_cache_next_ = 0;
+  mutable std::mutex cache_mutex_;
 };
 
 StatusOr<std::unique_ptr<Model>> NewRigid3dImuModel(

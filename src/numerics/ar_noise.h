@@ -50,19 +50,22 @@ StatusOr<ArNoise> FitArNoise(const Eigen::VectorXd& series, int max_order);
 
 // L m with L the exact whitening operator of `noise` (LᵀL = Σ⁻¹, L lower
 // triangular with bandwidth q), applied to each column of `m` (rows are
-// time).
-Eigen::MatrixXd PrewhitenAr(const Eigen::MatrixXd& m, const ArNoise& noise);
+// time). A block of a larger matrix is read in place.
+Eigen::MatrixXd PrewhitenAr(const Eigen::Ref<const Eigen::MatrixXd>& m,
+                            const ArNoise& noise);
 
 // L⁻ᵀ m (so that (L⁻ᵀ m)ᵀ (L⁻ᵀ m) = mᵀ Σ m), column by column, by back
 // substitution through the banded Lᵀ.
-Eigen::MatrixXd ColorAr(const Eigen::MatrixXd& m, const ArNoise& noise);
+Eigen::MatrixXd ColorAr(const Eigen::Ref<const Eigen::MatrixXd>& m,
+                        const ArNoise& noise);
 
 // The Fisher information Aᵀ Σ⁻¹ A of a block of rows `a` (rows are time)
 // under `noise`.
-Eigen::MatrixXd ArInformation(const Eigen::MatrixXd& a, const ArNoise& noise);
+Eigen::MatrixXd ArInformation(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                              const ArNoise& noise);
 
 // Aᵀ Σ A: the covariance of the least-squares scores Aᵀ e under `noise`.
-Eigen::MatrixXd ArScoreCovariance(const Eigen::MatrixXd& a,
+Eigen::MatrixXd ArScoreCovariance(const Eigen::Ref<const Eigen::MatrixXd>& a,
                                   const ArNoise& noise);
 
 // (Σ_k A_kᵀ Σ_k⁻¹ A_k)⁻¹ for independent blocks k of rows, block k's

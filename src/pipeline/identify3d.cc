@@ -23,6 +23,7 @@
 #include "imusysid/log_sanity.h"
 #include "imusysid/plan3d.h"
 #include "src/analyse/position3d.h"
+#include "src/calibration/calibration3d.h"
 #include "src/pipeline/identify_internal.h"
 #include "src/tools/sessions.h"
 
@@ -151,10 +152,23 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   Status first_failure = Status::Ok();
   // `model` is the caller's copy of the model name (the fallback may
   // change it); notes and progress go through `opts`.
-  auto fit_instance = [&](int instance,
-                          const IdentifyOptions& opts,
-                          std::string& model,
-                          InstanceOutcome* out) -> Status {
+  // An instance prepared for its fit (read, preprocessed, the log's delay
+  // and wind set from it when it is the first): its data and what its
+  // report adds.
+  struct Prepared {
+    int label = 0;
+    std::string damage;
+    std::shared_ptr<const Preprocess3dResult> owner;
+  };
+  // `first`: the instance sets the delay and the wind the others share (no
+  // instance has been fitted before it). Leaves `prepared->owner` null where
+  // the instance is done without a fit (the list ended, the windows stage).
+  auto prepare_instance = [&](int instance,
+                              const IdentifyOptions& opts,
+                              std::string& model,
+                              bool first,
+                              InstanceOutcome* out,
+                              Prepared* prepared) -> Status {
     // The instance the fit is reported as: a CSV's own (CsvImuInstance).
     int label = instance;
     Preprocess3dResult pre;
@@ -213,11 +227,15 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         description = std::move(fallback);
         if (!description.ok()) return description.status();
       }
-      StatusOr<Preprocess3dResult> prepared =
+      // The first instance's calibration searches its delay grid on the
+      // run's threads.
+      const CalibrationThreadsScope calibration_threads(first ? opts.num_threads
+                                                              : 1);
+      StatusOr<Preprocess3dResult> preprocessed =
           description->needs_estimator_channels ? Preprocess3d(*log, po)
                                                 : Preprocess3dImuOnly(*log, po);
-      if (!prepared.ok()) return prepared.status();
-      pre = std::move(prepared).value();
+      if (!preprocessed.ok()) return preprocessed.status();
+      pre = std::move(preprocessed).value();
     } else {
       pre.data = *input.data();
       IMUSYSID_RETURN_IF_ERROR(pre.data.Validate());
@@ -233,7 +251,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       if (!d.ok()) return d.status();
       estimator_name = d->default_estimator;
     }
-    if (summary.imus.empty()) {
+    if (first) {
       delay_at_limit = pre.delay_at_limit;
       longest_delay_searched_s = pre.longest_delay_searched_s;
       for (const auto& note : pre.notes) Note(opts, note);
@@ -253,23 +271,59 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       pre.delay_at_limit = delay_at_limit;  // the log's, found on the first
       pre.longest_delay_searched_s = longest_delay_searched_s;
     }
+    prepared->label = label;
+    prepared->damage = std::move(damage);
+    // The fit's data are the preprocessing's own, not a copy (25 MB for
+    // a ten-minute 250 Hz log): the fit's data share ownership of `pre`,
+    // which the report reads too.
+    prepared->owner =
+        std::make_shared<const Preprocess3dResult>(std::move(pre));
+    return Status::Ok();
+  };
+  // The fit of a prepared instance, its report in `out`.
+  auto finish_instance = [&](const Prepared& prepared,
+                             const IdentifyOptions& opts,
+                             const std::string& model,
+                             InstanceOutcome* out) -> Status {
     StatusOr<std::unique_ptr<Estimator>> estimator =
         BuiltinEstimators().Create(estimator_name);
     if (!estimator.ok()) return estimator.status();
-    // The fit's data are the preprocessing's own, not a copy (25 MB for
-    // a ten-minute 250 Hz log): `data` shares ownership of `pre`, which
-    // the report reads too.
-    auto owner = std::make_shared<const Preprocess3dResult>(std::move(pre));
+    const std::shared_ptr<const Preprocess3dResult>& owner = prepared.owner;
     std::shared_ptr<const ProblemData> data(owner, &owner->data);
     StatusOr<ImuPosition3d> report = FitInstance(
-        *owner, data, model, **estimator, estimator_name, label, opts);
+        *owner, data, model, **estimator, estimator_name, prepared.label, opts);
     if (!report.ok()) return report.status();
     // The first fitted instance's data, for a caller that refines the fit
     // (or draws it): an instance whose fit failed leaves none behind.
     out->data = data;
-    if (!damage.empty()) report->warnings.push_back("damaged_log: " + damage);
+    if (!prepared.damage.empty()) {
+      report->warnings.push_back("damaged_log: " + prepared.damage);
+    }
     out->report = std::move(report).value();
     return Status::Ok();
+  };
+  auto fit_instance = [&](int instance,
+                          const IdentifyOptions& opts,
+                          std::string& model,
+                          bool first,
+                          InstanceOutcome* out) -> Status {
+    Prepared prepared;
+    IMUSYSID_RETURN_IF_ERROR(
+        prepare_instance(instance, opts, model, first, out, &prepared));
+    if (prepared.owner == nullptr) return Status::Ok();
+    return finish_instance(prepared, opts, model, out);
+  };
+  // Messages of work on a worker thread kept in `o`, replayed in instance
+  // order by `take`.
+  auto buffered_options = [&options](InstanceOutcome* o) {
+    IdentifyOptions buffered = options;
+    buffered.on_note = [o](const std::string& text) {
+      o->messages.emplace_back(text, false);
+    };
+    buffered.on_progress = [o](const std::string& text) {
+      o->messages.emplace_back(text, true);
+    };
+    return buffered;
   };
   // One instance's outcome taken in instance order, as one thread takes
   // it: kEnd ends the list, kReturn returns `returned` (a status, or the
@@ -309,47 +363,66 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     return Next::kGoOn;
   };
   // One at a time until one instance is fitted: the first fitted sets the
-  // delay and the wind the others share. With num_threads > 1 the rest,
-  // which read only what it set, side by side (each instance's work is the
-  // same on any thread, so the result is too); with one thread, each in
-  // turn, its progress as it happens.
+  // delay and the wind the others share. With num_threads > 1, once the
+  // first has been prepared (its delay and wind found), its fit and the
+  // other instances, which read only what it set, side by side (each
+  // instance's work is the same on any thread, so the result is too); should
+  // its fit fail, the others' work is set aside and the next instance is
+  // the first, as with one thread, where each is fitted in turn, its
+  // progress as it happens.
   const bool threads =
       options.stop_after == IdentifyStage::kFit && options.num_threads > 1;
   std::size_t i = 0;
   Next next = Next::kGoOn;
-  for (; i < instances.size() &&
-         (summary.imus.empty() || !threads || instances.size() - i < 2);
-       ++i) {
+  for (; i < instances.size(); ++i) {
     InstanceOutcome o;
-    const Status status = fit_instance(instances[i], options, model_name, &o);
-    next = take(instances[i], status, &o);
-    if (next != Next::kGoOn) break;
-  }
-  if (next == Next::kGoOn && i < instances.size()) {
-    const std::size_t rest = instances.size() - i;
+    const bool first = summary.imus.empty();
+    if (!threads || !first || instances.size() - i < 2) {
+      const Status status =
+          fit_instance(instances[i], options, model_name, first, &o);
+      next = take(instances[i], status, &o);
+      if (next != Next::kGoOn) break;
+      continue;
+    }
+    Prepared prepared;
+    Status status = prepare_instance(
+        instances[i], options, model_name, /*first=*/true, &o, &prepared);
+    if (!status.ok() || prepared.owner == nullptr) {
+      next = take(instances[i], status, &o);
+      if (next != Next::kGoOn) break;
+      continue;
+    }
+    // Work item 0: this instance's fit; k > 0: instance i + k whole.
+    const std::size_t rest = instances.size() - i - 1;
     std::vector<InstanceOutcome> outcomes(rest);
-    std::vector<Status> statuses(rest, Status::Ok());
+    std::vector<Status> statuses(rest + 1, Status::Ok());
     std::vector<std::string> models(rest, model_name);
     std::atomic<std::size_t> claimed{0};
     ThreadPool pool(static_cast<int>(std::min<std::size_t>(
-        rest, static_cast<std::size_t>(options.num_threads))));
+        rest + 1, static_cast<std::size_t>(options.num_threads))));
     pool.Run([&](int /*worker*/) {
-      for (std::size_t k = claimed++; k < rest; k = claimed++) {
-        InstanceOutcome* o = &outcomes[k];
-        IdentifyOptions buffered = options;
-        buffered.on_note = [o](const std::string& text) {
-          o->messages.emplace_back(text, false);
-        };
-        buffered.on_progress = [o](const std::string& text) {
-          o->messages.emplace_back(text, true);
-        };
-        statuses[k] = fit_instance(instances[i + k], buffered, models[k], o);
+      for (std::size_t k = claimed++; k <= rest; k = claimed++) {
+        if (k == 0) {
+          statuses[0] =
+              finish_instance(prepared, buffered_options(&o), model_name, &o);
+        } else {
+          InstanceOutcome* other = &outcomes[k - 1];
+          statuses[k] = fit_instance(instances[i + k],
+                                     buffered_options(other),
+                                     models[k - 1],
+                                     /*first=*/false,
+                                     other);
+        }
       }
     });
-    for (std::size_t k = 0; k < rest; ++k) {
-      next = take(instances[i + k], statuses[k], &outcomes[k]);
+    next = take(instances[i], statuses[0], &o);
+    if (next != Next::kGoOn) break;
+    if (summary.imus.empty()) continue;
+    for (std::size_t k = 1; k <= rest; ++k) {
+      next = take(instances[i + k], statuses[k], &outcomes[k - 1]);
       if (next != Next::kGoOn) break;
     }
+    break;
   }
   if (next == Next::kReturn) {
     if (!returned.ok()) return returned;
