@@ -121,6 +121,13 @@ Status ValidateBenchConfig(const BenchConfig& config) {
         config.pools3d.empty()))) {
     return InvalidArgumentError("bench: no logs given");
   }
+  // The pairs are fitted with a 3-D model of the list; without one they
+  // would not be flown at all.
+  if (!config.pools3d.empty() && !any3d) {
+    return InvalidArgumentError(
+        "bench: --pools3d pools fits of a 3-D model, and --models names none "
+        "(e.g. --models=rigid3d)");
+  }
   for (const auto& format : config.formats3d) {
     if (format != "ulog" && format != "dataflash") {
       return InvalidArgumentError("bench: 3-D format '" + format +

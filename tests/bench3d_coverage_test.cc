@@ -265,6 +265,15 @@ TEST(Bench3dCoverage, CliRefusesBadSimulatorFlagsBeforeAnyFlight) {
       "bench --preset=ci3d --pools3d=figure8_3d.ulg+figure8_3d.bin");
   EXPECT_EQ(r.exit_code, 2);  // pairs need --seeds >= 2
   EXPECT_THAT(r.err, HasSubstr("--seeds"));
+  // Pairs with only planar models would be fitted by nothing: refused
+  // before any flight, where they used to be left out without a word.
+  r = testing::RunCli(
+      "bench --preset=ci3d --models=consistent --seeds=2 "
+      "--pools3d=figure8_3d.ulg+figure8_3d.bin --logs=" +
+      testing::DataDir() + "/paper_test1.csv");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--models names none"));
+  EXPECT_THAT(r.err, ::testing::Not(HasSubstr("[3-D")));
 }
 
 // `bench --preset=ci3d --out=R`'s index.html rendered by chromium, when it
