@@ -191,6 +191,21 @@ StatusOr<std::shared_ptr<const Model>> PredictModelOf(
   return std::shared_ptr<const Model>(std::move(model).value());
 }
 
+// What the residual's noise needs of a caller: rigid3d's parameters, all
+// finite, and an AR order that can be fitted; checked before the model's
+// system is built.
+Status CheckResidualNoise3dInputs(const Eigen::VectorXd& parameters,
+                                  const Predict3dOptions& options) {
+  if (parameters.size() != kNumRigid3dParameters || !parameters.allFinite()) {
+    return InvalidArgumentError(
+        "predict3d: parameters must be rigid3d's 11, finite");
+  }
+  if (options.max_ar_order < 0) {
+    return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 namespace internal {
@@ -206,13 +221,7 @@ StatusOr<ResidualNoise3d> ResidualNoise3dOfModel(
     const Model& model,
     const Eigen::VectorXd& parameters,
     const Predict3dOptions& options) {
-  if (parameters.size() != kNumRigid3dParameters || !parameters.allFinite()) {
-    return InvalidArgumentError(
-        "predict3d: parameters must be rigid3d's 11, finite");
-  }
-  if (options.max_ar_order < 0) {
-    return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
-  }
+  IMUSYSID_RETURN_IF_ERROR(CheckResidualNoise3dInputs(parameters, options));
   StatusOr<ModelSystem3d> system = ModelSystem3dOf(model);
   if (!system.ok()) return system.status();
   return ResidualNoise3dOfSystem(model, *system, parameters, options);
@@ -223,13 +232,7 @@ StatusOr<ResidualNoise3d> ResidualNoise3dOfSystem(
     const ModelSystem3d& system,
     const Eigen::VectorXd& parameters,
     const Predict3dOptions& options) {
-  if (parameters.size() != kNumRigid3dParameters || !parameters.allFinite()) {
-    return InvalidArgumentError(
-        "predict3d: parameters must be rigid3d's 11, finite");
-  }
-  if (options.max_ar_order < 0) {
-    return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
-  }
+  IMUSYSID_RETURN_IF_ERROR(CheckResidualNoise3dInputs(parameters, options));
   const Eigen::MatrixXd& a = system.a;
   const Eigen::VectorXd b =
       model.linear_structure()->CoefficientsFromParameters(parameters.data());
@@ -328,13 +331,7 @@ StatusOr<Information3d> Information3dAtFit(
   StatusOr<std::shared_ptr<const Model>> model =
       PredictModelOf(std::move(data));
   if (!model.ok()) return model.status();
-  if (parameters.size() != kNumRigid3dParameters || !parameters.allFinite()) {
-    return InvalidArgumentError(
-        "predict3d: parameters must be rigid3d's 11, finite");
-  }
-  if (options.max_ar_order < 0) {
-    return InvalidArgumentError("predict3d: max_ar_order must be >= 0");
-  }
+  IMUSYSID_RETURN_IF_ERROR(CheckResidualNoise3dInputs(parameters, options));
   StatusOr<internal::ModelSystem3d> system = internal::ModelSystem3dOf(**model);
   if (!system.ok()) return system.status();
   StatusOr<ResidualNoise3d> noise =
