@@ -2,6 +2,8 @@
 # Installs the Debian packages imusysid needs, if any are missing.
 # As root it runs apt-get itself; otherwise it prints the exact command to run.
 #   scripts/setup.sh              build + test dependencies
+#   scripts/setup.sh --with-clang also clang and its sanitizer runtimes (the
+#                                 test command's compiler, scripts/test.sh)
 #   scripts/setup.sh --with-fuzz  also clang's libFuzzer runtime
 #   scripts/setup.sh --with-peers also GNU Octave + octave-ga and SciPy, for
 #                                 benchmarks/peers/run_peers.sh
@@ -20,9 +22,9 @@ packages=(
 )
 for arg in "$@"; do
   case "$arg" in
-    --with-fuzz) packages+=(clang libclang-rt-dev) ;;
+    --with-clang|--with-fuzz) packages+=(clang libclang-rt-dev) ;;
     --with-peers) packages+=(octave octave-ga python3 python3-numpy python3-scipy) ;;
-    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done

@@ -11,6 +11,11 @@
 #     UndefinedBehaviorSanitizer and linked with the same core objects
 #     (IMUSYSID_SANITIZED_INPUT_TESTS in CMakeLists.txt; the list of tests is
 #     IMUSYSID_SANITIZED_TESTS in tests/CMakeLists.txt).
+# The build is clang's (CXX=clang++ unless CXX names another; a build folder
+# that exists keeps the compiler it was made with): it compiles this code in
+# a sixth less CPU than GCC, the compiler of scripts/run.sh and of the
+# figures in docs/benchmarks.md, and the two builds print the same bytes
+# (docs/testing.md). Warnings are errors (GCC's too, with CXX=g++).
 # The library and the unit tests compile as a few large sources
 # (IMUSYSID_UNITY_BUILD): on a clean build that takes about a third less CPU.
 # Each test binary runs as four gtest shards (IMUSYSID_TEST_SHARDS; six for
@@ -27,12 +32,13 @@ sanitizers=1
 for arg in "$@"; do
   case "$arg" in
     --no-sanitizers) sanitizers=0 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,27p' "$0"; exit 0 ;;
     *) echo "test.sh: unknown option '$arg'" >&2; exit 2 ;;
   esac
 done
 
-bash scripts/setup.sh
+bash scripts/setup.sh --with-clang
+export CXX="${CXX:-clang++}"
 jobs=$(nproc)
 # Ninja where the build folder is new (an existing one keeps its generator):
 # it compiles the tool's and the tests' sources while the library's last ones
@@ -56,7 +62,7 @@ phase() {
   phase_cpu=$cpu
 }
 
-echo "== Release build and all tests"
+echo "== Release build and all tests (CXX=$CXX)"
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DIMUSYSID_WERROR=ON -DIMUSYSID_UNITY_BUILD=ON \
   -DIMUSYSID_TEST_SHARDS=4 -DIMUSYSID_SANITIZED_INPUT_TESTS="$sanitizers" >/dev/null
 cmake --build build -j"$jobs"

@@ -95,7 +95,7 @@ TEST(StatusOrDeathTest, AccessingTheValueOfAnErrorIsAProgrammerError) {
 
 TEST(StatusOrDeathTest, BuildingFromAnOkStatusIsAProgrammerError) {
   ::testing::FLAGS_gtest_death_test_style = "threadsafe";
-  EXPECT_DEATH(StatusOr<int>{Status::Ok()}, "without a value");
+  EXPECT_DEATH((void)StatusOr<int>{Status::Ok()}, "without a value");
 }
 
 }  // namespace

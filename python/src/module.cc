@@ -313,7 +313,7 @@ py::tuple FitArrays(const Doubles& t,
   for (const EstimateResult& r : summary->fits) {
     py::dict one;
     one["estimate"] = py::array_t<double>(
-        {static_cast<py::ssize_t>(r.parameters.size())}, r.parameters.data());
+        static_cast<py::ssize_t>(r.parameters.size()), r.parameters.data());
     // Eigen is column-major; the covariance is symmetric, so the same bytes
     // read row-major are the same matrix.
     one["covariance"] =
