@@ -55,3 +55,19 @@ function(imusysid_set_pch_warnings target)
     target_compile_options(${target} PRIVATE -Wno-error=invalid-pch)
   endif()
 endfunction()
+
+# imusysid_precompile_third_party(TARGET): the standard and third-party headers
+# most of the library's, the tool's and the bench's sources include, parsed
+# once per target into a precompiled header instead of once per source (with
+# clang a clean test-command build took about 130 s less CPU). Third-party
+# and standard headers only: a project header here would rebuild every
+# source when it changes. A source built with flags of its own sets
+# SKIP_PRECOMPILE_HEADERS.
+function(imusysid_precompile_third_party target)
+  target_precompile_headers(${target} PRIVATE
+    <algorithm> <cmath> <cstdint> <functional> <limits> <map> <memory>
+    <optional> <sstream> <string> <string_view> <utility> <vector>
+    [["Eigen/Core"]] [["Eigen/Dense"]] [["glog/logging.h"]]
+    [["nlohmann/json.hpp"]])
+  imusysid_set_pch_warnings(${target})
+endfunction()
