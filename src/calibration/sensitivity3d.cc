@@ -314,9 +314,13 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   std::vector<std::function<StatusOr<LinearFit3d>()>> form(kVariants);
   form[kMidBase] = [&] { return from_mid(o, 0.0); };
   if (cutoff_varied) {
-    form[kCutoffLow] = [&] {
-      return from_mid(cutoff_low, cutoff_low.cutoff_hz);
-    };
+    // The lower cutoff's variant is the base where it is not lower (taken
+    // from it below).
+    if (cutoff_low.cutoff_hz < o.cutoff_hz) {
+      form[kCutoffLow] = [&] {
+        return from_mid(cutoff_low, cutoff_low.cutoff_hz);
+      };
+    }
     // Every window refiltered at the log's rate, kept every `step`.
     form[kCutoffHigh] = [&]() -> StatusOr<LinearFit3d> {
       std::vector<WindowImu> windows;
@@ -346,8 +350,6 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   }
   std::vector<std::size_t> wanted;
   for (std::size_t v = 0; v < form.size(); ++v) {
-    // The lower cutoff's variant is the base where it is not lower.
-    if (v == kCutoffLow && !(cutoff_low.cutoff_hz < o.cutoff_hz)) continue;
     if (form[v]) wanted.push_back(v);
   }
   std::vector<StatusOr<LinearFit3d>> fits(
@@ -355,9 +357,7 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   ForEachCalibrationTask(wanted.size(), [&](std::size_t k) {
     fits[wanted[k]] = form[wanted[k]]();
   });
-  if (cutoff_varied && !(cutoff_low.cutoff_hz < o.cutoff_hz)) {
-    fits[kCutoffLow] = fits[kMidBase];
-  }
+  if (cutoff_varied && !form[kCutoffLow]) fits[kCutoffLow] = fits[kMidBase];
 
   const StatusOr<LinearFit3d>& mid_base = fits[kMidBase];
   if (!mid_base.ok()) return mid_base.status();

@@ -30,6 +30,18 @@ bool AllFinite(const double* x, int n) {
   return true;
 }
 
+// Sample i's rotation body → NED: its rows are north, east and down (their
+// cross product) in body axes. Both drag passes form it so.
+Eigen::Matrix3d BodyToNed(const Motion3d& m, std::size_t i) {
+  const Eigen::Vector3d north(m.north[0][i], m.north[1][i], m.north[2][i]);
+  const Eigen::Vector3d east(m.east[0][i], m.east[1][i], m.east[2][i]);
+  Eigen::Matrix3d r;
+  r.row(0) = north.transpose();
+  r.row(1) = east.transpose();
+  r.row(2) = north.cross(east).transpose();
+  return r;
+}
+
 }  // namespace
 
 Rigid3dImuModel::Rigid3dImuModel(std::shared_ptr<const ProblemData> data)
@@ -146,12 +158,7 @@ void Rigid3dImuModel::DragPass(const double* q,
   Eigen::Vector3d v = Eigen::Vector3d::Zero();
   int row = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d north(m.north[0][i], m.north[1][i], m.north[2][i]);
-    const Eigen::Vector3d east(m.east[0][i], m.east[1][i], m.east[2][i]);
-    Eigen::Matrix3d r;  // body → NED: rows north, east, down in body axes
-    r.row(0) = north.transpose();
-    r.row(1) = east.transpose();
-    r.row(2) = north.cross(east).transpose();
+    const Eigen::Matrix3d r = BodyToNed(m, i);
     if (body_vx != nullptr) body_vx[i] = (r.transpose() * v).x();
     const Eigen::Vector3d u = r.transpose() * (v - wind);
     const double speed = u.norm();
@@ -198,12 +205,7 @@ void Rigid3dImuModel::DragDerivativePass(const double* q,
   dw(1, 3) = 1.0;
   int row = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d north(m.north[0][i], m.north[1][i], m.north[2][i]);
-    const Eigen::Vector3d east(m.east[0][i], m.east[1][i], m.east[2][i]);
-    Eigen::Matrix3d r;  // as DragPass's
-    r.row(0) = north.transpose();
-    r.row(1) = east.transpose();
-    r.row(2) = north.cross(east).transpose();
+    const Eigen::Matrix3d r = BodyToNed(m, i);
     const Eigen::Vector3d u(trace[4 * i], trace[4 * i + 1], trace[4 * i + 2]);
     const double speed = trace[4 * i + 3];
     Eigen::Matrix<double, 3, kQ> d_dr;
