@@ -59,7 +59,7 @@ endfunction()
 # imusysid_precompile_third_party(TARGET): the standard and third-party headers
 # most of the library's, the tool's and the bench's sources include, parsed
 # once per target into a precompiled header instead of once per source (with
-# clang a clean test-command build took about 130 s less CPU). Third-party
+# clang a clean test-command build took about 110 s less CPU). Third-party
 # and standard headers only: a project header here would rebuild every
 # source when it changes. A source built with flags of its own sets
 # SKIP_PRECOMPILE_HEADERS.
