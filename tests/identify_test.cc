@@ -140,9 +140,10 @@ TEST(Identify, ThreeImusShareTheFlightsDelayAndWind) {
   }
 }
 
-// The instances after the first are fitted side by side with num_threads
-// 2: the summary, the notes and the progress lines, in their order, are
-// those of one thread, bit for bit.
+// With num_threads 2 the instances after the first are read and conditioned
+// while the first one's calibration runs, then fitted side by side: the
+// summary, the notes and the progress lines, in their order, are those of
+// one thread, bit for bit.
 TEST(Identify, InstancesSideBySideGiveWhatOneThreadGives) {
   Sim3dLogOptions lo;
   lo.dataflash_imu_rate_hz = 100.0;  // three instances, kept cheap

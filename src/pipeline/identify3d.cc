@@ -25,6 +25,7 @@
 #include "src/analyse/position3d.h"
 #include "src/calibration/calibration3d.h"
 #include "src/pipeline/identify_internal.h"
+#include "src/pipeline/prepare3d_internal.h"
 #include "src/tools/sessions.h"
 
 namespace imusysid {
@@ -160,82 +161,149 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     std::string damage;
     std::shared_ptr<const Preprocess3dResult> owner;
   };
+  // An instance's log read and checked for the fit (the model switched to
+  // the IMU-only one where the log lacks the estimator's channels): what
+  // its preprocessing starts from. `log` stays null where the instance is
+  // done without a fit (the list ended, the windows stage).
+  struct Read {
+    int label = 0;
+    std::string damage;
+    bool estimator_path = true;
+    std::unique_ptr<FlightLog> log;
+  };
+  auto read_instance = [&](int instance,
+                           const IdentifyOptions& opts,
+                           const Preprocess3dOptions& pre_options,
+                           std::string& model,
+                           InstanceOutcome* out,
+                           Read* r) -> Status {
+    // The instance the fit is reported as: a CSV's own (CsvImuInstance).
+    r->label = instance;
+    StatusOr<LogReadOptions> read = FitReadOptions(bytes, instance, opts);
+    if (!read.ok()) return read.status();
+    StatusOr<FlightLog> log =
+        parsed.has_value() ? parsed->Instance(*read)
+                           : ParseFlightLog(bytes, input.source(), *read);
+    if (!log.ok()) {
+      // A further instance the log does not hold ends the list.
+      if (instance > 0 && several) {
+        out->ended = true;
+        return Status::Ok();
+      }
+      // One asked for by name that the log lacks: what it holds.
+      if (opts.imu >= 0 && parsed.has_value()) {
+        return ImuInstanceNotHeldError(
+            bytes, &*parsed, input.source(), instance, opts, log.status());
+      }
+      return log.status();
+    }
+    if (!parsed.has_value()) {
+      // A CSV is the one IMU it says it is, under that instance's name.
+      IMUSYSID_RETURN_IF_ERROR(
+          CheckCsvImuInstance(*log, input.source(), opts.imu));
+      r->label = CsvImuInstance(*log);
+    }
+    if (opts.stop_after == IdentifyStage::kWindows) {
+      StatusOr<Preprocess3dResult> windows = SelectWindows3d(*log, pre_options);
+      if (!windows.ok()) return windows.status();
+      summary.model = model;
+      summary.windows = std::move(windows).value();
+      return Status::Ok();
+    }
+    // Before the gates, which Preprocess3d's own rate check follows: an
+    // instance logged too slowly is refused for its rate, not for what a
+    // 1 Hz log looks like to the other checks.
+    IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(*log, pre_options));
+    IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
+    if (!opts.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
+    r->damage = DamageSummary(*log);
+    // Without the estimator's attitude and velocity, the model declared
+    // for that case.
+    StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
+    if (!description.ok()) return description.status();
+    if (description->needs_estimator_channels && !HasEstimatorChannels(*log) &&
+        !description->without_estimator_channels.empty()) {
+      model = description->without_estimator_channels;
+      StatusOr<ModelDescription> fallback = BuiltinModels().Describe(model);
+      Note(opts,
+           "the log has no attitude and velocity estimate: model " + model +
+               (fallback.ok() ? " (" + fallback->inputs + ")" : ""));
+      description = std::move(fallback);
+      if (!description.ok()) return description.status();
+    }
+    r->estimator_path = description->needs_estimator_channels;
+    r->log = std::make_unique<FlightLog>(std::move(log).value());
+    return Status::Ok();
+  };
+  // An instance after the first read and conditioned while the first one's
+  // calibration runs (the conditioning reads neither the delay nor the
+  // wind): what prepare_instance takes up from there. Only an instance on
+  // the estimator path whose conditioning succeeded is kept (`log` set); any
+  // other is read again in turn, so its messages and errors are those it
+  // always had.
+  struct Ahead {
+    std::string model;  // the model it was read for
+    Read read;
+    Preprocess3dResult pre;
+    std::optional<Conditioned3d> conditioned;
+  };
+  auto condition_ahead = [&](int instance,
+                             const Preprocess3dOptions& pre_options,
+                             const std::string& for_model,
+                             Ahead* ahead) {
+    IdentifyOptions quiet = options;
+    quiet.on_note = nullptr;
+    quiet.on_progress = nullptr;
+    std::string model = for_model;
+    InstanceOutcome scratch;
+    Read r;
+    if (!read_instance(instance, quiet, pre_options, model, &scratch, &r)
+             .ok() ||
+        r.log == nullptr || !r.estimator_path || model != for_model) {
+      return;
+    }
+    ahead->model = for_model;
+    StatusOr<Conditioned3d> conditioned =
+        ConditionFlight(*r.log, pre_options, &ahead->pre);
+    if (!conditioned.ok()) return;
+    ahead->conditioned = std::move(conditioned).value();
+    ahead->read = std::move(r);
+  };
   // `first`: the instance sets the delay and the wind the others share (no
   // instance has been fitted before it). Leaves `prepared->owner` null where
   // the instance is done without a fit (the list ended, the windows stage).
+  // `ahead`, when not null and kept, is this instance conditioned already.
   auto prepare_instance = [&](int instance,
                               const IdentifyOptions& opts,
                               std::string& model,
                               bool first,
                               InstanceOutcome* out,
-                              Prepared* prepared) -> Status {
-    // The instance the fit is reported as: a CSV's own (CsvImuInstance).
-    int label = instance;
+                              Prepared* prepared,
+                              Ahead* ahead) -> Status {
     Preprocess3dResult pre;
-    std::string damage;
+    Read r;
+    r.label = instance;
     if (input.is_log()) {
-      StatusOr<LogReadOptions> read = FitReadOptions(bytes, instance, opts);
-      if (!read.ok()) return read.status();
-      StatusOr<FlightLog> log =
-          parsed.has_value() ? parsed->Instance(*read)
-                             : ParseFlightLog(bytes, input.source(), *read);
-      if (!log.ok()) {
-        // A further instance the log does not hold ends the list.
-        if (instance > 0 && several) {
-          out->ended = true;
-          return Status::Ok();
-        }
-        // One asked for by name that the log lacks: what it holds.
-        if (opts.imu >= 0 && parsed.has_value()) {
-          return ImuInstanceNotHeldError(
-              bytes, &*parsed, input.source(), instance, opts, log.status());
-        }
-        return log.status();
-      }
-      if (!parsed.has_value()) {
-        // A CSV is the one IMU it says it is, under that instance's name.
-        IMUSYSID_RETURN_IF_ERROR(
-            CheckCsvImuInstance(*log, input.source(), opts.imu));
-        label = CsvImuInstance(*log);
-      }
-      if (opts.stop_after == IdentifyStage::kWindows) {
-        StatusOr<Preprocess3dResult> windows = SelectWindows3d(*log, po);
-        if (!windows.ok()) return windows.status();
-        summary.model = model;
-        summary.windows = std::move(windows).value();
-        return Status::Ok();
-      }
-      // Before the gates, which Preprocess3d's own rate check follows: an
-      // instance logged too slowly is refused for its rate, not for what a
-      // 1 Hz log looks like to the other checks.
-      IMUSYSID_RETURN_IF_ERROR(CheckImuRate3d(*log, po));
-      IMUSYSID_RETURN_IF_ERROR(CheckAccelerometer(*log));
-      if (!opts.allow_damaged) IMUSYSID_RETURN_IF_ERROR(CheckDamage(*log));
-      damage = DamageSummary(*log);
-      // Without the estimator's attitude and velocity, the model declared
-      // for that case.
-      StatusOr<ModelDescription> description = BuiltinModels().Describe(model);
-      if (!description.ok()) return description.status();
-      if (description->needs_estimator_channels &&
-          !HasEstimatorChannels(*log) &&
-          !description->without_estimator_channels.empty()) {
-        model = description->without_estimator_channels;
-        StatusOr<ModelDescription> fallback = BuiltinModels().Describe(model);
-        Note(opts,
-             "the log has no attitude and velocity estimate: model " + model +
-                 (fallback.ok() ? " (" + fallback->inputs + ")" : ""));
-        description = std::move(fallback);
-        if (!description.ok()) return description.status();
-      }
       // The first instance's calibration searches its delay grid on the
       // run's threads.
       const CalibrationThreadsScope calibration_threads(first ? opts.num_threads
                                                               : 1);
-      StatusOr<Preprocess3dResult> preprocessed =
-          description->needs_estimator_channels ? Preprocess3d(*log, po)
-                                                : Preprocess3dImuOnly(*log, po);
-      if (!preprocessed.ok()) return preprocessed.status();
-      pre = std::move(preprocessed).value();
+      if (ahead != nullptr && ahead->read.log != nullptr &&
+          ahead->model == model) {
+        r = std::move(ahead->read);
+        pre = std::move(ahead->pre);
+        IMUSYSID_RETURN_IF_ERROR(
+            CalibrateConditioned3d(std::move(*ahead->conditioned), po, &pre));
+      } else {
+        IMUSYSID_RETURN_IF_ERROR(
+            read_instance(instance, opts, po, model, out, &r));
+        if (r.log == nullptr) return Status::Ok();
+        StatusOr<Preprocess3dResult> preprocessed =
+            r.estimator_path ? Preprocess3d(*r.log, po)
+                             : Preprocess3dImuOnly(*r.log, po);
+        if (!preprocessed.ok()) return preprocessed.status();
+        pre = std::move(preprocessed).value();
+      }
     } else {
       pre.data = *input.data();
       IMUSYSID_RETURN_IF_ERROR(pre.data.Validate());
@@ -271,8 +339,8 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       pre.delay_at_limit = delay_at_limit;  // the log's, found on the first
       pre.longest_delay_searched_s = longest_delay_searched_s;
     }
-    prepared->label = label;
-    prepared->damage = std::move(damage);
+    prepared->label = r.label;
+    prepared->damage = std::move(r.damage);
     // The fit's data are the preprocessing's own, not a copy (25 MB for
     // a ten-minute 250 Hz log): the fit's data share ownership of `pre`,
     // which the report reads too.
@@ -306,10 +374,11 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
                           const IdentifyOptions& opts,
                           std::string& model,
                           bool first,
-                          InstanceOutcome* out) -> Status {
+                          InstanceOutcome* out,
+                          Ahead* ahead = nullptr) -> Status {
     Prepared prepared;
     IMUSYSID_RETURN_IF_ERROR(
-        prepare_instance(instance, opts, model, first, out, &prepared));
+        prepare_instance(instance, opts, model, first, out, &prepared, ahead));
     if (prepared.owner == nullptr) return Status::Ok();
     return finish_instance(prepared, opts, model, out);
   };
@@ -384,16 +453,45 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       if (next != Next::kGoOn) break;
       continue;
     }
+    // The first instance prepared on this thread; the others meanwhile
+    // read and conditioned on the other threads, until it is done.
+    const std::size_t rest = instances.size() - i - 1;
+    std::vector<Ahead> ahead(rest);
     Prepared prepared;
-    Status status = prepare_instance(
-        instances[i], options, model_name, /*first=*/true, &o, &prepared);
+    Status status = Status::Ok();
+    {
+      const Preprocess3dOptions ahead_options = po;
+      const std::string ahead_model = model_name;
+      std::atomic<bool> first_prepared{false};
+      std::atomic<std::size_t> next_ahead{0};
+      ThreadPool section(static_cast<int>(std::min<std::size_t>(
+          rest + 1, static_cast<std::size_t>(options.num_threads))));
+      section.Run([&](int worker) {
+        if (worker == 0) {
+          status = prepare_instance(instances[i],
+                                    options,
+                                    model_name,
+                                    /*first=*/true,
+                                    &o,
+                                    &prepared,
+                                    /*ahead=*/nullptr);
+          first_prepared = true;
+          return;
+        }
+        for (std::size_t k = next_ahead++; k < rest && !first_prepared;
+             k = next_ahead++) {
+          condition_ahead(
+              instances[i + 1 + k], ahead_options, ahead_model, &ahead[k]);
+        }
+      });
+    }
     if (!status.ok() || prepared.owner == nullptr) {
       next = take(instances[i], status, &o);
       if (next != Next::kGoOn) break;
       continue;
     }
-    // Work item 0: this instance's fit; k > 0: instance i + k whole.
-    const std::size_t rest = instances.size() - i - 1;
+    // Work item 0: this instance's fit; k > 0: instance i + k whole (from
+    // its conditioning where that was done ahead for the same model).
     std::vector<InstanceOutcome> outcomes(rest);
     std::vector<Status> statuses(rest + 1, Status::Ok());
     std::vector<std::string> models(rest, model_name);
@@ -411,7 +509,8 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
                                      buffered_options(other),
                                      models[k - 1],
                                      /*first=*/false,
-                                     other);
+                                     other,
+                                     &ahead[k - 1]);
         }
       }
     });

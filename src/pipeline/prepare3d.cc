@@ -6,12 +6,56 @@
 // It runs two stages, so it is orchestration and lives with Identify; the
 // tracker's one calibration calls it too.
 
+#include <utility>
+
 #include "imusysid/preprocess3d.h"
 #include "src/calibration/calibration3d.h"
 #include "src/calibration/sensitivity3d.h"
+#include "src/pipeline/prepare3d_internal.h"
 #include "src/preprocess/preprocess3d_internal.h"
 
 namespace imusysid {
+
+namespace internal {
+
+Status CalibrateConditioned3d(Conditioned3d conditioned,
+                              const Preprocess3dOptions& options,
+                              Preprocess3dResult* out) {
+  IMUSYSID_RETURN_IF_ERROR(options.Validate());
+  conditioned.options = options;
+  // One thinned copy for the calibration's searches and the sensitivity.
+  const Conditioned3d thin = SearchCopy(conditioned);
+  StatusOr<Calibration3d> calibration = Calibrate3d(conditioned, thin, options);
+  if (!calibration.ok()) return calibration.status();
+  out->delay_estimated = calibration->delay_estimated;
+  out->delay_at_limit = calibration->delay_at_limit;
+  out->longest_delay_searched_s = calibration->longest_delay_searched_s;
+  out->rmse_without_delay = calibration->rmse_without_delay;
+  out->rmse_at_delay = calibration->rmse_at_delay;
+  out->notes.insert(
+      out->notes.end(), calibration->notes.begin(), calibration->notes.end());
+  IMUSYSID_RETURN_IF_ERROR(SetDataAt(conditioned,
+                                     calibration->estimator_delay_s,
+                                     calibration->wind_n,
+                                     calibration->wind_e,
+                                     out));
+  if (options.systematic) {
+    // A sensitivity that cannot be computed (a refiltered window too short
+    // for the narrower cutoff) leaves σ̂ without it, said so; the fit
+    // itself stands.
+    Status sensitivity =
+        FillSensitivity3d(conditioned, thin, *calibration, out);
+    if (!sensitivity.ok()) {
+      out->notes.push_back(
+          "the systematic part of sigma (the position's sensitivity to the "
+          "cutoff, the derivative and the delay) was not computed: " +
+          sensitivity.message());
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace internal
 
 StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
                                           const Preprocess3dOptions& options) {
@@ -19,36 +63,8 @@ StatusOr<Preprocess3dResult> Preprocess3d(const FlightLog& log,
   StatusOr<internal::Conditioned3d> conditioned =
       internal::ConditionFlight(log, options, &out);
   if (!conditioned.ok()) return conditioned.status();
-  // One thinned copy for the calibration's searches and the sensitivity.
-  const internal::Conditioned3d thin = internal::SearchCopy(*conditioned);
-  StatusOr<internal::Calibration3d> calibration =
-      internal::Calibrate3d(*conditioned, thin, options);
-  if (!calibration.ok()) return calibration.status();
-  out.delay_estimated = calibration->delay_estimated;
-  out.delay_at_limit = calibration->delay_at_limit;
-  out.longest_delay_searched_s = calibration->longest_delay_searched_s;
-  out.rmse_without_delay = calibration->rmse_without_delay;
-  out.rmse_at_delay = calibration->rmse_at_delay;
-  out.notes.insert(
-      out.notes.end(), calibration->notes.begin(), calibration->notes.end());
-  IMUSYSID_RETURN_IF_ERROR(internal::SetDataAt(*conditioned,
-                                               calibration->estimator_delay_s,
-                                               calibration->wind_n,
-                                               calibration->wind_e,
-                                               &out));
-  if (options.systematic) {
-    // A sensitivity that cannot be computed (a refiltered window too short
-    // for the narrower cutoff) leaves σ̂ without it, said so; the fit
-    // itself stands.
-    Status sensitivity =
-        internal::FillSensitivity3d(*conditioned, thin, *calibration, &out);
-    if (!sensitivity.ok()) {
-      out.notes.push_back(
-          "the systematic part of sigma (the position's sensitivity to the "
-          "cutoff, the derivative and the delay) was not computed: " +
-          sensitivity.message());
-    }
-  }
+  IMUSYSID_RETURN_IF_ERROR(internal::CalibrateConditioned3d(
+      std::move(conditioned).value(), options, &out));
   return out;
 }
 
