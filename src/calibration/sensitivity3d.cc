@@ -199,6 +199,108 @@ StatusOr<std::vector<WindowImu>> MidVariant(const std::vector<WindowImu>& mid,
   return out;
 }
 
+// The sensitivity's variants, in the order their fits are taken.
+enum Variant {
+  kMidBase,
+  kCutoffLow,
+  kCutoffHigh,
+  kWidthLow,
+  kWidthHigh,
+  kDelayLow,
+  kDelayHigh,
+  kEdge,
+  kBeforeEdge,
+  kVariants
+};
+
+// The options of the variants that refilter or re-derive the IMU signals,
+// and their windows: these read the conditioned flight alone (neither the
+// delay nor the wind).
+class VariantWindows {
+ public:
+  // `out`: ConditionFlight's windows, gyro bias and rate. `with_mid`: the
+  // copy the filtered-signal variants are formed on is made (Form needs it).
+  VariantWindows(const Conditioned3d& conditioned,
+                 const Preprocess3dResult& out,
+                 bool with_mid)
+      : conditioned_(conditioned), out_(out) {
+    const Preprocess3dOptions& o = conditioned.options;
+    step_ = static_cast<std::size_t>(std::max(
+        1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
+    const auto mid_step = static_cast<std::size_t>(
+        std::max(1.0, std::floor(conditioned.sample_rate_hz / kMidRateHz)));
+    mid_rate_hz_ = conditioned.sample_rate_hz / static_cast<double>(mid_step);
+    mid_to_search_ = static_cast<std::size_t>(
+        std::max(1.0, std::floor(mid_rate_hz_ / kSearchRateHz3d)));
+    if (with_mid) {
+      mid_.reserve(conditioned.windows.size());
+      for (const WindowImu& w : conditioned.windows) {
+        mid_.push_back(ThinnedWindow(w, mid_step));
+      }
+    }
+    options_.assign(kWidthHigh + 1, o);
+    options_[kCutoffLow].cutoff_hz = o.cutoff_hz * o.systematic_low_factor;
+    options_[kCutoffHigh].cutoff_hz = o.cutoff_hz * o.systematic_high_factor;
+    options_[kWidthLow].derivative_half_width_s =
+        o.derivative_half_width_s * o.systematic_low_factor;
+    options_[kWidthHigh].derivative_half_width_s =
+        o.derivative_half_width_s * o.systematic_high_factor;
+  }
+
+  const Preprocess3dOptions& Options(Variant v) const { return options_[v]; }
+  bool CutoffVaried() const { return conditioned_.options.cutoff_hz > 0; }
+  // Whether variant v (kMidBase..kWidthHigh) is formed: the lower cutoff's
+  // only where it is lower (else it is the base).
+  bool Formed(Variant v) const {
+    switch (v) {
+      case kCutoffLow:
+        return CutoffVaried() &&
+               options_[kCutoffLow].cutoff_hz < conditioned_.options.cutoff_hz;
+      case kCutoffHigh:
+        return CutoffVaried();
+      default:
+        return true;
+    }
+  }
+
+  // Variant v's windows: the base and the lower cutoff and the widths from
+  // the filtered signals (MidVariant), the higher cutoff by refiltering
+  // every window at the log's rate, kept every `step`.
+  StatusOr<std::vector<WindowImu>> Form(Variant v) const {
+    const Preprocess3dOptions& variant = options_[v];
+    if (v == kCutoffHigh) {
+      std::vector<WindowImu> windows;
+      windows.reserve(out_.windows.size());
+      for (const Stretch3d& w : out_.windows) {
+        StatusOr<WindowImu> imu = ImuOfWindow(*conditioned_.log,
+                                              w,
+                                              out_.gyro_bias_frd,
+                                              variant,
+                                              out_.sample_rate_hz,
+                                              step_);
+        if (!imu.ok()) return imu.status();
+        windows.push_back(std::move(*imu));
+      }
+      return windows;
+    }
+    return MidVariant(mid_,
+                      variant,
+                      v == kCutoffLow ? variant.cutoff_hz : 0.0,
+                      variant.derivative_half_width_s,
+                      mid_rate_hz_,
+                      mid_to_search_);
+  }
+
+ private:
+  const Conditioned3d& conditioned_;
+  const Preprocess3dResult& out_;
+  std::size_t step_ = 1;
+  double mid_rate_hz_ = 0.0;
+  std::size_t mid_to_search_ = 1;
+  std::vector<WindowImu> mid_;
+  std::vector<Preprocess3dOptions> options_;
+};
+
 }  // namespace
 
 void PlausibleDelays(const Calibration3d& calibration,
@@ -221,13 +323,25 @@ void PlausibleDelays(const Calibration3d& calibration,
   out->estimator_delay_high_s = std::max(d[hi], delay);
 }
 
+SensitivityWindows3d FormSensitivityWindows3d(const Conditioned3d& conditioned,
+                                              const Preprocess3dResult& out) {
+  const VariantWindows variants(conditioned, out, /*with_mid=*/true);
+  SensitivityWindows3d formed;
+  formed.variants.assign(kWidthHigh + 1,
+                         StatusOr<std::vector<WindowImu>>(
+                             InternalError("sensitivity variant not formed")));
+  for (Variant v : {kMidBase, kCutoffLow, kCutoffHigh, kWidthLow, kWidthHigh}) {
+    if (variants.Formed(v)) formed.variants[v] = variants.Form(v);
+  }
+  return formed;
+}
+
 Status FillSensitivity3d(const Conditioned3d& conditioned,
                          const Conditioned3d& thin,
                          const Calibration3d& calibration,
-                         Preprocess3dResult* out) {
+                         Preprocess3dResult* out,
+                         const SensitivityWindows3d* formed) {
   const Preprocess3dOptions& o = conditioned.options;
-  const auto step = static_cast<std::size_t>(
-      std::max(1.0, std::floor(conditioned.sample_rate_hz / kSearchRateHz3d)));
   const double delay = calibration.estimator_delay_s;
   VariantData data(thin, delay, calibration.wind_n, calibration.wind_e);
   auto fit_at = [&](double delay_s) {
@@ -252,30 +366,20 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   }
 
   std::vector<ChoiceSensitivity3d> choices;
-  // The copy the filtered-signal variants are formed on, and their base:
-  // the position with the default cutoff and width formed there.
-  const auto mid_step = static_cast<std::size_t>(
-      std::max(1.0, std::floor(conditioned.sample_rate_hz / kMidRateHz)));
-  const double mid_rate_hz =
-      conditioned.sample_rate_hz / static_cast<double>(mid_step);
-  const auto mid_to_search = static_cast<std::size_t>(
-      std::max(1.0, std::floor(mid_rate_hz / kSearchRateHz3d)));
-  std::vector<WindowImu> mid;
-  mid.reserve(conditioned.windows.size());
-  for (const WindowImu& w : conditioned.windows) {
-    mid.push_back(ThinnedWindow(w, mid_step));
-  }
-  auto from_mid = [&](const Preprocess3dOptions& variant,
-                      double extra_cutoff_hz) -> StatusOr<LinearFit3d> {
-    StatusOr<std::vector<WindowImu>> windows =
-        MidVariant(mid,
-                   variant,
-                   extra_cutoff_hz,
-                   variant.derivative_half_width_s,
-                   mid_rate_hz,
-                   mid_to_search);
+  // The variants that refilter or re-derive the signals, and their base:
+  // the position with the default cutoff and width formed on the copy the
+  // filtered-signal variants are formed on; their windows as given, or
+  // formed here.
+  const VariantWindows variants(conditioned, *out, formed == nullptr);
+  auto from_windows = [&](Variant v) -> StatusOr<LinearFit3d> {
+    if (formed != nullptr) {
+      const StatusOr<std::vector<WindowImu>>& windows = formed->variants[v];
+      if (!windows.ok()) return windows.status();
+      return FitOf(data.At(*windows, variants.Options(v), delay));
+    }
+    StatusOr<std::vector<WindowImu>> windows = variants.Form(v);
     if (!windows.ok()) return windows.status();
-    return FitOf(data.At(*windows, variant, delay));
+    return FitOf(data.At(*windows, variants.Options(v), delay));
   };
   // Every variant's fit is independent of the others': they are formed
   // first (side by side where the calibration has threads), then taken in
@@ -286,60 +390,18 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   const double edge = std::isfinite(calibration.longest_delay_searched_s)
                           ? calibration.longest_delay_searched_s
                           : o.max_estimator_delay_s;
-  const bool cutoff_varied = o.cutoff_hz > 0;
+  const bool cutoff_varied = variants.CutoffVaried();
   const bool delay_varied = high > low;
   const bool at_edge_varied = edge > 0 && high >= edge - 1e-9;
-  Preprocess3dOptions cutoff_low = o;
-  cutoff_low.cutoff_hz = o.cutoff_hz * o.systematic_low_factor;
-  Preprocess3dOptions cutoff_high = o;
-  cutoff_high.cutoff_hz = o.cutoff_hz * o.systematic_high_factor;
-  Preprocess3dOptions width_low = o;
-  width_low.derivative_half_width_s =
-      o.derivative_half_width_s * o.systematic_low_factor;
-  Preprocess3dOptions width_high = o;
-  width_high.derivative_half_width_s =
-      o.derivative_half_width_s * o.systematic_high_factor;
-  enum Variant {
-    kMidBase,
-    kCutoffLow,
-    kCutoffHigh,
-    kWidthLow,
-    kWidthHigh,
-    kDelayLow,
-    kDelayHigh,
-    kEdge,
-    kBeforeEdge,
-    kVariants
-  };
+  const Preprocess3dOptions& cutoff_low = variants.Options(kCutoffLow);
+  const Preprocess3dOptions& cutoff_high = variants.Options(kCutoffHigh);
+  const Preprocess3dOptions& width_low = variants.Options(kWidthLow);
+  const Preprocess3dOptions& width_high = variants.Options(kWidthHigh);
   std::vector<std::function<StatusOr<LinearFit3d>()>> form(kVariants);
-  form[kMidBase] = [&] { return from_mid(o, 0.0); };
-  if (cutoff_varied) {
-    // The lower cutoff's variant is the base where it is not lower (taken
-    // from it below).
-    if (cutoff_low.cutoff_hz < o.cutoff_hz) {
-      form[kCutoffLow] = [&] {
-        return from_mid(cutoff_low, cutoff_low.cutoff_hz);
-      };
-    }
-    // Every window refiltered at the log's rate, kept every `step`.
-    form[kCutoffHigh] = [&]() -> StatusOr<LinearFit3d> {
-      std::vector<WindowImu> windows;
-      windows.reserve(out->windows.size());
-      for (const Stretch3d& w : out->windows) {
-        StatusOr<WindowImu> imu = ImuOfWindow(*conditioned.log,
-                                              w,
-                                              out->gyro_bias_frd,
-                                              cutoff_high,
-                                              out->sample_rate_hz,
-                                              step);
-        if (!imu.ok()) return imu.status();
-        windows.push_back(std::move(*imu));
-      }
-      return FitOf(data.At(windows, cutoff_high, delay));
-    };
+  for (Variant v : {kMidBase, kCutoffLow, kCutoffHigh, kWidthLow, kWidthHigh}) {
+    if (variants.Formed(v))
+      form[v] = [&from_windows, v] { return from_windows(v); };
   }
-  form[kWidthLow] = [&] { return from_mid(width_low, 0.0); };
-  form[kWidthHigh] = [&] { return from_mid(width_high, 0.0); };
   if (delay_varied) {
     form[kDelayLow] = [&] { return fit_at(low); };
     form[kDelayHigh] = [&] { return fit_at(high); };

@@ -26,6 +26,21 @@ void PlausibleDelays(const Calibration3d& calibration,
                      double n_eff,
                      Preprocess3dResult* out);
 
+// The windows of the sensitivity's variants that refilter or re-derive the
+// IMU signals (the cutoff and the derivative's width; FillSensitivity3d says
+// how): they read the conditioned flight alone, neither the delay nor the
+// wind, so Identify forms them for an IMU while another one's calibration
+// runs. By variant; a variant whose choice is not varied holds an error
+// that is never read.
+struct SensitivityWindows3d {
+  std::vector<StatusOr<std::vector<WindowImu>>> variants;
+};
+
+// Those windows of `conditioned`, whose windows, gyro bias and rate
+// ConditionFlight put in `out`.
+SensitivityWindows3d FormSensitivityWindows3d(const Conditioned3d& conditioned,
+                                              const Preprocess3dResult& out);
+
 // Fills out->sensitivity, systematic_stderr_m,
 // misalignment_systematic_stderr_deg and (the delay at the limit)
 // delay_edge_shift_m, and the plausible delays where `calibration` searched
@@ -33,10 +48,14 @@ void PlausibleDelays(const Calibration3d& calibration,
 // rigid3d's linear one on `thin`, SearchCopy(conditioned) (the calibration's
 // copy, thinned to about 50 Hz), or on variants with its sample times; the
 // higher cutoff refilters every window of the log at full rate first.
+// `formed`, when not null, is FormSensitivityWindows3d of a flight
+// conditioned with the same filter and derivative options: those windows
+// are not formed again (the same numbers).
 Status FillSensitivity3d(const Conditioned3d& conditioned,
                          const Conditioned3d& thin,
                          const Calibration3d& calibration,
-                         Preprocess3dResult* out);
+                         Preprocess3dResult* out,
+                         const SensitivityWindows3d* formed = nullptr);
 
 }  // namespace internal
 }  // namespace imusysid

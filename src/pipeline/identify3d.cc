@@ -235,9 +235,10 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     r->log = std::make_unique<FlightLog>(std::move(log).value());
     return Status::Ok();
   };
-  // An instance after the first read and conditioned while the first one's
-  // calibration runs (the conditioning reads neither the delay nor the
-  // wind): what prepare_instance takes up from there. Only an instance on
+  // An instance after the first read and conditioned, and its sensitivity's
+  // refiltered windows formed, while the first one's calibration runs (these
+  // read neither the delay nor the wind): what prepare_instance takes up
+  // from there. Only an instance on
   // the estimator path whose conditioning succeeded is kept (`log` set); any
   // other is read again in turn, so its messages and errors are those it
   // always had.
@@ -246,6 +247,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     Read read;
     Preprocess3dResult pre;
     std::optional<Conditioned3d> conditioned;
+    std::optional<SensitivityWindows3d> sensitivity_windows;
   };
   auto condition_ahead = [&](int instance,
                              const Preprocess3dOptions& pre_options,
@@ -266,6 +268,10 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     StatusOr<Conditioned3d> conditioned =
         ConditionFlight(*r.log, pre_options, &ahead->pre);
     if (!conditioned.ok()) return;
+    if (pre_options.systematic) {
+      ahead->sensitivity_windows =
+          FormSensitivityWindows3d(*conditioned, ahead->pre);
+    }
     ahead->conditioned = std::move(conditioned).value();
     ahead->read = std::move(r);
   };
@@ -293,7 +299,12 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         r = std::move(ahead->read);
         pre = std::move(ahead->pre);
         IMUSYSID_RETURN_IF_ERROR(
-            CalibrateConditioned3d(std::move(*ahead->conditioned), po, &pre));
+            CalibrateConditioned3d(std::move(*ahead->conditioned),
+                                   po,
+                                   &pre,
+                                   ahead->sensitivity_windows.has_value()
+                                       ? &*ahead->sensitivity_windows
+                                       : nullptr));
       } else {
         IMUSYSID_RETURN_IF_ERROR(
             read_instance(instance, opts, po, model, out, &r));

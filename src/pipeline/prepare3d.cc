@@ -20,7 +20,8 @@ namespace internal {
 
 Status CalibrateConditioned3d(Conditioned3d conditioned,
                               const Preprocess3dOptions& options,
-                              Preprocess3dResult* out) {
+                              Preprocess3dResult* out,
+                              const SensitivityWindows3d* sensitivity_windows) {
   IMUSYSID_RETURN_IF_ERROR(options.Validate());
   conditioned.options = options;
   // One thinned copy for the calibration's searches and the sensitivity.
@@ -43,8 +44,8 @@ Status CalibrateConditioned3d(Conditioned3d conditioned,
     // A sensitivity that cannot be computed (a refiltered window too short
     // for the narrower cutoff) leaves σ̂ without it, said so; the fit
     // itself stands.
-    Status sensitivity =
-        FillSensitivity3d(conditioned, thin, *calibration, out);
+    Status sensitivity = FillSensitivity3d(
+        conditioned, thin, *calibration, out, sensitivity_windows);
     if (!sensitivity.ok()) {
       out->notes.push_back(
           "the systematic part of sigma (the position's sensitivity to the "

@@ -10,6 +10,7 @@
 
 #include "imusysid/preprocess3d.h"
 #include "imusysid/status.h"
+#include "src/calibration/sensitivity3d.h"
 #include "src/preprocess/preprocess3d_internal.h"
 
 namespace imusysid {
@@ -20,10 +21,14 @@ namespace internal {
 // most in the estimator delay, its plausible range and the wind (which the
 // conditioning does not read): the same result, bit for bit. `out` holds
 // what ConditionFlight filled in; `options` are checked first, as
-// Preprocess3d checks them.
-Status CalibrateConditioned3d(Conditioned3d conditioned,
-                              const Preprocess3dOptions& options,
-                              Preprocess3dResult* out);
+// Preprocess3d checks them. `sensitivity_windows`, when not null, is
+// FormSensitivityWindows3d of that conditioning (FillSensitivity3d's
+// `formed`).
+Status CalibrateConditioned3d(
+    Conditioned3d conditioned,
+    const Preprocess3dOptions& options,
+    Preprocess3dResult* out,
+    const SensitivityWindows3d* sensitivity_windows = nullptr);
 
 }  // namespace internal
 }  // namespace imusysid
