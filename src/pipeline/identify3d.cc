@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -385,11 +387,10 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
                           const IdentifyOptions& opts,
                           std::string& model,
                           bool first,
-                          InstanceOutcome* out,
-                          Ahead* ahead = nullptr) -> Status {
+                          InstanceOutcome* out) -> Status {
     Prepared prepared;
-    IMUSYSID_RETURN_IF_ERROR(
-        prepare_instance(instance, opts, model, first, out, &prepared, ahead));
+    IMUSYSID_RETURN_IF_ERROR(prepare_instance(
+        instance, opts, model, first, out, &prepared, /*ahead=*/nullptr));
     if (prepared.owner == nullptr) return Status::Ok();
     return finish_instance(prepared, opts, model, out);
   };
@@ -501,27 +502,59 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       if (next != Next::kGoOn) break;
       continue;
     }
-    // Work item 0: this instance's fit; k > 0: instance i + k whole (from
-    // its conditioning where that was done ahead for the same model).
+    // The work items, claimed in this order: the second instance's
+    // preparation (from its conditioning done ahead, where it was), this
+    // instance's fit, the other instances' preparations, then their fits,
+    // each after its own preparation (which was claimed before it, so a
+    // fit waits at most for a preparation under way). Instances taken whole
+    // beside this one's fit left a thread idle for the last third.
     std::vector<InstanceOutcome> outcomes(rest);
     std::vector<Status> statuses(rest + 1, Status::Ok());
     std::vector<std::string> models(rest, model_name);
+    std::vector<Prepared> others(rest);
+    std::mutex mutex;
+    std::condition_variable prepared_cv;
+    std::vector<char> others_prepared(rest, 0);  // guarded by `mutex`
+    // 0: this instance's fit; k in [1, rest]: instance i + k's preparation;
+    // rest + k: its fit.
+    std::vector<std::size_t> items = {1, 0};
+    for (std::size_t k = 2; k <= rest; ++k) items.push_back(k);
+    for (std::size_t k = 1; k <= rest; ++k) items.push_back(rest + k);
     std::atomic<std::size_t> claimed{0};
     ThreadPool pool(static_cast<int>(std::min<std::size_t>(
         rest + 1, static_cast<std::size_t>(options.num_threads))));
     pool.Run([&](int /*worker*/) {
-      for (std::size_t k = claimed++; k <= rest; k = claimed++) {
-        if (k == 0) {
+      for (std::size_t j = claimed++; j < items.size(); j = claimed++) {
+        const std::size_t item = items[j];
+        if (item == 0) {
           statuses[0] =
               finish_instance(prepared, buffered_options(&o), model_name, &o);
-        } else {
+        } else if (item <= rest) {
+          const std::size_t k = item;
           InstanceOutcome* other = &outcomes[k - 1];
-          statuses[k] = fit_instance(instances[i + k],
-                                     buffered_options(other),
-                                     models[k - 1],
-                                     /*first=*/false,
-                                     other,
-                                     &ahead[k - 1]);
+          statuses[k] = prepare_instance(instances[i + k],
+                                         buffered_options(other),
+                                         models[k - 1],
+                                         /*first=*/false,
+                                         other,
+                                         &others[k - 1],
+                                         &ahead[k - 1]);
+          {
+            const std::lock_guard<std::mutex> lock(mutex);
+            others_prepared[k - 1] = 1;
+          }
+          prepared_cv.notify_all();
+        } else {
+          const std::size_t k = item - rest;
+          {
+            std::unique_lock<std::mutex> lock(mutex);
+            prepared_cv.wait(lock, [&] { return others_prepared[k - 1] != 0; });
+          }
+          if (statuses[k].ok() && others[k - 1].owner != nullptr) {
+            InstanceOutcome* other = &outcomes[k - 1];
+            statuses[k] = finish_instance(
+                others[k - 1], buffered_options(other), models[k - 1], other);
+          }
         }
       }
     });
