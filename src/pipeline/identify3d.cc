@@ -240,12 +240,11 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
   // An instance after the first read and conditioned, and its sensitivity's
   // refiltered windows formed, while the first one's calibration runs (these
   // read neither the delay nor the wind): what prepare_instance takes up
-  // from there. Only an instance on
-  // the estimator path whose conditioning succeeded is kept (`log` set); any
-  // other is read again in turn, so its messages and errors are those it
-  // always had.
+  // from there. Only an instance on the estimator path whose conditioning
+  // succeeded is kept (`log` set), and used only where the first instance
+  // kept the model it was read for; any other is read again in turn, so its
+  // messages and errors are those it always had.
   struct Ahead {
-    std::string model;  // the model it was read for
     Read read;
     Preprocess3dResult pre;
     std::optional<Conditioned3d> conditioned;
@@ -266,7 +265,6 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         r.log == nullptr || !r.estimator_path || model != for_model) {
       return;
     }
-    ahead->model = for_model;
     StatusOr<Conditioned3d> conditioned =
         ConditionFlight(*r.log, pre_options, &ahead->pre);
     if (!conditioned.ok()) return;
@@ -296,8 +294,7 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
       // run's threads.
       const CalibrationThreadsScope calibration_threads(first ? opts.num_threads
                                                               : 1);
-      if (ahead != nullptr && ahead->read.log != nullptr &&
-          ahead->model == model) {
+      if (ahead != nullptr && ahead->read.log != nullptr) {
         r = std::move(ahead->read);
         pre = std::move(ahead->pre);
         IMUSYSID_RETURN_IF_ERROR(
@@ -468,17 +465,17 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     // The first instance prepared on this thread; the others meanwhile
     // read and conditioned on the other threads, until it is done.
     const std::size_t rest = instances.size() - i - 1;
+    ThreadPool pool(static_cast<int>(std::min<std::size_t>(
+        rest + 1, static_cast<std::size_t>(options.num_threads))));
     std::vector<Ahead> ahead(rest);
+    const std::string ahead_model = model_name;
     Prepared prepared;
     Status status = Status::Ok();
     {
       const Preprocess3dOptions ahead_options = po;
-      const std::string ahead_model = model_name;
       std::atomic<bool> first_prepared{false};
       std::atomic<std::size_t> next_ahead{0};
-      ThreadPool section(static_cast<int>(std::min<std::size_t>(
-          rest + 1, static_cast<std::size_t>(options.num_threads))));
-      section.Run([&](int worker) {
+      pool.Run([&](int worker) {
         if (worker == 0) {
           status = prepare_instance(instances[i],
                                     options,
@@ -520,9 +517,10 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
     std::vector<std::size_t> items = {1, 0};
     for (std::size_t k = 2; k <= rest; ++k) items.push_back(k);
     for (std::size_t k = 1; k <= rest; ++k) items.push_back(rest + k);
+    // An instance conditioned ahead for the model the first one kept (it
+    // fell back to the IMU-only one, which reads the log afresh: not).
+    const bool ahead_usable = model_name == ahead_model;
     std::atomic<std::size_t> claimed{0};
-    ThreadPool pool(static_cast<int>(std::min<std::size_t>(
-        rest + 1, static_cast<std::size_t>(options.num_threads))));
     pool.Run([&](int /*worker*/) {
       for (std::size_t j = claimed++; j < items.size(); j = claimed++) {
         const std::size_t item = items[j];
@@ -532,13 +530,14 @@ StatusOr<IdentifySummary> Identify3d(const IdentifyInput& input,
         } else if (item <= rest) {
           const std::size_t k = item;
           InstanceOutcome* other = &outcomes[k - 1];
-          statuses[k] = prepare_instance(instances[i + k],
-                                         buffered_options(other),
-                                         models[k - 1],
-                                         /*first=*/false,
-                                         other,
-                                         &others[k - 1],
-                                         &ahead[k - 1]);
+          statuses[k] =
+              prepare_instance(instances[i + k],
+                               buffered_options(other),
+                               models[k - 1],
+                               /*first=*/false,
+                               other,
+                               &others[k - 1],
+                               ahead_usable ? &ahead[k - 1] : nullptr);
           {
             const std::lock_guard<std::mutex> lock(mutex);
             others_prepared[k - 1] = 1;
