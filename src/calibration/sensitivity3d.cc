@@ -213,6 +213,11 @@ enum Variant {
   kVariants
 };
 
+// The variants VariantWindows forms, each from its own windows.
+constexpr Variant kWindowVariants[] = {
+    kMidBase, kCutoffLow, kCutoffHigh, kWidthLow, kWidthHigh};
+constexpr std::size_t kNumWindowVariants = kWidthHigh + 1;
+
 // The options of the variants that refilter or re-derive the IMU signals,
 // and their windows: these read the conditioned flight alone (neither the
 // delay nor the wind).
@@ -238,7 +243,7 @@ class VariantWindows {
         mid_.push_back(ThinnedWindow(w, mid_step));
       }
     }
-    options_.assign(kWidthHigh + 1, o);
+    options_.assign(kNumWindowVariants, o);
     options_[kCutoffLow].cutoff_hz = o.cutoff_hz * o.systematic_low_factor;
     options_[kCutoffHigh].cutoff_hz = o.cutoff_hz * o.systematic_high_factor;
     options_[kWidthLow].derivative_half_width_s =
@@ -327,10 +332,10 @@ SensitivityWindows3d FormSensitivityWindows3d(const Conditioned3d& conditioned,
                                               const Preprocess3dResult& out) {
   const VariantWindows variants(conditioned, out, /*with_mid=*/true);
   SensitivityWindows3d formed;
-  formed.variants.assign(kWidthHigh + 1,
+  formed.variants.assign(kNumWindowVariants,
                          StatusOr<std::vector<WindowImu>>(
                              InternalError("sensitivity variant not formed")));
-  for (Variant v : {kMidBase, kCutoffLow, kCutoffHigh, kWidthLow, kWidthHigh}) {
+  for (Variant v : kWindowVariants) {
     if (variants.Formed(v)) formed.variants[v] = variants.Form(v);
   }
   return formed;
@@ -398,7 +403,7 @@ Status FillSensitivity3d(const Conditioned3d& conditioned,
   const Preprocess3dOptions& width_low = variants.Options(kWidthLow);
   const Preprocess3dOptions& width_high = variants.Options(kWidthHigh);
   std::vector<std::function<StatusOr<LinearFit3d>()>> form(kVariants);
-  for (Variant v : {kMidBase, kCutoffLow, kCutoffHigh, kWidthLow, kWidthHigh}) {
+  for (Variant v : kWindowVariants) {
     if (variants.Formed(v))
       form[v] = [&from_windows, v] { return from_windows(v); };
   }
